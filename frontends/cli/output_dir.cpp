@@ -1,0 +1,53 @@
+#include "frontends/cli/output_dir.h"
+
+#include <fstream>
+#include <stdexcept>
+#include <system_error>
+
+namespace pp5::cli {
+
+namespace fs = std::filesystem;
+
+void StagedOutput::add_image(std::string name, Image image, ImageFormat format) {
+    entries_.push_back(Entry{std::move(name), {}, std::move(image), format, true});
+}
+
+void StagedOutput::add_text(std::string name, std::string text) {
+    entries_.push_back(Entry{std::move(name), std::move(text), {}, ImageFormat::Png, false});
+}
+
+std::vector<fs::path> StagedOutput::commit() {
+    fs::create_directories(directory_);
+    std::vector<fs::path> partials;
+    const auto clean_up = [&] {
+        std::error_code ignored;
+        for (const auto& p : partials) fs::remove(p, ignored);
+    };
+    try {
+        for (const Entry& e : entries_) {
+            // The partial keeps the real extension last, so OpenImageIO picks the right format.
+            const fs::path partial = directory_ / (".partial-" + e.name);
+            partials.push_back(partial);
+            if (e.is_image) {
+                write_image(e.image, partial, e.format);
+            } else {
+                std::ofstream out(partial, std::ios::binary);
+                out << e.text;
+                out.close();
+                if (!out) throw std::runtime_error("cannot write " + partial.string());
+            }
+        }
+    } catch (...) {
+        clean_up();
+        throw;
+    }
+    std::vector<fs::path> written;
+    for (std::size_t i = 0; i < entries_.size(); ++i) {
+        const fs::path target = directory_ / entries_[i].name;
+        fs::rename(partials[i], target);
+        written.push_back(target);
+    }
+    return written;
+}
+
+}  // namespace pp5::cli

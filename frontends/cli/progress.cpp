@@ -1,0 +1,25 @@
+#include "frontends/cli/progress.h"
+
+#include <fmt/core.h>
+
+#include <cstdio>
+
+namespace pp5::cli {
+
+Progress::Progress(std::string what, std::size_t total) : what_(std::move(what)), total_(total) {}
+
+void Progress::update(std::size_t done) {
+    const auto now = Clock::now();
+    if (now - start_ < std::chrono::seconds(1)) return;
+    if (printed_ && now - last_print_ < std::chrono::milliseconds(500) && done != total_) return;
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    fmt::print(stderr, "{}: {}/{} ({:.0f}%), {:.1f} s\n", what_, done, total_,
+               100.0 * static_cast<double>(done) / static_cast<double>(total_), elapsed);
+    std::fflush(stderr);
+    printed_ = true;
+    last_print_ = now;
+}
+
+void Progress::finish() { update(total_); }
+
+}  // namespace pp5::cli

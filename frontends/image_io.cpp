@@ -1,0 +1,37 @@
+#include "frontends/image_io.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace pp5 {
+
+std::vector<unsigned char> to_rgb8(const Image& image) {
+    std::vector<unsigned char> bytes;
+    bytes.reserve(image.pixels.size() * 3);
+    for (const glm::vec4& p : image.pixels)
+        for (int c = 0; c < 3; ++c)
+            bytes.push_back(static_cast<unsigned char>(std::lround(std::clamp(p[c], 0.0f, 1.0f) * 255.0f)));
+    return bytes;
+}
+
+void write_image(const Image& image, const std::filesystem::path& path, ImageFormat format) {
+    auto out = OIIO::ImageOutput::create(path.string());
+    if (!out) throw std::runtime_error("cannot write " + path.string() + ": " + OIIO::geterror());
+    bool ok = false;
+    if (format == ImageFormat::Png) {
+        const std::vector<unsigned char> rgb = to_rgb8(image);
+        const OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
+        ok = out->open(path.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, rgb.data());
+    } else {
+        OIIO::ImageSpec spec(image.width, image.height, 4, OIIO::TypeDesc::FLOAT);
+        spec.channelnames = {"R", "G", "B", "A"};
+        ok = out->open(path.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data());
+    }
+    if (!ok) throw std::runtime_error("cannot write " + path.string() + ": " + out->geterror());
+    if (!out->close()) throw std::runtime_error("cannot finish " + path.string() + ": " + out->geterror());
+}
+
+}  // namespace pp5

@@ -1,0 +1,81 @@
+#include "ring/ring_network.h"
+
+#include <stdexcept>
+
+namespace pp5 {
+
+const ParamGroup& RingNetwork::params() {
+    static const ParamGroup group = [] {
+        ParamGroup g("ring", "The ring network joining every processor");
+        g.integer("channels", 8, "count", 1, 256, "Independent channels (tokens) on the ring", Provenance::Default,
+                  "machine.md: 8 x 32 bits x 20 MHz fits both Levoy's 640 Mb/s and Fuchs' 5 Gbit/s")
+            .integer("channel_width_bits", 32, "bits", 1, 1024, "Width of one channel", Provenance::Default,
+                     "machine.md: 8 x 32 bits x 20 MHz, see ring.channels")
+            .real("clock_mhz", 20.0, "MHz", 0.1, 10000, "Ring clock: one word per channel per cycle",
+                  Provenance::Default, "machine.md: 8 x 32 bits x 20 MHz, see ring.channels")
+            .integer("hop_latency_cycles", 1, "cycles", 0, 1000, "Ring cycles for a word to pass one station",
+                     Provenance::Default, "not published; machine.md guesses 1-2 ring clocks")
+            .integer("header_words", 2, "words", 0, 64, "Header words that precede every message's payload",
+                     Provenance::Default, "not published; machine.md guesses a few words")
+            .text("station_order", "grouped", {"grouped", "interleaved"},
+                  "Order of stations on the ring: grouped = host, all GPs, all renderers, frame buffer; "
+                  "interleaved = GPs spread evenly between the renderers",
+                  Provenance::Default, "the physical order is not published");
+        return g;
+    }();
+    return group;
+}
+
+RingChannel::RingChannel(std::size_t index, Component* ring)
+    : Component(indexed("channel", index), ring),
+      messages(stats().counter("messages", "count", "Messages carried")),
+      bytes(stats().counter("bytes", "bytes", "Header and payload bytes carried")),
+      busy_ps(stats().counter("busy_time", "ps", "Simulated time the channel was held by a sender")) {}
+
+RingNetwork::RingNetwork(const MachineConfig& config, std::size_t gps, std::size_t renderers)
+    : Component("ring", nullptr),
+      clock_(ClockDomain::from_megahertz("ring.clock", config.real("ring.clock_mhz"))),
+      channel_width_bits_(static_cast<int>(config.integer("ring.channel_width_bits"))) {
+    const auto channel_count = static_cast<std::size_t>(config.integer("ring.channels"));
+    for (std::size_t i = 0; i < channel_count; ++i) channels_.push_back(std::make_unique<RingChannel>(i, this));
+
+    const auto add = [this](StationKind kind, std::size_t index, const char* base) {
+        stations_.push_back(RingStation{kind, index, indexed(base, index)});
+    };
+    stations_.push_back(RingStation{StationKind::Host, 0, "host"});
+    if (config.text("ring.station_order") == "grouped") {
+        for (std::size_t i = 0; i < gps; ++i) add(StationKind::GraphicsProcessor, i, "gp");
+        for (std::size_t i = 0; i < renderers; ++i) add(StationKind::Renderer, i, "renderer");
+    } else {
+        // Spread the GPs evenly: after renderer r come the GPs whose share of the ring falls there.
+        std::size_t next_gp = 0;
+        for (std::size_t r = 0; r < renderers; ++r) {
+            add(StationKind::Renderer, r, "renderer");
+            const std::size_t until = renderers == 0 ? gps : (r + 1) * gps / renderers;
+            for (; next_gp < until; ++next_gp) add(StationKind::GraphicsProcessor, next_gp, "gp");
+        }
+        for (; next_gp < gps; ++next_gp) add(StationKind::GraphicsProcessor, next_gp, "gp");
+    }
+    stations_.push_back(RingStation{StationKind::FrameBuffer, 0, "frame_buffer"});
+
+    stats().formula("stations", "count", "Stations on the ring", [this] { return static_cast<double>(stations_.size()); });
+    stats().formula("peak_bandwidth", "bit/s", "All channels together, one word per channel per ring cycle",
+                    [this] { return bandwidth_bits_per_second(); });
+}
+
+std::size_t RingNetwork::position(StationKind kind, std::size_t index) const {
+    for (std::size_t p = 0; p < stations_.size(); ++p)
+        if (stations_[p].kind == kind && stations_[p].index == index) return p;
+    throw std::out_of_range("no such ring station");
+}
+
+std::size_t RingNetwork::hops(std::size_t from_position, std::size_t to_position) const {
+    const std::size_t n = stations_.size();
+    return (to_position + n - from_position) % n;
+}
+
+double RingNetwork::bandwidth_bits_per_second() const {
+    return static_cast<double>(channels_.size()) * channel_width_bits_ * clock_.frequency_hz();
+}
+
+}  // namespace pp5

@@ -1,0 +1,62 @@
+#pragma once
+// The resolved machine configuration: every declared parameter with its value and where the value
+// came from (default, a machine file, or a --set override). Written as config.json beside results.
+
+#include "sim/core/param.h"
+
+#include <nlohmann/json_fwd.hpp>
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace pp5 {
+
+class MachineConfig {
+public:
+    // Starts from every group's defaults. Groups must outlive the configuration.
+    explicit MachineConfig(std::vector<const ParamGroup*> groups);
+
+    // Reads a TOML machine file: an optional [machine] table (name, description) and one table per
+    // parameter group. Unknown keys, wrong types and out-of-range values throw InputError naming the
+    // file and the key.
+    void load_file(const std::filesystem::path& path);
+    // "gp.count=64", as given to --set; the origin is "--set".
+    void apply_override(std::string_view assignment);
+    // Validates and stores; `origin` names where the value came from, for errors and config.json.
+    void set(const std::string& key, const ParamValue& value, const std::string& origin);
+
+    std::int64_t integer(const std::string& key) const;
+    double real(const std::string& key) const;
+    bool boolean(const std::string& key) const;
+    const std::string& text(const std::string& key) const;
+
+    const std::string& machine_name() const { return machine_name_; }
+    const std::string& machine_description() const { return machine_description_; }
+    const std::vector<const ParamGroup*>& groups() const { return groups_; }
+    const ParamSpec* find_spec(std::string_view key) const;
+
+    nlohmann::json to_json() const;
+
+private:
+    struct Entry {
+        const ParamSpec* spec;
+        ParamValue value;
+        std::string origin;
+    };
+    const Entry& entry(const std::string& key) const;
+    std::string closest_key(std::string_view key) const;
+
+    std::vector<const ParamGroup*> groups_;
+    std::map<std::string, Entry> entries_;  // ordered, so config.json is stable
+    std::string machine_name_ = "default";
+    std::string machine_description_;
+};
+
+// Finds a machine file: an existing path as given, else a preset name ("pxpl5") looked up in the
+// preset directories (sim/machines in the source tree and beside the installed binary).
+std::filesystem::path resolve_machine_file(const std::string& name_or_path);
+
+}  // namespace pp5

@@ -1,0 +1,66 @@
+#pragma once
+// Parameters, declared once next to the component that uses them (as SST's component tables and
+// gem5's Param declarations do): type, unit, default, allowed range, a one-line doc and provenance.
+// The machine file, `--set` overrides, `pp5sim params` and config.json are all driven by these tables.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace pp5 {
+
+enum class ParamType { Integer, Real, Boolean, Text };
+
+using ParamValue = std::variant<std::int64_t, double, bool, std::string>;
+
+std::string to_string(ParamType type);
+std::string format_param_value(const ParamValue& value);
+
+// Where a default comes from, so a user can tell a published number from a guess.
+enum class Provenance { Paper, Hardware, Default };
+std::string to_string(Provenance provenance);
+
+struct ParamSpec {
+    std::string name;        // local to its group: "clock_mhz"
+    ParamType type = ParamType::Integer;
+    std::string unit;        // "MHz", "bits", "count", "" for none
+    ParamValue default_value;
+    std::optional<double> min;  // inclusive bounds for numbers
+    std::optional<double> max;
+    std::vector<std::string> choices;  // allowed values of a Text parameter; empty = any
+    std::string doc;
+    Provenance provenance = Provenance::Default;
+    std::string source;      // e.g. "Levoy 1989, Implementation on Pixel-planes 5"
+
+    // Empty when `value` is acceptable, else the reason it is not.
+    std::string check(const ParamValue& value) const;
+};
+
+// All parameters of one kind of component ("gp", "renderer", "ring.channel"). Keys are "group.name".
+class ParamGroup {
+public:
+    ParamGroup(std::string prefix, std::string description);
+
+    ParamGroup& integer(std::string name, std::int64_t def, std::string unit, double min, double max,
+                        std::string doc, Provenance provenance, std::string source);
+    ParamGroup& real(std::string name, double def, std::string unit, double min, double max, std::string doc,
+                     Provenance provenance, std::string source);
+    ParamGroup& boolean(std::string name, bool def, std::string doc, Provenance provenance, std::string source);
+    ParamGroup& text(std::string name, std::string def, std::vector<std::string> choices, std::string doc,
+                     Provenance provenance, std::string source);
+
+    const std::string& prefix() const { return prefix_; }
+    const std::string& description() const { return description_; }
+    const std::vector<ParamSpec>& specs() const { return specs_; }
+
+private:
+    ParamGroup& add(ParamSpec spec);
+
+    std::string prefix_;
+    std::string description_;
+    std::vector<ParamSpec> specs_;
+};
+
+}  // namespace pp5

@@ -1,0 +1,54 @@
+#pragma once
+// The machine: every component of a Pixel-planes 5 built from a resolved configuration, the event
+// queue they share, and the statistics of all of them. Adding a kind of component means declaring its
+// ParamGroup, listing it in param_groups(), and building its instances in the constructor.
+
+#include "ring/ring_network.h"
+#include "sim/components/frame_buffer.h"
+#include "sim/components/graphics_processor.h"
+#include "sim/components/renderer.h"
+#include "sim/core/config.h"
+#include "sim/core/event_queue.h"
+
+#include <nlohmann/json_fwd.hpp>
+
+#include <memory>
+#include <vector>
+
+namespace pp5 {
+
+class Machine {
+public:
+    // Every parameter group of every kind of component, in the order `pp5sim params` lists them.
+    static std::vector<const ParamGroup*> param_groups();
+    // A configuration holding every group's defaults.
+    static MachineConfig default_config();
+
+    explicit Machine(const MachineConfig& config);
+
+    const MachineConfig& config() const { return config_; }
+    EventQueue& events() { return events_; }
+    Host& host() { return host_; }
+    FrameBuffer& frame_buffer() { return frame_buffer_; }
+    RingNetwork& ring() { return ring_; }
+    std::vector<std::unique_ptr<GraphicsProcessor>>& gps() { return gps_; }
+    std::vector<std::unique_ptr<Renderer>>& renderers() { return renderers_; }
+
+    // Every top-level component (children are reached through them).
+    std::vector<const Component*> components() const;
+    // {"gp[0]": {...}, "ring.channel[3]": {...}, ...}
+    nlohmann::json statistics() const;
+    // A few lines describing the assembled machine.
+    std::string summary() const;
+
+private:
+    MachineConfig config_;
+    EventQueue events_;
+    Host host_;
+    FrameBuffer frame_buffer_;
+    std::vector<std::unique_ptr<GraphicsProcessor>> gps_;
+    std::vector<std::unique_ptr<Renderer>> renderers_;
+    RingNetwork ring_;
+};
+
+}  // namespace pp5

@@ -1,0 +1,195 @@
+// Runs the pp5sim binary as a user would: good runs write whole outputs, bad input gets one clear
+// error line, exit code 2 and no output, and the thread count changes nothing.
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RunResult {
+    int exit_code;
+    std::string output;  // stdout and stderr together
+};
+
+fs::path scratch(const std::string& name) {
+    const fs::path dir = fs::temp_directory_path() / ("pp5_cli_test_" + name);
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::string read_file(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+RunResult run(const std::string& args, const fs::path& log_dir) {
+    const fs::path log = log_dir / "log.txt";
+    const std::string command = std::string(PP5SIM_BINARY) + " " + args + " > " + log.string() + " 2>&1";
+    const int status = std::system(command.c_str());
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_file(log)};
+}
+
+std::string scenario(const std::string& name) { return std::string(PP5_SOURCE_DIR) + "/traces/scenarios/" + name; }
+
+// Host timings differ from run to run; everything else in stats.json must not.
+nlohmann::json without_host_fields(nlohmann::json j) {
+    if (j.is_object()) {
+        j.erase("host_seconds");
+        for (auto& [k, v] : j.items()) v = without_host_fields(v);
+    } else if (j.is_array()) {
+        for (auto& v : j) v = without_host_fields(v);
+    }
+    return j;
+}
+
+TEST(Cli, RenderWritesImagesStatsAndConfig) {
+    const fs::path dir = scratch("render");
+    const RunResult r = run("render " + scenario("head-phantom.toml") + " --out " + (dir / "out").string(), dir);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    for (int i = 0; i < 4; ++i) EXPECT_TRUE(fs::exists(dir / "out" / ("frame_000" + std::to_string(i) + ".png")));
+    const auto stats = nlohmann::json::parse(read_file(dir / "out/stats.json"));
+    EXPECT_EQ(stats["summary"]["frames"], 4);
+    EXPECT_EQ(stats["summary"]["simulated_seconds"].size(), 4u);
+    EXPECT_TRUE(stats["summary"]["host_seconds"].is_number());
+    EXPECT_GT(stats["frames"][0]["reference"]["samples"].get<long>(), 0);
+    EXPECT_TRUE(stats["components"].contains("gp[31]"));
+    EXPECT_TRUE(stats["components"].contains("renderer[15]"));
+    EXPECT_TRUE(stats["components"].contains("ring.channel[7]"));
+    // Frames record what changed, as the scenario says.
+    EXPECT_EQ(stats["frames"][1]["changed"]["camera"], true);
+    EXPECT_EQ(stats["frames"][1]["changed"]["lighting"], false);
+    EXPECT_EQ(stats["frames"][3]["changed"]["classification"], true);
+    const auto config = nlohmann::json::parse(read_file(dir / "out/config.json"));
+    EXPECT_EQ(config["machine"]["name"], "pxpl5");
+    EXPECT_EQ(config["parameters"]["gp.count"]["value"], 32);
+    // No staging leftovers.
+    for (const auto& e : fs::directory_iterator(dir / "out"))
+        EXPECT_EQ(e.path().filename().string().rfind(".partial", 0), std::string::npos) << e.path();
+}
+
+TEST(Cli, SameResultsAtOneAndTwoThreads) {
+    const fs::path dir = scratch("threads");
+    for (const char* t : {"1", "2"}) {
+        const RunResult r = run("render " + scenario("head-phantom.toml") + " --threads " + t + " --out " +
+                                    (dir / t).string(), dir);
+        ASSERT_EQ(r.exit_code, 0) << r.output;
+    }
+    for (int i = 0; i < 4; ++i) {
+        const std::string name = "frame_000" + std::to_string(i) + ".png";
+        EXPECT_EQ(read_file(dir / "1" / name), read_file(dir / "2" / name)) << name;
+    }
+    EXPECT_EQ(without_host_fields(nlohmann::json::parse(read_file(dir / "1/stats.json"))),
+              without_host_fields(nlohmann::json::parse(read_file(dir / "2/stats.json"))));
+    EXPECT_EQ(read_file(dir / "1/config.json"), read_file(dir / "2/config.json"));
+}
+
+TEST(Cli, OverridesReachTheMachineAndConfig) {
+    const fs::path dir = scratch("overrides");
+    const RunResult r = run("render " + scenario("sphere.toml") + " --set gp.count=64 --set ring.clock_mhz=40 --out " +
+                                (dir / "out").string(), dir);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const auto config = nlohmann::json::parse(read_file(dir / "out/config.json"));
+    EXPECT_EQ(config["parameters"]["gp.count"]["value"], 64);
+    EXPECT_EQ(config["parameters"]["gp.count"]["origin"], "--set");
+    const auto stats = nlohmann::json::parse(read_file(dir / "out/stats.json"));
+    EXPECT_TRUE(stats["components"].contains("gp[63]"));
+}
+
+// A bad input: exit 2, one error line naming the file and the field, and no output directory.
+void expect_rejected(const std::string& name, const std::string& args, const std::string& must_mention) {
+    const fs::path dir = scratch(name);
+    const RunResult r = run(args + " --out " + (dir / "out").string(), dir);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("pp5sim: error:"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(must_mention), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir / "out")) << "output written despite the error";
+}
+
+fs::path write(const fs::path& dir, const std::string& name, const std::string& text) {
+    std::ofstream(dir / name, std::ios::binary) << text;
+    return dir / name;
+}
+
+TEST(Cli, BadScenarioIsRejected) {
+    const fs::path dir = scratch("bad_scenario_files");
+    const std::string good = read_file(scenario("sphere.toml"));
+    auto misspelt = write(dir, "misspelt.toml", good + "\n[camera]\nazimut = 3\n");
+    expect_rejected("misspelt", "render " + misspelt.string(), "camera.azimut");
+    auto range = write(dir, "range.toml", good + "\n[shading]\nshininess = -1\n");
+    expect_rejected("range", "render " + range.string(), "shading.shininess");
+    auto syntax = write(dir, "syntax.toml", "[scenario\n");
+    expect_rejected("syntax", "render " + syntax.string(), "syntax.toml");
+    auto phantom = write(dir, "phantom.toml", "[dataset]\nphantom = \"cube\"\n[classification]\ncontours = [{value = 1}]\n");
+    expect_rejected("phantom", "render " + phantom.string(), "dataset.phantom");
+    expect_rejected("missing", "render /no/such/scenario.toml", "/no/such/scenario.toml");
+}
+
+TEST(Cli, BadMachineIsRejected) {
+    const fs::path dir = scratch("bad_machine_files");
+    auto machine = write(dir, "machine.toml", "[ring]\nchannels = 0\n");
+    expect_rejected("machine_range", "render " + scenario("sphere.toml") + " --machine " + machine.string(),
+                    "ring.channels");
+    expect_rejected("machine_key", "render " + scenario("sphere.toml") + " --set gp.cout=2", "gp.cout");
+}
+
+TEST(Cli, BadVolumeIsRejected) {
+    const fs::path dir = scratch("bad_volume_files");
+    // A NIfTI header cut short.
+    auto truncated = write(dir, "truncated.nii", std::string(100, '\0'));
+    const std::string scenario_text =
+        "[dataset]\nfile = \"truncated.nii\"\n[classification]\ncontours = [{value = 1}]\n";
+    auto s = write(dir, "uses_truncated.toml", scenario_text);
+    expect_rejected("truncated", "render " + s.string(), "truncated.nii");
+    // A raw file whose size does not match its dimensions and type.
+    write(dir, "short.raw", std::string(999, '\1'));
+    s = write(dir, "uses_raw.toml",
+              "[dataset]\nfile = \"short.raw\"\nraw = { dims = [10, 10, 10], type = \"uint8\" }\n"
+              "[classification]\ncontours = [{value = 1}]\n");
+    expect_rejected("raw_size", "render " + s.string(), "short.raw");
+    const RunResult info = run("volume-info " + truncated.string(), dir);
+    EXPECT_EQ(info.exit_code, 2) << info.output;
+    EXPECT_NE(info.output.find("truncated.nii"), std::string::npos) << info.output;
+}
+
+TEST(Cli, ParamsListsEveryParameterWithProvenance) {
+    const fs::path dir = scratch("params");
+    const RunResult r = run("params --json", dir);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const auto params = nlohmann::json::parse(r.output);
+    bool saw_backing_store = false;
+    for (const auto& p : params) {
+        EXPECT_FALSE(p["doc"].get<std::string>().empty()) << p["key"];
+        EXPECT_FALSE(p["provenance"].get<std::string>().empty()) << p["key"];
+        if (p["key"] == "renderer.backing_store_bits") {
+            saw_backing_store = true;
+            EXPECT_EQ(p["default"], 4096);
+            EXPECT_EQ(p["unit"], "bits");
+        }
+    }
+    EXPECT_TRUE(saw_backing_store);
+    const RunResult text = run("params", dir);
+    EXPECT_EQ(text.exit_code, 0);
+    EXPECT_NE(text.output.find("ring.channel_width_bits"), std::string::npos);
+}
+
+TEST(Cli, HelpOnEveryCommand) {
+    const fs::path dir = scratch("help");
+    for (const char* command : {"--help", "render --help", "params --help", "volume-info --help"}) {
+        const RunResult r = run(command, dir);
+        EXPECT_EQ(r.exit_code, 0) << command << r.output;
+        EXPECT_NE(r.output.find("Usage"), std::string::npos) << command << r.output;
+    }
+}
+
+}  // namespace

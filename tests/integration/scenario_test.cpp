@@ -1,0 +1,112 @@
+// The scenario files under traces/ and the scenario format's rules.
+
+#include "frontends/scenario.h"
+#include "sim/core/input_error.h"
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+namespace pp5 {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path shipped(const std::string& name) { return fs::path(PP5_SOURCE_DIR) / "traces/scenarios" / name; }
+
+fs::path write_scenario(const std::string& name, const std::string& text) {
+    const fs::path path = fs::temp_directory_path() / ("pp5_scenario_test_" + name + ".toml");
+    std::ofstream(path) << text;
+    return path;
+}
+
+TEST(Scenario, EveryShippedScenarioLoads) {
+    for (const auto& entry : fs::directory_iterator(fs::path(PP5_SOURCE_DIR) / "traces/scenarios")) {
+        if (entry.path().extension() != ".toml") continue;
+        EXPECT_NO_THROW(load_scenario(entry.path())) << entry.path();
+    }
+}
+
+TEST(Scenario, DefaultDemoIsTheMrHead) {
+    const Scenario s = load_scenario(shipped("mr-head.toml"));
+    EXPECT_EQ(s.dataset.source, DatasetSpec::Source::Packaged);
+    EXPECT_EQ(s.dataset.name, "ch2");
+    EXPECT_EQ(s.image.width, 512);
+    EXPECT_EQ(s.image.height, 512);
+    ASSERT_EQ(s.frames.size(), 1u);
+    EXPECT_EQ(s.frames[0].classification.kind, ClassificationKind::IsovalueContours);
+}
+
+TEST(Scenario, FramesPatchThePreviousFrame) {
+    const Scenario s = load_scenario(shipped("head-phantom.toml"));
+    ASSERT_EQ(s.frames.size(), 4u);
+    EXPECT_FLOAT_EQ(s.frames[1].camera.azimuth_degrees, 30.0f);
+    EXPECT_FLOAT_EQ(s.frames[2].camera.azimuth_degrees, 30.0f);  // kept from the frame before
+    EXPECT_FALSE(s.frames[2].lighting.light_follows_camera);
+    EXPECT_FALSE(s.frames[3].lighting.light_follows_camera);      // kept
+    EXPECT_EQ(s.frames[2].classification.contours.size(), 2u);
+    EXPECT_EQ(s.frames[3].classification.contours.size(), 1u);
+    EXPECT_TRUE(s.frames[1].camera_changed);
+    EXPECT_FALSE(s.frames[1].lighting_changed);
+    EXPECT_FALSE(s.frames[2].camera_changed);
+    EXPECT_TRUE(s.frames[3].classification_changed);
+}
+
+TEST(Scenario, OrbitCameraLooksAtTheCentreFromItsDistance) {
+    CameraSpec spec;
+    spec.view_from = {0, 1, 0};
+    spec.up = {0, 0, 1};
+    spec.distance = 4.0f;
+    spec.zoom = 2.0f;
+    const glm::vec3 center{10, 20, 30};
+    Camera c = spec.camera_for(center, 5.0f);
+    EXPECT_NEAR(glm::length(c.eye - center), 20.0f, 1e-4f);
+    EXPECT_NEAR(c.eye.y - center.y, 20.0f, 1e-4f);
+    EXPECT_FLOAT_EQ(c.view_height, 5.0f);
+    spec.azimuth_degrees = 90.0f;
+    c = spec.camera_for(center, 5.0f);
+    EXPECT_NEAR(std::abs(c.eye.x - center.x), 20.0f, 1e-3f);  // turned a quarter about up
+    EXPECT_NEAR(c.eye.z, center.z, 1e-3f);
+    spec.elevation_degrees = 30.0f;
+    c = spec.camera_for(center, 5.0f);
+    EXPECT_NEAR(c.eye.z - center.z, 20.0f * 0.5f, 1e-3f);
+}
+
+// Each case must fail with an InputError naming this file and the given field.
+void expect_bad(const std::string& name, const std::string& text, const std::string& field) {
+    const fs::path path = write_scenario(name, text);
+    try {
+        load_scenario(path);
+        ADD_FAILURE() << name << ": accepted";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.file(), path.string()) << name;
+        EXPECT_EQ(e.field(), field) << name << ": " << e.what();
+    }
+}
+
+TEST(Scenario, MalformedFilesNameTheField) {
+    const std::string ok = "[dataset]\nphantom = \"sphere\"\n[classification]\ncontours = [{ value = 100 }]\n";
+    expect_bad("no_dataset", "[classification]\ncontours = [{ value = 1 }]\n", "dataset");
+    expect_bad("two_sources", "[dataset]\nphantom = \"sphere\"\npackaged = \"ch2\"\n[classification]\ncontours = [{ value = 1 }]\n", "dataset");
+    expect_bad("unknown_package", "[dataset]\npackaged = \"nope\"\n[classification]\ncontours = [{ value = 1 }]\n", "dataset.packaged");
+    expect_bad("unknown_key", ok + "[image]\nwidht = 3\n", "image.widht");
+    expect_bad("zero_width", ok + "[image]\nwidth = 0\n", "image.width");
+    expect_bad("nan_step", ok + "[image]\nsample_step = nan\n", "image.sample_step");
+    expect_bad("bad_projection", ok + "[camera]\nprojection = \"fisheye\"\n", "camera.projection");
+    expect_bad("up_parallel", ok + "[camera]\nview_from = [0, 0, 1]\n", "camera.up");
+    expect_bad("opacity_range", "[dataset]\nphantom = \"sphere\"\n[classification]\ncontours = [{ value = 1, opacity = 2 }]\n",
+               "classification.contours[0].opacity");
+    expect_bad("unsorted_points", "[dataset]\nphantom = \"sphere\"\n[classification]\nkind = \"piecewise-linear\"\n"
+               "points = [{ value = 5, opacity = 0 }, { value = 1, opacity = 1 }]\n", "classification.points[1].value");
+    expect_bad("few_points", "[dataset]\nphantom = \"sphere\"\n[classification]\nkind = \"region-boundaries\"\n"
+               "points = [{ value = 5, opacity = 0 }]\n", "classification.points");
+    expect_bad("bad_frame_key", ok + "[[frames]]\ncamera = { azimuth = 3, spin = 1 }\n", "frames[0].camera.spin");
+    expect_bad("raw_without_type", "[dataset]\nfile = \"x.raw\"\nraw = { dims = [2, 2, 2] }\n[classification]\ncontours = [{ value = 1 }]\n",
+               "dataset.raw.type");
+    expect_bad("depth_cue", ok + "[shading]\ndepth_cue = [0, 1]\n", "shading.depth_cue");
+}
+
+}  // namespace
+}  // namespace pp5
