@@ -13,6 +13,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace pp5 {
@@ -26,7 +27,8 @@ std::size_t scalar_size_bytes(ScalarType type);
 class Volume {
 public:
     Volume() = default;
-    // Throws std::invalid_argument if samples.size() != dims.x*dims.y*dims.z or a dimension < 1.
+    // Throws std::invalid_argument if samples.size() != dims.x*dims.y*dims.z, a dimension < 1 or a
+    // spacing is not positive and finite (kernels divide by it).
     Volume(glm::ivec3 dims, glm::vec3 spacing, ScalarType source_type, std::vector<float> samples,
            std::string name = {});
 
@@ -35,6 +37,7 @@ public:
     glm::vec3 physical_extent() const;                      // dims * spacing
     ScalarType source_type() const { return source_type_; }
     const std::string& name() const { return name_; }
+    void set_name(std::string name) { name_ = std::move(name); }
     float min_value() const { return min_value_; }
     float max_value() const { return max_value_; }
     std::size_t voxel_count() const { return samples_.size(); }
