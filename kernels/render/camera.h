@@ -5,6 +5,7 @@
 // Pixel (0,0) is the top-left of the image; rays pass through pixel centres. Pixels are square:
 // the horizontal extent of the view follows from the vertical one and the image's aspect ratio.
 
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
 namespace pp5 {
@@ -50,7 +51,16 @@ ViewBasis view_basis(const Camera& camera);
 class PixelRays {
 public:
     PixelRays(const Camera& camera, int width, int height);
-    Ray ray(int px, int py) const;
+
+    Ray ray(int px, int py) const {
+        // Offsets of the pixel centre from the image centre, in pixels; y grows upwards in the view.
+        const float dx = (static_cast<float>(px) + 0.5f - half_width_) * pixel_size_;
+        const float dy = (half_height_ - (static_cast<float>(py) + 0.5f)) * pixel_size_;
+        if (projection_ == Projection::Parallel) {
+            return Ray{eye_ + dx * basis_.right + dy * basis_.up, basis_.forward};
+        }
+        return Ray{eye_, glm::normalize(basis_.forward + dx * basis_.right + dy * basis_.up)};
+    }
     const ViewBasis& basis() const { return basis_; }
 
 private:

@@ -64,6 +64,16 @@ public:
         return ambient + base * (attenuation * (lighting_.diffuse * n_dot_l + highlight));
     }
 
+    // The same with the light at the viewer (L = V, hence H = V): one dot product instead of three.
+    glm::vec3 shade_headlight(glm::vec3 base, glm::vec3 normal, glm::vec3 to_viewer, float depth) const {
+        const glm::vec3 ambient = base * lighting_.ambient;
+        const float n_dot_v = glm::dot(normal, to_viewer);
+        if (n_dot_v <= 0.0f) return ambient;  // also a zero normal
+        const float highlight = lighting_.specular * power(n_dot_v);
+        const float attenuation = 1.0f / (lighting_.depth_cue_k1 + lighting_.depth_cue_k2 * depth);
+        return ambient + base * (attenuation * (lighting_.diffuse * n_dot_v + highlight));
+    }
+
 private:
     static int whole_exponent(float n) {
         return n >= 0.0f && n <= 1024.0f && n == std::floor(n) ? static_cast<int>(n) : -1;

@@ -1,0 +1,38 @@
+#include "kernels/render/shading.h"
+
+#include "sim/core/input_error.h"
+
+#include <string>
+
+namespace pp5 {
+
+namespace {
+
+bool non_negative(float x) { return x >= 0.0f && std::isfinite(x); }
+
+void fail(const std::string& field, const std::string& reason) { throw InputError("", field, reason); }
+
+}  // namespace
+
+void validate_lighting(const PhongLighting& lighting) {
+    if (!non_negative(lighting.ambient)) fail("lighting.ambient", "must be >= 0");
+    if (!non_negative(lighting.diffuse)) fail("lighting.diffuse", "must be >= 0");
+    if (!non_negative(lighting.specular)) fail("lighting.specular", "must be >= 0");
+    if (!non_negative(lighting.shininess)) fail("lighting.shininess", "must be >= 0");
+    if (!lighting.light_follows_camera && !(glm::length(lighting.light_direction) > 0.0f)) {
+        fail("lighting.light_direction", "must be non-zero");
+    }
+    // k1 + k2 d is linear in d, so positive on [0,1] iff positive at both ends.
+    const float near_divisor = lighting.depth_cue_k1;
+    const float far_divisor = lighting.depth_cue_k1 + lighting.depth_cue_k2;
+    if (!(near_divisor > 0.0f && far_divisor > 0.0f && std::isfinite(far_divisor))) {
+        fail("lighting.depth_cue_k1", "k1 and k1 + k2 must be positive (the depth-cue divisor)");
+    }
+}
+
+glm::vec3 phong_shade(const PhongLighting& lighting, glm::vec3 base, glm::vec3 normal,
+                      glm::vec3 to_light, glm::vec3 to_viewer, float depth) {
+    return PhongShader(lighting).shade(base, normal, to_light, to_viewer, depth);
+}
+
+}  // namespace pp5
