@@ -10,9 +10,11 @@
 #include <fmt/ranges.h>
 #include <glm/geometric.hpp>
 #include <glm/gtc/constants.hpp>
+#include <glm/trigonometric.hpp>
 #include <toml++/toml.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <set>
 
 namespace pp5 {
@@ -316,6 +318,20 @@ Camera CameraSpec::camera_for(glm::vec3 center, float radius) const {
     const float fit = 2.0f * glm::degrees(std::asin(1.0f / distance));
     camera.fov_y_degrees = fov_degrees.value_or(fit / zoom);
     return camera;
+}
+
+std::filesystem::path resolve_scenario_file(const std::string& name_or_path) {
+    namespace fs = std::filesystem;
+    if (fs::is_regular_file(name_or_path)) return name_or_path;
+    const std::string file_name = name_or_path + ".toml";
+    std::vector<fs::path> search;
+    if (const char* env = std::getenv("PP5SIM_SCENARIOS")) search.emplace_back(env);
+#ifdef PP5_SCENARIOS_DIR
+    search.emplace_back(PP5_SCENARIOS_DIR);
+#endif
+    for (const auto& dir : search)
+        if (fs::is_regular_file(dir / file_name)) return dir / file_name;
+    throw InputError(name_or_path, "scenario", "no such file, and not a shipped scenario name (traces/scenarios/*.toml)");
 }
 
 Scenario load_scenario(const std::filesystem::path& path) {

@@ -7,6 +7,7 @@
 
 #include "kernels/render/camera.h"
 #include "kernels/render/classification.h"
+#include "kernels/render/resampling_order.h"
 #include "kernels/render/shading.h"
 #include "kernels/volume/volume.h"
 
@@ -47,8 +48,6 @@ struct CameraSpec {
     Camera camera_for(glm::vec3 center, float radius) const;
 };
 
-enum class ResamplingOrder { ShadeThenInterpolate, InterpolateThenShade };
-
 struct ImageSpec {
     int width = 512;
     int height = 512;
@@ -80,6 +79,13 @@ struct Scenario {
 };
 
 Scenario load_scenario(const std::filesystem::path& path);
+
+// The scenario that `pp5sim render` runs when given none: the real MR head.
+inline constexpr const char* kDefaultScenario = "mr-head";
+
+// A path to an existing file, or the name of a shipped scenario (traces/scenarios/NAME.toml, or
+// $PP5SIM_SCENARIOS/NAME.toml). Throws pp5::InputError naming the argument when neither exists.
+std::filesystem::path resolve_scenario_file(const std::string& name_or_path);
 // Loads (and resamples) the dataset the scenario names; errors name the scenario file.
 Volume load_dataset(const Scenario& scenario);
 

@@ -1,4 +1,4 @@
-// `pp5sim render SCENARIO`: render every frame of a scenario on a configured machine and write the
+// `pp5sim render [SCENARIO]`: render every frame of a scenario on a configured machine and write the
 // images, stats.json and config.json.
 //
 // Until the machine's timing arrives, each frame is rendered by the host reference renderer and its
@@ -26,7 +26,7 @@ namespace pp5::cli {
 namespace {
 
 struct RenderOptions {
-    std::string scenario;
+    std::string scenario = kDefaultScenario;
     std::string machine = "pxpl5";
     std::vector<std::string> overrides;
     std::string out;
@@ -66,7 +66,7 @@ nlohmann::json frame_record(std::size_t index, const FrameSpec& frame, const std
 int run_render(const RenderOptions& o) {
     const auto started = std::chrono::steady_clock::now();
     // Read and check every input before any work or output.
-    const Scenario scenario = load_scenario(o.scenario);
+    const Scenario scenario = load_scenario(resolve_scenario_file(o.scenario));
     MachineConfig config = Machine::default_config();
     config.load_file(resolve_machine_file(o.machine));
     for (const auto& assignment : o.overrides) config.apply_override(assignment);
@@ -147,7 +147,9 @@ int run_render(const RenderOptions& o) {
 void add_render_command(CLI::App& app, std::function<int()>& run) {
     auto o = std::make_shared<RenderOptions>();
     CLI::App* cmd = app.add_subcommand("render", "Render a scenario's frames on a configured machine");
-    cmd->add_option("scenario", o->scenario, "Scenario file (TOML), e.g. traces/scenarios/mr-head.toml")->required();
+    cmd->add_option("scenario", o->scenario,
+                   "Scenario file (TOML) or the name of a shipped one (traces/scenarios/); default: the MR head")
+        ->capture_default_str();
     cmd->add_option("--machine", o->machine, "Machine file or preset name")->capture_default_str();
     cmd->add_option("--set", o->overrides, "Override a machine parameter, key=value (repeatable; see `pp5sim params`)");
     cmd->add_option("--out", o->out, "Output directory (default out/<scenario name>)");
