@@ -5,6 +5,7 @@
 #include "kernels/volume/resample.h"
 #include "kernels/volume/volume_io.h"
 #include "sim/core/input_error.h"
+#include "sim/core/named_file.h"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -321,17 +322,12 @@ Camera CameraSpec::camera_for(glm::vec3 center, float radius) const {
 }
 
 std::filesystem::path resolve_scenario_file(const std::string& name_or_path) {
-    namespace fs = std::filesystem;
-    if (fs::is_regular_file(name_or_path)) return name_or_path;
-    const std::string file_name = name_or_path + ".toml";
-    std::vector<fs::path> search;
-    if (const char* env = std::getenv("PP5SIM_SCENARIOS")) search.emplace_back(env);
 #ifdef PP5_SCENARIOS_DIR
-    search.emplace_back(PP5_SCENARIOS_DIR);
+    const char* builtin = PP5_SCENARIOS_DIR;
+#else
+    const char* builtin = nullptr;
 #endif
-    for (const auto& dir : search)
-        if (fs::is_regular_file(dir / file_name)) return dir / file_name;
-    throw InputError(name_or_path, "scenario", "no such file, and not a shipped scenario name (traces/scenarios/*.toml)");
+    return resolve_named_file(name_or_path, {"PP5SIM_SCENARIOS", builtin, "scenario", "traces/scenarios/*.toml"});
 }
 
 Scenario load_scenario(const std::filesystem::path& path) {

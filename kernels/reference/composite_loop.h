@@ -8,6 +8,7 @@
 #include "kernels/reference/pixel_tiles.h"
 #include "kernels/reference/ray_march.h"
 #include "kernels/reference/trilinear.h"
+#include "kernels/render/front_to_back.h"
 
 #include <glm/vec4.hpp>
 
@@ -36,34 +37,25 @@ Image composite_loop(const ShadedVolume& volume, const OccupancyGrid& occupancy,
     const PixelRays rays(camera, settings.width, settings.height);
     const OccupancyGrid* skip = settings.skip_empty_space ? &occupancy : nullptr;
     const glm::vec4* rgba = volume.rgba.data();
-    const float step = settings.sample_step;
-    const bool correct_opacity = step != 1.0f;
     const float stop_at = settings.early_termination ? settings.termination_opacity : 2.0f;  // 2: never
 
     Image image(settings.width, settings.height);
     const CompositeStats total = for_each_pixel_tiled<CompositeStats>(image, [&](int px, int py, CompositeStats& counters) {
         ++counters.rays;
-        glm::vec3 color{0.0f};
-        float opacity = 0.0f;
+        FrontToBack ray_color(settings.sample_step, stop_at);
         if (const auto ray = clip_to_volume(rays.ray(px, py), frame)) {
             ++counters.rays_hit;
             const MarchCounts marched = march(*ray, skip, [&](int, glm::vec3 position) {
                 const Cell cell = grid.cell(position);
                 before_cell(cell.corner);
                 const glm::vec4 s = grid.interpolate_rgba(cell, rgba);
-                float alpha = std::clamp(s.a, 0.0f, 1.0f);
-                if (alpha <= 0.0f) return false;
-                if (correct_opacity) alpha = 1.0f - std::pow(1.0f - alpha, step);
-                const float weight = (1.0f - opacity) * alpha;
-                color += weight * glm::vec3(s);
-                opacity += weight;
-                return opacity >= stop_at;
+                return ray_color.add(glm::vec3(s), s.a);
             });
             counters.samples += marched.samples;
             counters.samples_skipped += marched.skipped;
             if (marched.terminated) ++counters.rays_terminated;
         }
-        return glm::vec4(color + (1.0f - opacity) * settings.background, opacity);
+        return ray_color.over(settings.background);
     });
     if (stats != nullptr) *stats = total;
     return image;

@@ -4,6 +4,7 @@
 #include "kernels/reference/ray_march.h"
 #include "kernels/reference/sample_shader.h"
 #include "kernels/reference/trilinear.h"
+#include "kernels/render/front_to_back.h"
 
 #include <glm/geometric.hpp>
 #include <glm/vec4.hpp>
@@ -44,36 +45,28 @@ Image render_post_classified(const Volume& volume, const GradientField& gradient
     const OccupancyGrid* skip = settings.skip_empty_space ? &occupancy : nullptr;
     const float* values = volume.samples().data();
     const glm::vec3* gradient = gradients.gradients.data();
-    const float step = settings.sample_step;
-    const bool correct_opacity = step != 1.0f;
     const float stop_at = settings.early_termination ? settings.termination_opacity : 2.0f;  // 2: never
 
     Image image(settings.width, settings.height);
     const CompositeStats total = detail::for_each_pixel_tiled<CompositeStats>(
         image, [&](int px, int py, CompositeStats& counters) {
             ++counters.rays;
-            glm::vec3 color{0.0f};
-            float opacity = 0.0f;
+            FrontToBack ray_color(settings.sample_step, stop_at);
             if (const auto ray = detail::clip_to_volume(rays.ray(px, py), frame)) {
                 ++counters.rays_hit;
                 const detail::MarchCounts marched = detail::march(*ray, skip, [&](int, glm::vec3 position) {
                     const detail::Cell cell = grid.cell(position);
                     const float value = grid.interpolate<float>(cell, [&](std::size_t i) { return values[i]; });
                     const glm::vec3 g = grid.interpolate<glm::vec3>(cell, [&](std::size_t i) { return gradient[i]; });
-                    float alpha = classification.opacity(value, glm::length(g));
+                    const float alpha = classification.opacity(value, glm::length(g));
                     if (alpha <= 0.0f) return false;
-                    if (correct_opacity) alpha = 1.0f - std::pow(1.0f - alpha, step);
-                    const glm::vec3 sample_color = shader.shade(value, g, position * spacing);
-                    const float weight = (1.0f - opacity) * alpha;
-                    color += weight * sample_color;
-                    opacity += weight;
-                    return opacity >= stop_at;
+                    return ray_color.add(shader.shade(value, g, position * spacing), alpha);
                 });
                 counters.samples += marched.samples;
                 counters.samples_skipped += marched.skipped;
                 if (marched.terminated) ++counters.rays_terminated;
             }
-            return glm::vec4(color + (1.0f - opacity) * settings.background, opacity);
+            return ray_color.over(settings.background);
         });
     if (stats != nullptr) *stats = total;
     return image;

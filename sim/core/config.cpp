@@ -1,6 +1,7 @@
 #include "sim/core/config.h"
 
 #include "sim/core/input_error.h"
+#include "sim/core/named_file.h"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -185,17 +186,12 @@ nlohmann::json MachineConfig::to_json() const {
 }
 
 std::filesystem::path resolve_machine_file(const std::string& name_or_path) {
-    namespace fs = std::filesystem;
-    if (fs::is_regular_file(name_or_path)) return name_or_path;
-    const std::string file_name = name_or_path + ".toml";
-    std::vector<fs::path> search;
-    if (const char* env = std::getenv("PP5SIM_MACHINES")) search.emplace_back(env);
 #ifdef PP5_MACHINES_DIR
-    search.emplace_back(PP5_MACHINES_DIR);
+    const char* builtin = PP5_MACHINES_DIR;
+#else
+    const char* builtin = nullptr;
 #endif
-    for (const auto& dir : search)
-        if (fs::is_regular_file(dir / file_name)) return dir / file_name;
-    throw InputError(name_or_path, "--machine", "no such file, and not a preset name (presets: sim/machines/*.toml)");
+    return resolve_named_file(name_or_path, {"PP5SIM_MACHINES", builtin, "--machine", "presets: sim/machines/*.toml"});
 }
 
 }  // namespace pp5

@@ -53,6 +53,28 @@ nlohmann::json without_host_fields(nlohmann::json j) {
     return j;
 }
 
+// Without a scenario, render runs the shipped default (the MR head, from the mricron-data package);
+// a shipped scenario can also be named without its path.
+TEST(Cli, RenderWithoutScenarioRunsTheDefaultAndNamesResolve) {
+    const fs::path dir = scratch("default");
+    const RunResult r = run("render --out " + (dir / "head").string(), dir);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const auto stats = nlohmann::json::parse(read_file(dir / "head/stats.json"));
+    EXPECT_EQ(stats["summary"]["scenario"], "mr-head");
+    EXPECT_EQ(stats["dataset"]["name"], "ch2");
+    EXPECT_EQ(stats["summary"]["image_size"], nlohmann::json({512, 512}));
+    EXPECT_TRUE(fs::exists(dir / "head/frame_0000.png"));
+
+    const RunResult named = run("render sphere --out " + (dir / "sphere").string(), dir);
+    ASSERT_EQ(named.exit_code, 0) << named.output;
+    EXPECT_EQ(nlohmann::json::parse(read_file(dir / "sphere/stats.json"))["summary"]["scenario"], "sphere");
+
+    const RunResult unknown = run("render no-such-scenario --out " + (dir / "none").string(), dir);
+    EXPECT_EQ(unknown.exit_code, 2);
+    EXPECT_NE(unknown.output.find("no-such-scenario"), std::string::npos) << unknown.output;
+    EXPECT_FALSE(fs::exists(dir / "none"));
+}
+
 TEST(Cli, RenderWritesImagesStatsAndConfig) {
     const fs::path dir = scratch("render");
     const RunResult r = run("render " + scenario("head-phantom.toml") + " --out " + (dir / "out").string(), dir);

@@ -1,0 +1,20 @@
+#pragma once
+// Files that may be named by path or by the name of a shipped preset (machines, scenarios).
+
+#include <filesystem>
+#include <string>
+
+namespace pp5 {
+
+struct NamedFileSearch {
+    const char* environment_variable;  // a directory the user can add, searched first
+    const char* builtin_directory;     // the source tree's presets; may be null
+    const char* field;                 // how the user gave the name, for the error
+    const char* hint;                  // where the shipped names are, for the error
+};
+
+// `name_or_path` if it is an existing file, else NAME.toml in the search directories.
+// Throws pp5::InputError naming the argument when neither exists.
+std::filesystem::path resolve_named_file(const std::string& name_or_path, const NamedFileSearch& search);
+
+}  // namespace pp5
