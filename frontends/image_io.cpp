@@ -1,5 +1,7 @@
 #include "frontends/image_io.h"
 
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -15,6 +17,30 @@ std::vector<unsigned char> to_rgb8(const Image& image) {
         for (int c = 0; c < 3; ++c)
             bytes.push_back(static_cast<unsigned char>(std::lround(std::clamp(p[c], 0.0f, 1.0f) * 255.0f)));
     return bytes;
+}
+
+namespace {
+
+OIIO::ImageBuf rgb_buffer(const Image& image) {
+    std::vector<float> rgb;
+    rgb.reserve(image.pixels.size() * 3);
+    for (const glm::vec4& p : image.pixels)
+        for (int c = 0; c < 3; ++c) rgb.push_back(std::clamp(p[c], 0.0f, 1.0f));
+    OIIO::ImageBuf buffer(OIIO::ImageSpec(image.width, image.height, 3, OIIO::TypeDesc::FLOAT));
+    buffer.set_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, rgb.data());
+    return buffer;
+}
+
+}  // namespace
+
+ImageDifference compare_images(const Image& image, const Image& reference) {
+    if (image.width != reference.width || image.height != reference.height) {
+        throw std::invalid_argument("compare_images: the images differ in size");
+    }
+    const OIIO::ImageBuf a = rgb_buffer(image);
+    const OIIO::ImageBuf b = rgb_buffer(reference);
+    const auto result = OIIO::ImageBufAlgo::compare(a, b, 1.0f, 1.0f);
+    return {result.PSNR, result.rms_error, result.maxerror};
 }
 
 void write_image(const Image& image, const std::filesystem::path& path, ImageFormat format) {

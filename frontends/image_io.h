@@ -13,6 +13,15 @@ enum class ImageFormat { Png, Exr };
 // over the background); EXR holds RGBA as float. Throws std::runtime_error on failure.
 void write_image(const Image& image, const std::filesystem::path& path, ImageFormat format);
 
+// How far `image` is from `reference` in colour (RGB, each clamped to [0,1]): OpenImageIO's compare.
+struct ImageDifference {
+    double psnr_db = 0.0;     // peak signal-to-noise ratio, peak 1; infinite when identical
+    double rms_error = 0.0;
+    double max_error = 0.0;
+};
+// Throws std::invalid_argument if the sizes differ.
+ImageDifference compare_images(const Image& image, const Image& reference);
+
 // The 8-bit RGB bytes a PNG of `image` holds, row 0 at the top: what tests compare.
 std::vector<unsigned char> to_rgb8(const Image& image);
 

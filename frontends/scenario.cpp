@@ -346,6 +346,11 @@ Scenario load_scenario(const std::filesystem::path& path) {
     TableReader meta = top.sub("scenario");
     s.name = meta.text("name").value_or(path.stem().string());
     s.description = meta.text("description").value_or("");
+    if (const auto kernel = meta.text("kernel")) {
+        if (*kernel == "levoy") s.kernel = ScenarioKernel::Levoy;
+        else if (*kernel == "reference") s.kernel = ScenarioKernel::Reference;
+        else meta.fail("kernel", "must be \"levoy\" (the simulated machine) or \"reference\" (the host renderer)");
+    }
     meta.finish();
     if (s.name.empty() || s.name.find_first_of("/\\") != std::string::npos)
         meta.fail("name", "must be a non-empty name without slashes (it names the output folder)");

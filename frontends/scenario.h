@@ -69,10 +69,17 @@ struct FrameSpec {
     bool classification_changed = true;
 };
 
+// Which algorithm renders the frames.
+enum class ScenarioKernel {
+    Levoy,      // Levoy 1989 on the machine: the PPs classify and shade (timed); the host composites
+    Reference,  // the host floating-point renderer alone (no simulated time)
+};
+
 struct Scenario {
     std::filesystem::path file;
     std::string name;
     std::string description;
+    ScenarioKernel kernel = ScenarioKernel::Levoy;
     DatasetSpec dataset;
     ImageSpec image;
     std::vector<FrameSpec> frames;  // at least one

@@ -1,6 +1,7 @@
 // `pp5sim params`: every machine parameter with its value, unit, range, doc and provenance.
 
 #include "frontends/cli/commands.h"
+#include "frontends/cli/run_config.h"
 #include "sim/core/config.h"
 #include "sim/machine/machine.h"
 
@@ -26,7 +27,7 @@ std::string format_range(const ParamSpec& spec) {
 }
 
 int run_params(const ParamsOptions& options) {
-    MachineConfig config = Machine::default_config();
+    MachineConfig config(run_param_groups());
     if (!options.machine.empty()) config.load_file(resolve_machine_file(options.machine));
     for (const auto& o : options.overrides) config.apply_override(o);
     const nlohmann::json resolved = config.to_json()["parameters"];

@@ -1,14 +1,19 @@
 // `pp5sim render [SCENARIO]`: render every frame of a scenario on a configured machine and write the
 // images, stats.json and config.json.
 //
-// Until the machine's timing arrives, each frame is rendered by the host reference renderer and its
-// simulated time is zero; the machine is still assembled from the configuration, so its parameters
-// are validated and its components report their statistics.
+// With the levoy kernel the renderers' PPs classify and shade the volume (functionally and in
+// simulated time) and the host composites their colours and opacities; every frame is also rendered
+// by the floating-point reference renderer, and stats.json says how far the two images are apart.
+// With the reference kernel the host renderer alone makes the images and simulated time is zero.
 
 #include "frontends/cli/commands.h"
 #include "frontends/cli/output_dir.h"
 #include "frontends/cli/progress.h"
+#include "frontends/cli/run_config.h"
+#include "frontends/image_io.h"
 #include "frontends/scenario.h"
+#include "kernels/levoy/pp_shading.h"
+#include "kernels/reference/composite.h"
 #include "kernels/reference/reference_renderer.h"
 #include "sim/core/config.h"
 #include "sim/core/input_error.h"
@@ -20,6 +25,8 @@
 #include <tbb/global_control.h>
 
 #include <chrono>
+#include <cmath>
+#include <optional>
 #include <thread>
 
 namespace pp5::cli {
@@ -47,31 +54,83 @@ RenderSettings render_settings(const ImageSpec& image) {
     return s;
 }
 
+nlohmann::json pass_record(const PpProgramPass& pass) {
+    if (!pass.ran) return {{"ran", false}};
+    return {{"ran", true},
+            {"simulated_seconds", static_cast<double>(pass.end_ps - pass.start_ps) / static_cast<double>(kTicksPerSecond)},
+            {"instructions", pass.instructions},
+            {"local_memory_bits_used", pass.local_memory_bits_used},
+            {"slot_cycles", pass.slot_cost.compute_cycles()},
+            {"slot_alu_cycles", pass.slot_cost.alu_cycles},
+            {"slot_controller_cycles", pass.slot_cost.controller_cycles},
+            {"slot_transfer_cycles", pass.slot_cost.transfer_cycles()},
+            {"slots", pass.slots},
+            {"cycles", {{"total", pass.busiest.total},
+                        {"computation", pass.busiest.alu},
+                        {"controller", pass.busiest.controller},
+                        {"backing_store", pass.busiest.backing_store_stall}}}};
+}
+
+// One frame's record in stats.json: what changed, what the reference did, what the machine did.
 nlohmann::json frame_record(std::size_t index, const FrameSpec& frame, const std::string& image_name,
-                            const RenderStats& stats, double host_seconds) {
-    return {{"index", index},
-            {"label", frame.label},
-            {"image", image_name},
-            {"changed", {{"camera", frame.camera_changed}, {"lighting", frame.lighting_changed},
-                         {"classification", frame.classification_changed}}},
-            {"simulated_seconds", 0.0},
-            {"reference",
-             {{"rays", stats.composite.rays},
-              {"samples", stats.composite.samples},
-              {"samples_skipped", stats.composite.samples_skipped},
-              {"rays_terminated", stats.composite.rays_terminated}}},
-            {"host_seconds", host_seconds}};
+                            const RenderStats& stats, const std::optional<PpFrameReport>& machine_work,
+                            const std::optional<ImageDifference>& fidelity, double host_seconds) {
+    nlohmann::json record = {
+        {"index", index},
+        {"label", frame.label},
+        {"image", image_name},
+        {"changed", {{"camera", frame.camera_changed}, {"lighting", frame.lighting_changed},
+                     {"classification", frame.classification_changed}}},
+        {"simulated_seconds", machine_work ? static_cast<double>(machine_work->duration_ps()) / static_cast<double>(kTicksPerSecond) : 0.0},
+        {"reference",
+         {{"rays", stats.composite.rays},
+          {"samples", stats.composite.samples},
+          {"samples_skipped", stats.composite.samples_skipped},
+          {"rays_terminated", stats.composite.rays_terminated}}},
+        {"host_seconds", host_seconds}};
+    if (machine_work) {
+        record["renderers"] = {{"classification", pass_record(machine_work->classification)},
+                               {"shading", pass_record(machine_work->shading)}};
+    }
+    if (fidelity) {
+        record["fidelity"] = {{"against", "reference renderer"},
+                              {"psnr_db", std::isfinite(fidelity->psnr_db) ? nlohmann::json(fidelity->psnr_db) : nlohmann::json("inf")},
+                              {"rms_error", fidelity->rms_error},
+                              {"max_error", fidelity->max_error}};
+    }
+    return record;
+}
+
+std::string describe_frame(const nlohmann::json& f) {
+    std::string line = fmt::format("  frame {} ({}): {} samples ({} skipped as empty)", f["index"].get<std::size_t>(),
+                                   f["label"].get<std::string>(), f["reference"]["samples"].dump(),
+                                   f["reference"]["samples_skipped"].dump());
+    if (f.contains("renderers")) {
+        for (const char* pass : {"classification", "shading"}) {
+            const auto& p = f["renderers"][pass];
+            if (!p["ran"].get<bool>()) continue;
+            line += fmt::format("; PP {} {:.2f} ms ({} cycles a slot)", pass, p["simulated_seconds"].get<double>() * 1e3,
+                                p["slot_cycles"].dump());
+        }
+        line += fmt::format("; simulated {:.2f} ms", f["simulated_seconds"].get<double>() * 1e3);
+    }
+    if (f.contains("fidelity")) line += fmt::format("; PSNR {} dB against the reference", f["fidelity"]["psnr_db"].dump());
+    return line;
 }
 
 int run_render(const RenderOptions& o) {
     const auto started = std::chrono::steady_clock::now();
     // Read and check every input before any work or output.
     const Scenario scenario = load_scenario(resolve_scenario_file(o.scenario));
-    MachineConfig config = Machine::default_config();
-    config.load_file(resolve_machine_file(o.machine));
-    for (const auto& assignment : o.overrides) config.apply_override(assignment);
+    const MachineConfig config = load_run_config(o.machine, o.overrides);
     if (o.threads < 0) throw InputError("--threads", "--threads", "must be 0 (all cores) or more");
     if (o.format != "png" && o.format != "exr") throw InputError("--format", "--format", "must be png or exr");
+    const bool on_machine = scenario.kernel == ScenarioKernel::Levoy;
+    if (on_machine && scenario.image.resampling != ResamplingOrder::ShadeThenInterpolate) {
+        throw InputError(scenario.file.string(), "image.resampling",
+                         "the levoy kernel shades at the voxels (shade-then-interpolate); use kernel = \"reference\" to "
+                         "interpolate first");
+    }
     const ImageFormat format = o.format == "png" ? ImageFormat::Png : ImageFormat::Exr;
     Machine machine(config);
     const Volume volume = load_dataset(scenario);
@@ -84,37 +143,63 @@ int run_render(const RenderOptions& o) {
     const glm::vec3 center = 0.5f * extent;
     const float radius = std::max(0.5f * glm::length(extent), 1e-3f);
 
+    // The machine's kernel places the volume in the PPs first: a volume that does not fit stops here.
+    std::optional<PpShading> pixel_processors;
+    if (on_machine) pixel_processors.emplace(machine, volume, LevoySettings::from(config));
+
     StagedOutput output(o.out.empty() ? std::filesystem::path("out") / scenario.name : std::filesystem::path(o.out));
-    ReferenceRenderer renderer(volume);
+    ReferenceRenderer reference(volume);
     const RenderSettings settings = render_settings(scenario.image);
     nlohmann::json frames = nlohmann::json::array();
     nlohmann::json simulated = nlohmann::json::array();
+    std::optional<ShadingView> shaded_for;
+    std::optional<ShadedVolume> shaded;
     Progress progress("render " + scenario.name, scenario.frames.size());
     for (std::size_t i = 0; i < scenario.frames.size(); ++i) {
         const FrameSpec& frame = scenario.frames[i];
         const auto frame_start = std::chrono::steady_clock::now();
-        if (frame.classification_changed) renderer.set_classification(frame.classification, frame.colors);
-        if (frame.lighting_changed) renderer.set_lighting(frame.lighting);
+        const Camera camera = frame.camera.camera_for(center, radius);
+        if (frame.classification_changed) reference.set_classification(frame.classification, frame.colors);
+        if (frame.lighting_changed) reference.set_lighting(frame.lighting);
         RenderStats stats;
-        Image image = renderer.render(frame.camera.camera_for(center, radius), settings, &stats);
+        Image image = reference.render(camera, settings, &stats);
+
+        std::optional<PpFrameReport> machine_work;
+        std::optional<ImageDifference> fidelity;
+        if (pixel_processors) {
+            // Colours depend on the colour map (part of the classification), the lights and the view.
+            const ShadingView view = make_shading_view(camera, volume.dims(), volume.spacing());
+            const bool reshade = frame.classification_changed || frame.lighting_changed || shaded_for != view;
+            machine_work = pixel_processors->update(frame.classification, frame.colors, frame.lighting, view,
+                                                    frame.classification_changed, reshade);
+            if (frame.classification_changed || reshade || !shaded) shaded = pixel_processors->shaded_volume();
+            shaded_for = view;
+            Image simulated_image = composite(*shaded, camera, settings.composite_settings());
+            fidelity = compare_images(simulated_image, image);
+            image = std::move(simulated_image);
+        }
         const std::string image_name = fmt::format("frame_{:04}.{}", i, o.format);
         output.add_image(image_name, std::move(image), format);
         const double host = Seconds(std::chrono::steady_clock::now() - frame_start).count();
-        frames.push_back(frame_record(i, frame, image_name, stats, host));
-        simulated.push_back(0.0);
+        frames.push_back(frame_record(i, frame, image_name, stats, machine_work, fidelity, host));
+        simulated.push_back(frames.back()["simulated_seconds"]);
         progress.update(i + 1);
     }
     const double host_seconds = Seconds(std::chrono::steady_clock::now() - started).count();
 
+    nlohmann::json summary = {{"scenario", scenario.name},
+                              {"kernel", on_machine ? "levoy" : "reference"},
+                              {"machine", config.machine_name()},
+                              {"frames", scenario.frames.size()},
+                              {"image_size", {scenario.image.width, scenario.image.height}},
+                              {"simulated_seconds", simulated},
+                              {"timing_model", on_machine ? "renderers: PP classification and shading passes, timed from the "
+                                                            "programs' operations; ray casting and compositing run on the host "
+                                                            "and are not timed yet"
+                                                          : "none: the host reference renderer; simulated time is 0"},
+                              {"host_seconds", host_seconds}};
     nlohmann::json stats = {
-        {"summary",
-         {{"scenario", scenario.name},
-          {"machine", config.machine_name()},
-          {"frames", scenario.frames.size()},
-          {"image_size", {scenario.image.width, scenario.image.height}},
-          {"simulated_seconds", simulated},
-          {"timing_model", "none yet: frames are rendered by the host reference renderer; simulated time is 0"},
-          {"host_seconds", host_seconds}}},
+        {"summary", summary},
         {"dataset",
          {{"name", volume.name()},
           {"dims", {volume.dims().x, volume.dims().y, volume.dims().z}},
@@ -124,19 +209,28 @@ int run_render(const RenderOptions& o) {
         {"frames", frames},
         {"simulation", {{"events_run", machine.events().events_run()}, {"simulated_ticks_ps", machine.events().now()}}},
         {"components", machine.statistics()}};
+    if (pixel_processors) {
+        const VoxelPlacement& p = pixel_processors->placement();
+        const VoxelQuantization& q = pixel_processors->quantization();
+        stats["placement"] = {{"policy", to_string(p.policy())},
+                              {"record_bits", p.record_bits()},
+                              {"slots_needed", p.slots_needed()},
+                              {"slots_available", p.slots_available()},
+                              {"backing_store_bits_used", p.backing_store_bits_used()},
+                              {"value_scale", q.value_scale},
+                              {"value_offset", q.value_offset},
+                              {"gradient_scale", q.gradient_scale}};
+    }
     output.add_text("stats.json", stats.dump(2) + "\n");
     output.add_text("config.json", config.to_json().dump(2) + "\n");
     const auto written = output.commit();
 
-    fmt::print("pp5sim render: scenario {} on machine {}\n", scenario.name, config.machine_name());
+    fmt::print("pp5sim render: scenario {} on machine {} ({} kernel)\n", scenario.name, config.machine_name(),
+               on_machine ? "levoy" : "reference");
     fmt::print("  {}\n", machine.summary());
     fmt::print("  dataset {}: {}x{}x{} {}, values {} to {}\n", volume.name(), volume.dims().x, volume.dims().y,
                volume.dims().z, to_string(volume.source_type()), volume.min_value(), volume.max_value());
-    for (const auto& f : frames)
-        fmt::print("  frame {} ({}): {} rays, {} samples ({} skipped as empty), simulated {} s\n",
-                   f["index"].get<std::size_t>(), f["label"].get<std::string>(), f["reference"]["rays"].dump(),
-                   f["reference"]["samples"].dump(), f["reference"]["samples_skipped"].dump(),
-                   f["simulated_seconds"].dump());
+    for (const auto& f : frames) fmt::print("{}\n", describe_frame(f));
     fmt::print("  host time {:.2f} s with {} thread{}\n", host_seconds, threads, threads == 1 ? "" : "s");
     fmt::print("wrote {} files to {}\n", written.size(), output.directory().string());
     return 0;

@@ -1,5 +1,7 @@
 #include "sim/components/renderer.h"
 
+#include <algorithm>
+
 namespace pp5 {
 
 const ParamGroup& Renderer::params() {
@@ -34,11 +36,70 @@ Renderer::Renderer(std::size_t index, const MachineConfig& config)
       columns_(static_cast<std::uint64_t>(config.integer("renderer.pp_columns"))),
       rows_(static_cast<std::uint64_t>(config.integer("renderer.pp_rows"))),
       local_memory_bits_(static_cast<std::uint64_t>(config.integer("renderer.local_memory_bits"))),
-      backing_store_bits_(static_cast<std::uint64_t>(config.integer("renderer.backing_store_bits"))) {
+      backing_store_bits_(static_cast<std::uint64_t>(config.integer("renderer.backing_store_bits"))),
+      cost_model_(config),
+      passes_(stats().counter("passes", "count", "PP program runs over voxel slots")),
+      slots_(stats().counter("slots", "count", "Voxel slots processed, summed over passes")),
+      busy_cycles_(stats().counter("busy_cycles", "cycles", "PP clock cycles spent in passes")),
+      alu_cycles_(stats().counter("alu_cycles", "cycles", "Of busy_cycles, the PPs computing")),
+      controller_cycles_(stats().counter("controller_cycles", "cycles", "Of busy_cycles, the controller issuing instructions")),
+      backing_store_stall_cycles_(stats().counter("backing_store_stall_cycles", "cycles",
+                                                  "Of busy_cycles, waiting for backing-store transfers not hidden by computation")),
+      backing_store_blocks_(stats().counter("backing_store_blocks", "count", "Blocks moved between local memory and backing store")),
+      instructions_(stats().counter("instructions", "count", "PP instructions broadcast")),
+      pp_operations_(stats().counter("pp_operations", "count", "Instructions times PPs")),
+      enabled_pp_operations_(stats().counter("enabled_pp_operations", "count", "Of pp_operations, on enabled PPs")) {
     stats().formula("pixel_processors", "count", "Pixel processors in this renderer's array",
                     [this] { return static_cast<double>(pixel_processors()); });
     stats().formula("memory_bits", "bits", "Local memory plus backing store over all of this renderer's PPs",
                     [this] { return static_cast<double>(pixel_processors() * (local_memory_bits_ + backing_store_bits_)); });
+    stats().formula("enabled_fraction", "ratio", "Share of PP operations done on enabled PPs", [this] {
+        const auto all = pp_operations_.value();
+        return all == 0 ? 0.0 : static_cast<double>(enabled_pp_operations_.value()) / static_cast<double>(all);
+    });
+    stats().formula("local_memory_bits_used", "bits", "Peak local memory per PP used by any program run here",
+                    [this] { return static_cast<double>(local_memory_bits_peak_); });
+    stats().formula("backing_store_bits_used", "bits", "Backing store per PP holding placed data",
+                    [this] { return static_cast<double>(backing_store_bits_used_); });
+    stats().formula("slot_cycles", "cycles", "Cycles of one voxel slot (computation and issue) in the last pass",
+                    [this] { return static_cast<double>(last_slot_cycles_); });
+}
+
+PpArray& Renderer::array() {
+    if (!array_) {
+        array_ = std::make_unique<PpArray>(columns(), rows(), static_cast<int>(local_memory_bits_),
+                                           static_cast<int>(backing_store_bits_));
+    }
+    return *array_;
+}
+
+Tick Renderer::begin_pass(EventQueue& events, Tick start, const RendererPass& pass) {
+    const Tick begin = clock_.next_edge(std::max(start, busy_until_));
+    const PpPassCycles cycles = cost_model_.pass(pass.cost, pass.slots);
+    const Tick duration = clock_.cycles_to_ticks(cycles.total);
+    busy_until_ = begin + duration;
+
+    ++passes_;
+    slots_ += pass.slots;
+    busy_cycles_ += cycles.total;
+    alu_cycles_ += cycles.alu;
+    controller_cycles_ += cycles.controller;
+    backing_store_stall_cycles_ += cycles.backing_store_stall;
+    backing_store_blocks_ += (pass.cost.load_blocks + pass.cost.store_blocks) * pass.slots;
+    instructions_ += pass.counts.instructions;
+    pp_operations_ += pass.counts.pp_operations;
+    enabled_pp_operations_ += pass.counts.enabled_pp_operations;
+    busy_ps += static_cast<std::uint64_t>(duration);
+    local_memory_bits_peak_ = std::max(local_memory_bits_peak_, static_cast<std::uint64_t>(pass.local_memory_bits_used));
+    last_slot_cycles_ = pass.cost.compute_cycles();
+
+    events.schedule(busy_until_, *this);
+    return busy_until_;
+}
+
+void Renderer::handle_event(Tick, std::uint64_t) {
+    // The pass is over; the renderer takes new work from busy_until_ on. Nothing else waits on it yet:
+    // the GPs' voxel requests (which queue behind passes) arrive with the ray caster.
 }
 
 }  // namespace pp5

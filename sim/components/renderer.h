@@ -1,16 +1,34 @@
 #pragma once
 // A renderer: a SIMD array of bit-serial pixel processors (PPs), each with a little local memory and a
 // larger backing store, driven by a controller and a quadratic expression evaluator. In Levoy's design
-// the PPs hold the voxels and shade and classify them in parallel. Timing arrives with the renderer
-// work; here it declares its parameters, its capacity and its statistics.
+// the PPs hold the voxels and shade and classify them in parallel.
+//
+// Function and time are kept apart: the PP array (sim/renderer/pp_array.h) computes real values, and
+// this component spends simulated time on the program runs it is given, at the cost the PP cost model
+// puts on them (sim/renderer/pp_cost_model.h); an event marks the end of each pass.
 
 #include "sim/core/clock_domain.h"
 #include "sim/core/component.h"
 #include "sim/core/config.h"
+#include "sim/core/event_queue.h"
+#include "sim/renderer/pp_array.h"
+#include "sim/renderer/pp_cost_model.h"
+
+#include <memory>
+#include <string>
 
 namespace pp5 {
 
-class Renderer : public Component {
+// One program run over a number of voxel slots, as the controller would sequence it.
+struct RendererPass {
+    std::string program;
+    PpProgramCost cost;        // of one slot
+    std::uint64_t slots = 0;   // slots run, one after another
+    PpRunCounts counts;        // over all slots, from the functional run
+    int local_memory_bits_used = 0;
+};
+
+class Renderer : public Component, private EventHandler {
 public:
     static const ParamGroup& params();
 
@@ -19,19 +37,50 @@ public:
     std::size_t index() const { return index_; }
     const ClockDomain& clock() const { return clock_; }
     std::uint64_t pixel_processors() const { return columns_ * rows_; }
+    int columns() const { return static_cast<int>(columns_); }
+    int rows() const { return static_cast<int>(rows_); }
     std::uint64_t local_memory_bits() const { return local_memory_bits_; }
     std::uint64_t backing_store_bits() const { return backing_store_bits_; }
+    const PpCostModel& cost_model() const { return cost_model_; }
+
+    // The PPs' functional state, allocated on first use (a run that never uses the PPs pays nothing).
+    PpArray& array();
+
+    // Starts `pass` at `start` (or when the renderer is next free, if later); returns when it will end.
+    Tick begin_pass(EventQueue& events, Tick start, const RendererPass& pass);
+    Tick busy_until() const { return busy_until_; }
+    // Bits of each PP's backing store holding data, as the kernel that placed it reports.
+    void set_backing_store_bits_used(std::uint64_t bits) { backing_store_bits_used_ = bits; }
 
     Counter& busy_ps;
     Counter& voxel_requests;
 
 private:
+    void handle_event(Tick now, std::uint64_t payload) override;
+
     std::size_t index_;
     ClockDomain clock_;
     std::uint64_t columns_;
     std::uint64_t rows_;
     std::uint64_t local_memory_bits_;
     std::uint64_t backing_store_bits_;
+    PpCostModel cost_model_;
+    std::unique_ptr<PpArray> array_;
+    Tick busy_until_ = 0;
+    std::uint64_t backing_store_bits_used_ = 0;
+    std::uint64_t local_memory_bits_peak_ = 0;
+    std::uint64_t last_slot_cycles_ = 0;
+
+    Counter& passes_;
+    Counter& slots_;
+    Counter& busy_cycles_;
+    Counter& alu_cycles_;
+    Counter& controller_cycles_;
+    Counter& backing_store_stall_cycles_;
+    Counter& backing_store_blocks_;
+    Counter& instructions_;
+    Counter& pp_operations_;
+    Counter& enabled_pp_operations_;
 };
 
 }  // namespace pp5

@@ -6,7 +6,8 @@
 namespace pp5 {
 
 std::vector<const ParamGroup*> Machine::param_groups() {
-    return {&GraphicsProcessor::params(), &Renderer::params(), &FrameBuffer::params(), &RingNetwork::params()};
+    return {&GraphicsProcessor::params(), &Renderer::params(), &PpCostModel::params(), &FrameBuffer::params(),
+            &RingNetwork::params()};
 }
 
 MachineConfig Machine::default_config() { return MachineConfig(param_groups()); }

@@ -1,0 +1,199 @@
+#include "kernels/levoy/pp_shading.h"
+
+#include "sim/core/input_error.h"
+
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <vector>
+
+namespace pp5 {
+
+namespace {
+
+constexpr const char* kMachineFile = "machine configuration";
+
+std::uint64_t mask(int bits) { return bits >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << bits) - 1; }
+
+// Calls visit(pp, voxel) for every PP of `frame` that holds a voxel of a volume of `dims`.
+template <class Visit>
+void for_each_voxel(const SlotFrame& frame, glm::ivec3 dims, const PpArrayShape& shape, Visit&& visit) {
+    const int columns = std::min(shape.columns, dims.x - frame.origin.x);
+    const int rows = std::min(shape.rows, dims.y - frame.origin.y);
+    for (int row = 0; row < rows; ++row) {
+        for (int column = 0; column < columns; ++column) {
+            visit(column + row * shape.columns, frame.origin + glm::ivec3(column, row, 0));
+        }
+    }
+}
+
+PpArrayShape shape_of(const Machine& machine) {
+    const MachineConfig& c = machine.config();
+    return {static_cast<int>(c.integer("renderer.count")), static_cast<int>(c.integer("renderer.pp_columns")),
+            static_cast<int>(c.integer("renderer.pp_rows")), static_cast<int>(c.integer("renderer.backing_store_bits"))};
+}
+
+}  // namespace
+
+const ParamGroup& LevoySettings::params() {
+    static const ParamGroup group = [] {
+        ParamGroup g("levoy", "Levoy's volume rendering kernel: how the volume sits in the pixel processors");
+        g.text("placement", "bricks", {"bricks", "slices"},
+               "Which renderer, PP and slot holds each voxel: solid bricks per renderer, or z-slices dealt round-robin",
+               Provenance::Default, "pp5sim: Levoy gives each PP 64 voxels but not their arrangement")
+            .integer("value_bits", 8, "bits", 1, 16, "Bits of each voxel's scalar value in the backing store",
+                     Provenance::Paper, "Levoy 1989: 8 bytes per voxel for value, gradient, colour and opacity")
+            .integer("gradient_bits", 8, "bits", 2, 16, "Bits of each signed gradient component",
+                     Provenance::Default, "pp5sim: one byte each fills Levoy's 8-byte budget")
+            .integer("color_bits", 8, "bits", 1, 16, "Bits of each shaded colour channel", Provenance::Default,
+                     "pp5sim: one byte each fills Levoy's 8-byte budget")
+            .integer("opacity_bits", 8, "bits", 1, 16, "Bits of each voxel's opacity", Provenance::Default,
+                     "pp5sim: one byte fills Levoy's 8-byte budget");
+        return g;
+    }();
+    return group;
+}
+
+LevoySettings LevoySettings::from(const MachineConfig& config) {
+    LevoySettings s;
+    s.placement = parse_placement_policy(config.text("levoy.placement")).value_or(PlacementPolicy::Bricks);
+    s.layout.value_bits = static_cast<int>(config.integer("levoy.value_bits"));
+    s.layout.gradient_bits = static_cast<int>(config.integer("levoy.gradient_bits"));
+    s.layout.color_bits = static_cast<int>(config.integer("levoy.color_bits"));
+    s.layout.opacity_bits = static_cast<int>(config.integer("levoy.opacity_bits"));
+    return s;
+}
+
+PpShading::PpShading(Machine& machine, const Volume& volume, const LevoySettings& settings)
+    : machine_(machine),
+      settings_(settings),
+      dims_(volume.dims()),
+      spacing_(volume.spacing()),
+      gradients_(compute_gradients(volume)),
+      quantization_(VoxelQuantization::choose(volume, gradients_, settings.layout)),
+      placement_(settings.placement, volume.dims(), shape_of(machine), settings.layout.bits()) {
+    if (!placement_.fits()) throw InputError(kMachineFile, "renderer.backing_store_bits", placement_.shortfall());
+    load_volume(volume);
+}
+
+void PpShading::load_volume(const Volume& volume) {
+    const VoxelRecordLayout& layout = settings_.layout;
+    const int record_bits = layout.bits();
+    auto& renderers = machine_.renderers();
+    tbb::parallel_for(std::size_t{0}, renderers.size(), [&](std::size_t r) {
+        PpArray& array = renderers[r]->array();
+        const int renderer = static_cast<int>(r);
+        for (int slot = 0; slot < placement_.slots_needed(); ++slot) {
+            const SlotFrame frame = placement_.frame(renderer, slot);
+            if (!frame.used) continue;
+            const int base = slot * record_bits;
+            for_each_voxel(frame, dims_, placement_.shape(), [&](int pp, glm::ivec3 v) {
+                const std::size_t i = volume.index(v.x, v.y, v.z);
+                array.write_backing(pp, base + layout.value_offset(), layout.value_bits,
+                                    static_cast<std::uint64_t>(quantization_.value_code(volume.samples()[i])));
+                const glm::vec3 g = gradients_.gradients[i];
+                for (int axis = 0; axis < 3; ++axis) {
+                    const auto code = static_cast<std::uint64_t>(quantization_.gradient_code(g[axis]));
+                    array.write_backing(pp, base + layout.gradient_offset(axis), layout.gradient_bits, code & mask(layout.gradient_bits));
+                }
+            });
+        }
+        renderers[r]->set_backing_store_bits_used(static_cast<std::uint64_t>(placement_.slots_used(renderer)) *
+                                                  static_cast<std::uint64_t>(record_bits));
+    });
+}
+
+PpProgramPass PpShading::run_program(const PpProgram& program, const ShadingView* depth_view, Tick start) {
+    auto& renderers = machine_.renderers();
+    const int record_bits = settings_.layout.bits();
+    std::vector<PpRunCounts> counts(renderers.size());
+    std::vector<std::uint64_t> slots(renderers.size(), 0);
+    // Function first: every renderer's PPs run the program over their slots (renderers in parallel;
+    // each renderer's result depends on its own data only, so the thread count changes nothing).
+    tbb::parallel_for(std::size_t{0}, renderers.size(), [&](std::size_t r) {
+        PpArray& array = renderers[r]->array();
+        for (int slot = 0; slot < placement_.slots_needed(); ++slot) {
+            const SlotFrame frame = placement_.frame(static_cast<int>(r), slot);
+            if (!frame.used) continue;
+            QeeCoefficients depth;
+            if (depth_view != nullptr) depth = depth_expression(*depth_view, frame, spacing_);
+            PpSlotContext context;
+            context.record_base_bit = slot * record_bits;
+            if (depth_view != nullptr) context.expressions = std::span<const QeeCoefficients>(&depth, 1);
+            counts[r] += array.run(program, context);
+            ++slots[r];
+        }
+    });
+    // Then time: each renderer spends its pass on its own clock, in the shared event queue.
+    PpProgramPass pass;
+    pass.ran = true;
+    pass.start_ps = start;
+    pass.end_ps = start;
+    pass.instructions = program.instructions.size();
+    pass.local_memory_bits_used = program.local_memory_bits_used;
+    EventQueue& events = machine_.events();
+    for (std::size_t r = 0; r < renderers.size(); ++r) {
+        Renderer& renderer = *renderers[r];
+        RendererPass work{program.name, renderer.cost_model().cost(program), slots[r], counts[r], program.local_memory_bits_used};
+        const Tick end = renderer.begin_pass(events, start, work);
+        if (end > pass.end_ps || r == 0) {
+            pass.end_ps = end;
+            pass.slot_cost = work.cost;
+            pass.busiest = renderer.cost_model().pass(work.cost, work.slots);
+            pass.slots = work.slots;
+        }
+    }
+    events.run_until();
+    return pass;
+}
+
+PpFrameReport PpShading::update(const Classification& classification, const ColorMap& color_map,
+                                const PhongLighting& lighting, const ShadingView& view, bool classification_changed,
+                                bool shading_changed) {
+    PpProgramInputs inputs{settings_.layout, quantization_, spacing_,
+                           static_cast<int>(machine_.config().integer("renderer.local_memory_bits"))};
+    PpFrameReport report;
+    report.start_ps = machine_.events().now();
+    report.end_ps = report.start_ps;
+    if (classification_changed) {
+        const PpProgram program = build_classification_program(classification, inputs);
+        report.classification = run_program(program, nullptr, report.end_ps);
+        report.end_ps = report.classification.end_ps;
+    }
+    if (shading_changed) {
+        const PpProgram program = build_shading_program(color_map, lighting, view, inputs);
+        report.shading = run_program(program, program.expressions > 0 ? &view : nullptr, report.end_ps);
+        report.end_ps = report.shading.end_ps;
+    }
+    return report;
+}
+
+ShadedVolume PpShading::shaded_volume() const {
+    const VoxelRecordLayout& layout = settings_.layout;
+    const int record_bits = layout.bits();
+    ShadedVolume shaded{dims_, spacing_, std::vector<glm::vec4>(static_cast<std::size_t>(dims_.x) * dims_.y * dims_.z)};
+    const float color_max = static_cast<float>(mask(layout.color_bits));
+    const float opacity_max = static_cast<float>(mask(layout.opacity_bits));
+    auto& renderers = machine_.renderers();
+    tbb::parallel_for(std::size_t{0}, renderers.size(), [&](std::size_t r) {
+        const PpArray& array = renderers[r]->array();
+        for (int slot = 0; slot < placement_.slots_needed(); ++slot) {
+            const SlotFrame frame = placement_.frame(static_cast<int>(r), slot);
+            if (!frame.used) continue;
+            const int base = slot * record_bits;
+            for_each_voxel(frame, dims_, placement_.shape(), [&](int pp, glm::ivec3 v) {
+                glm::vec4 rgba;
+                for (int c = 0; c < 3; ++c) {
+                    rgba[c] = static_cast<float>(array.read_backing(pp, base + layout.color_offset(c), layout.color_bits)) / color_max;
+                }
+                rgba.a = static_cast<float>(array.read_backing(pp, base + layout.opacity_offset(), layout.opacity_bits)) / opacity_max;
+                shaded.rgba[static_cast<std::size_t>(v.x) + static_cast<std::size_t>(dims_.x) *
+                                (static_cast<std::size_t>(v.y) + static_cast<std::size_t>(dims_.y) * static_cast<std::size_t>(v.z))] = rgba;
+            });
+        }
+    });
+    return shaded;
+}
+
+}  // namespace pp5

@@ -1,0 +1,93 @@
+#pragma once
+// Levoy's first stage on the machine: the renderers' pixel processors hold the volume (value and
+// gradient of every voxel, placed by voxel_placement.h) and classify and shade all of it in parallel,
+// leaving a colour and an opacity in every voxel slot for the ray casters to fetch.
+//
+// PpShading places and loads the volume once, then for each frame reruns only what changed: the
+// classification program when the classification changed, the shading program when the colours,
+// lights or view did. The programs really run (functionally, on every PP, in fixed point) and their
+// time comes from the operations they perform (sim/renderer/pp_cost_model.h), on each renderer's
+// clock through the machine's event queue.
+//
+// Not modelled yet: moving the volume into the backing stores (the ring brings it once, before any
+// frame) and the commands that start each pass (they arrive over the ring from a GP).
+
+#include "kernels/levoy/shading_programs.h"
+#include "kernels/levoy/voxel_placement.h"
+#include "kernels/levoy/voxel_record.h"
+#include "kernels/reference/gradient_field.h"
+#include "kernels/reference/shaded_volume.h"
+#include "kernels/reference/shading_view.h"
+#include "kernels/render/classification.h"
+#include "kernels/render/shading.h"
+#include "kernels/volume/volume.h"
+#include "sim/core/config.h"
+#include "sim/core/param.h"
+#include "sim/core/time.h"
+#include "sim/machine/machine.h"
+#include "sim/renderer/pp_cost_model.h"
+
+#include <optional>
+
+namespace pp5 {
+
+// The kernel's own parameters ("levoy.*"): how the volume sits in the PPs.
+struct LevoySettings {
+    PlacementPolicy placement = PlacementPolicy::Bricks;
+    VoxelRecordLayout layout;
+
+    static const ParamGroup& params();
+    static LevoySettings from(const MachineConfig& config);
+};
+
+// One program's pass over the machine: the busiest renderer's time, and one slot's cost.
+struct PpProgramPass {
+    bool ran = false;
+    Tick start_ps = 0;
+    Tick end_ps = 0;
+    std::uint64_t instructions = 0;     // in the program
+    int local_memory_bits_used = 0;
+    PpProgramCost slot_cost;            // one voxel slot
+    PpPassCycles busiest;               // the renderer that finished last
+    std::uint64_t slots = 0;            // on that renderer
+};
+
+struct PpFrameReport {
+    PpProgramPass classification;
+    PpProgramPass shading;
+    Tick start_ps = 0;
+    Tick end_ps = 0;
+    Tick duration_ps() const { return end_ps - start_ps; }
+};
+
+class PpShading {
+public:
+    // Places and loads the volume. Throws InputError(machine configuration, "renderer.backing_store_bits",
+    // what it would need) if it does not fit, and InputError for a layout the programs cannot use.
+    PpShading(Machine& machine, const Volume& volume, const LevoySettings& settings);
+
+    // Runs the passes this frame needs, from the machine's current time; returns what they did.
+    PpFrameReport update(const Classification& classification, const ColorMap& color_map, const PhongLighting& lighting,
+                         const ShadingView& view, bool classification_changed, bool shading_changed);
+
+    // The colours and opacities the PPs hold, read back into a volume for the compositor.
+    ShadedVolume shaded_volume() const;
+
+    const VoxelPlacement& placement() const { return placement_; }
+    const VoxelQuantization& quantization() const { return quantization_; }
+    const GradientField& gradients() const { return gradients_; }
+
+private:
+    PpProgramPass run_program(const PpProgram& program, const ShadingView* depth_view, Tick start);
+    void load_volume(const Volume& volume);
+
+    Machine& machine_;
+    LevoySettings settings_;
+    glm::ivec3 dims_;
+    glm::vec3 spacing_;
+    GradientField gradients_;
+    VoxelQuantization quantization_;
+    VoxelPlacement placement_;
+};
+
+}  // namespace pp5

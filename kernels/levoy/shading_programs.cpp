@@ -1,0 +1,361 @@
+#include "kernels/levoy/shading_programs.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+
+namespace pp5 {
+
+namespace {
+
+// Fixed-point fractions of one: 256 stands for 1.0 in opacities, dot products and light factors.
+constexpr int kOneShift = 8;
+constexpr std::int64_t kOne = std::int64_t{1} << kOneShift;
+
+std::int64_t fixed(double x, int shift) { return static_cast<std::int64_t>(std::llround(x * static_cast<double>(std::int64_t{1} << shift))); }
+
+// The inputs every program starts from: the value and the three gradient codes of the slot's voxel.
+struct VoxelInputs {
+    PpField value;
+    std::array<PpField, 3> gradient;
+};
+
+VoxelInputs load_inputs(PpProgramBuilder& b, const VoxelRecordLayout& layout) {
+    VoxelInputs in;
+    in.value = b.load("value", layout.value_offset(), layout.value_bits, false);
+    static const char* names[3] = {"gx", "gy", "gz"};
+    for (int axis = 0; axis < 3; ++axis) in.gradient[axis] = b.load(names[axis], layout.gradient_offset(axis), layout.gradient_bits, true);
+    return in;
+}
+
+// 4 |v| for a vector of three fields: the square root of the sum of squares, taken with two extra
+// fraction bits so small gradients keep their precision.
+PpField magnitude_times_four(PpProgramBuilder& b, const std::array<PpField, 3>& v) {
+    PpField sum = b.mul("g2x", v[0], v[0]);
+    for (int axis = 1; axis < 3; ++axis) {
+        const PpField square = b.mul("g2", v[axis], v[axis]);
+        const PpField next = b.add("g2sum", sum, square);
+        b.release(square);
+        b.release(sum);
+        sum = next;
+    }
+    const PpField scaled = b.mul_const("g2x16", sum, 16);
+    b.release(sum);
+    const PpField magnitude = b.sqrt("gmag4", scaled);
+    b.release(scaled);
+    return magnitude;
+}
+
+// A table over every value code: entry(f) for the value each code stands for.
+template <class Entry>
+PpTable value_table(const std::string& name, const PpField& value, const VoxelQuantization& q, Entry&& entry) {
+    PpTable table{name, {}};
+    const std::size_t size = std::size_t{1} << value.bits;
+    table.entries.resize(size);
+    for (std::size_t code = 0; code < size; ++code) table.entries[code] = entry(q.value_of_code(static_cast<double>(code)));
+    return table;
+}
+
+// Opacity of one isovalue contour (Levoy 1988, eq. 3) in 1/256ths. With D = 16 |v - v_f| (the value
+// distance in 1/16 codes) and R = 16 (codes per value unit) r |g|, the opacity is
+// alpha_v (1 - D / R) where D <= R, and 0 elsewhere; D = R = 0 (a flat region at the isovalue) gives
+// alpha_v, as in the floating-point rule.
+PpField isovalue_opacity(PpProgramBuilder& b, const IsovalueContour& contour, PpField value16, PpField gmag4,
+                         const VoxelQuantization& q) {
+    const std::int64_t target16 = fixed((contour.value - q.value_offset) * q.value_scale, 4);
+    const PpField distance = b.abs_diff_const("iso_distance", value16, target16);
+    // |g| = gmag4 / (4 gradient_scale), so 16 value_scale r |g| = gmag4 (4 r value_scale / gradient_scale).
+    constexpr int kShift = 12;
+    const PpField reach = b.mul_const("iso_reach", gmag4, fixed(4.0 * contour.thickness * q.value_scale / q.gradient_scale, kShift), kShift);
+
+    const PpField ratio = b.set_const("iso_ratio", 0, kOneShift + 1, false);
+    b.enable_if(reach, PpCompare::Greater, 0);
+    const PpField quotient = b.div("iso_quotient", distance, reach, kOneShift, kOneShift + 1);
+    b.assign(ratio, quotient);
+    b.release(quotient);
+    b.enable_all();
+
+    const PpField margin = b.sub("iso_margin", reach, distance);
+    b.release(distance);
+    b.release(reach);
+    const PpField opacity = b.set_const("iso_opacity", 0, kOneShift + 1, false);
+    b.enable_if(margin, PpCompare::GreaterEqual, 0);
+    const PpField falloff = b.abs_diff_const("iso_falloff", ratio, kOne);  // 256 - ratio, as ratio <= 256 here
+    const PpField scaled = b.mul_const("iso_scaled", falloff, fixed(contour.opacity, kOneShift), kOneShift);
+    b.assign(opacity, scaled);
+    b.release(scaled);
+    b.release(falloff);
+    b.enable_all();
+    b.release(margin);
+    b.release(ratio);
+    return opacity;
+}
+
+// Opacity in 1/256ths from the classification.
+PpField opacity_256(PpProgramBuilder& b, const Classification& c, const VoxelInputs& in, const VoxelQuantization& q) {
+    switch (c.kind) {
+        case ClassificationKind::PiecewiseLinear: {
+            PpTable table = value_table("opacity", in.value, q, [&](float f) { return fixed(c.opacity(f, 0.0f), kOneShift); });
+            return b.lookup("opacity256", in.value, std::move(table), kOneShift + 1, false);
+        }
+        case ClassificationKind::RegionBoundaries: {
+            // alpha = |g| w(f), with w the interpolated point opacities: a table of w scaled by
+            // 1 / (4 gradient_scale) times the magnitude the PPs compute.
+            const PpField gmag4 = magnitude_times_four(b, in.gradient);
+            PpTable table = value_table("boundary_weight", in.value, q, [&](float f) {
+                return fixed(static_cast<double>(c.opacity(f, 1.0f)) / (4.0 * q.gradient_scale), 2 * kOneShift);
+            });
+            std::int64_t largest = 0;
+            for (auto e : table.entries) largest = std::max(largest, e);
+            const PpField weight = b.lookup("boundary_weight", in.value, std::move(table), std::max(1, pp_bits_for_range(0, largest)), false);
+            const PpField product = b.mul("boundary_product", gmag4, weight, kOneShift);
+            b.release(weight);
+            b.release(gmag4);
+            const PpField opacity = b.min_const("opacity256", product, kOne);
+            b.release(product);
+            return opacity;
+        }
+        case ClassificationKind::IsovalueContours:
+        default: {
+            if (c.contours.empty()) return b.set_const("opacity256", 0, kOneShift + 1, false);
+            const PpField gmag4 = magnitude_times_four(b, in.gradient);
+            const PpField value16 = b.mul_const("value16", in.value, 16);
+            // Several contours combine as 1 - prod(1 - alpha_n).
+            PpField transparency;
+            for (const IsovalueContour& contour : c.contours) {
+                const PpField alpha = isovalue_opacity(b, contour, value16, gmag4, q);
+                if (c.contours.size() == 1) {
+                    b.release(value16);
+                    b.release(gmag4);
+                    return alpha;
+                }
+                const PpField clear = b.abs_diff_const("iso_clear", alpha, kOne);
+                b.release(alpha);
+                if (!transparency.valid()) {
+                    transparency = clear;
+                } else {
+                    const PpField next = b.mul("transparency", transparency, clear, kOneShift);
+                    b.release(transparency);
+                    b.release(clear);
+                    transparency = next;
+                }
+            }
+            b.release(value16);
+            b.release(gmag4);
+            const PpField opacity = b.abs_diff_const("opacity256", transparency, kOne);
+            b.release(transparency);
+            return opacity;
+        }
+    }
+}
+
+// (x + 1/2) >> shift: a fixed-point product rounded to nearest.
+PpField rounded_shift(PpProgramBuilder& b, const std::string& name, PpField x, int shift) {
+    const PpField biased = b.add_const(name + "_biased", x, std::int64_t{1} << (shift - 1));
+    b.release(x);
+    const PpField result = b.move(name, biased, shift);
+    b.release(biased);
+    return result;
+}
+
+// Scale a 0..256 fraction to a code of 0..max_code, rounded.
+PpField to_code(PpProgramBuilder& b, const std::string& name, PpField fraction256, std::int64_t max_code) {
+    const PpField scaled = b.mul_const(name + "_scaled", fraction256, max_code);
+    const PpField code = rounded_shift(b, name, scaled, kOneShift);
+    const PpField clamped = b.min_const(name + "_clamped", code, max_code);
+    b.release(code);
+    return clamped;
+}
+
+// 256 (N . d) for the unit normal N = -w/|w| and a unit direction d, where w is the gradient: the
+// dot product -w.d in 1/256ths, divided by |w| = gmag4 / 4. Only where the result is positive.
+PpField normal_dot(PpProgramBuilder& b, const std::string& name, const std::array<PpField, 3>& w, PpField gmag4,
+                   glm::vec3 direction) {
+    PpField dot;
+    for (int axis = 0; axis < 3; ++axis) {
+        const std::int64_t k = fixed(-direction[axis], kOneShift);
+        if (k == 0) continue;
+        const PpField term = b.mul_const(name + "_term", w[axis], k);
+        if (!dot.valid()) {
+            dot = term;
+        } else {
+            const PpField sum = b.add(name + "_sum", dot, term);
+            b.release(dot);
+            b.release(term);
+            dot = sum;
+        }
+    }
+    if (!dot.valid()) return b.set_const(name, 0, kOneShift + 1, false);
+    const PpField positive = b.max_const(name + "_positive", dot, 0);
+    b.release(dot);
+    // 256 (-w.d)/|w| = 4 (256 (-w.d)) / gmag4; a zero gmag4 has a zero dot product and saturates, so clamp.
+    const PpField ratio = b.div(name + "_ratio", positive, gmag4, 2, kOneShift + 2);
+    b.release(positive);
+    const PpField clamped = b.min_const(name, ratio, kOne);
+    b.release(ratio);
+    return clamped;
+}
+
+// x^n for x in 1/256ths: by repeated squaring for whole n (each product rounded down to 1/256ths),
+// by a broadcast table otherwise.
+PpField power_256(PpProgramBuilder& b, PpField x, float n) {
+    if (n >= 0.0f && n <= 1024.0f && n == std::floor(n)) {
+        auto e = static_cast<int>(n);
+        PpField result = b.set_const("spec", kOne, kOneShift + 1, false);
+        PpField base = b.move("spec_base", x);
+        while (e > 0) {
+            if (e & 1) {
+                const PpField next = b.mul("spec", result, base, kOneShift);
+                b.release(result);
+                result = next;
+            }
+            e >>= 1;
+            if (e > 0) {
+                const PpField squared = b.mul("spec_base", base, base, kOneShift);
+                b.release(base);
+                base = squared;
+            }
+        }
+        b.release(base);
+        return result;
+    }
+    PpTable table{"specular_power", std::vector<std::int64_t>(std::size_t{1} << x.bits)};
+    for (std::size_t i = 0; i < table.entries.size(); ++i) {
+        const double t = std::min(1.0, static_cast<double>(i) / static_cast<double>(kOne));
+        table.entries[i] = fixed(std::pow(t, static_cast<double>(n)), kOneShift);
+    }
+    return b.lookup("spec", x, std::move(table), kOneShift + 1, false);
+}
+
+}  // namespace
+
+PpProgram build_classification_program(const Classification& classification, const PpProgramInputs& inputs) {
+    PpProgramBuilder b("classify", inputs.local_memory_bits);
+    const VoxelInputs in = load_inputs(b, inputs.layout);
+    const PpField opacity = opacity_256(b, classification, in, inputs.quantization);
+    const std::int64_t max_code = (std::int64_t{1} << inputs.layout.opacity_bits) - 1;
+    const PpField code = to_code(b, "opacity", opacity, max_code);
+    b.release(opacity);
+    b.store(code, inputs.layout.opacity_offset());
+    return b.finish();
+}
+
+PpProgram build_shading_program(const ColorMap& color_map, const PhongLighting& lighting, const ShadingView& view,
+                                const PpProgramInputs& inputs) {
+    const VoxelRecordLayout& layout = inputs.layout;
+    const VoxelQuantization& q = inputs.quantization;
+    PpProgramBuilder b("shade", inputs.local_memory_bits);
+    VoxelInputs in = load_inputs(b, layout);
+
+    // Base colour c_p from the colour map: one broadcast table per channel, in colour codes.
+    const std::int64_t color_max = (std::int64_t{1} << layout.color_bits) - 1;
+    std::array<PpField, 3> base;
+    static const char* channel_names[3] = {"red", "green", "blue"};
+    for (int c = 0; c < 3; ++c) {
+        PpTable table = value_table(std::string("base_") + channel_names[c], in.value, q,
+                                    [&](float f) { return fixed(color_map.color(f)[c] * static_cast<float>(color_max), 0); });
+        base[c] = b.lookup(std::string("base_") + channel_names[c], in.value, std::move(table), layout.color_bits, false);
+    }
+    b.release(in.value);
+
+    // Normals come from the gradient per unit length, so an anisotropic volume scales each
+    // component by (smallest spacing / its spacing), with 6 fraction bits.
+    std::array<PpField, 3> w = in.gradient;
+    const float finest = std::min({inputs.spacing.x, inputs.spacing.y, inputs.spacing.z});
+    if (inputs.spacing != glm::vec3(finest)) {
+        for (int axis = 0; axis < 3; ++axis) {
+            w[axis] = b.mul_const("world_gradient", in.gradient[axis], fixed(finest / inputs.spacing[axis], 6));
+            b.release(in.gradient[axis]);
+        }
+    }
+    const PpField gmag4 = magnitude_times_four(b, w);
+
+    const glm::vec3 to_viewer = -view.forward;
+    const glm::vec3 to_light = lighting.light_follows_camera ? to_viewer : glm::normalize(lighting.light_direction);
+    const PpField n_dot_l = normal_dot(b, "n_dot_l", w, gmag4, to_light);
+    PpField n_dot_h;
+    const glm::vec3 halfway = to_light + to_viewer;
+    const bool headlight = lighting.light_follows_camera;
+    if (!headlight && glm::length(halfway) > 0.0f) n_dot_h = normal_dot(b, "n_dot_h", w, gmag4, glm::normalize(halfway));
+    for (const PpField& f : w) b.release(f);
+    b.release(gmag4);
+
+    // The lit fraction k_d (N.L) + k_s (N.H)^n, in 1/256ths, where the light reaches the face.
+    b.enable_if(n_dot_l, PpCompare::Greater, 0);
+    PpField lit = b.mul_const("diffuse", n_dot_l, fixed(lighting.diffuse, kOneShift));
+    PpField highlight_source = headlight ? n_dot_l : n_dot_h;
+    if (highlight_source.valid() && lighting.specular > 0.0f) {
+        const PpField spec = power_256(b, highlight_source, lighting.shininess);
+        const PpField specular = b.mul_const("specular", spec, fixed(lighting.specular, kOneShift));
+        b.release(spec);
+        const PpField sum = b.add("lit_sum", lit, specular);
+        b.release(specular);
+        b.release(lit);
+        lit = sum;
+    }
+    if (n_dot_h.valid()) b.release(n_dot_h);
+    lit = rounded_shift(b, "lit", lit, kOneShift);
+
+    // Depth cueing: divide by k1 + k2 d, with d from the QEE (256 d, clamped to [0, 256]).
+    if (lighting.depth_cue_k2 != 0.0f) {
+        const PpField raw = b.qee("depth_raw", 0, kOneShift + 3, true, kDepthShift);
+        const PpField low = b.max_const("depth_low", raw, 0);
+        b.release(raw);
+        const PpField depth = b.min_const("depth", low, kOne);
+        b.release(low);
+        const PpField cue = b.mul_const("cue", depth, fixed(lighting.depth_cue_k2, kOneShift), kOneShift);
+        b.release(depth);
+        const PpField divisor = b.add_const("cue_divisor", cue, fixed(lighting.depth_cue_k1, kOneShift));
+        b.release(cue);
+        const PpField one = b.set_const("one", 1, 1, false);
+        const float smallest_divisor = std::min(lighting.depth_cue_k1, lighting.depth_cue_k1 + lighting.depth_cue_k2);
+        const int attenuation_bits = pp_bits_for_range(0, fixed(1.0 / smallest_divisor, kOneShift) + 1);
+        const PpField attenuation = b.div("attenuation", one, divisor, 2 * kOneShift, attenuation_bits);
+        b.release(one);
+        b.release(divisor);
+        const PpField cued = b.mul("lit_cued", lit, attenuation, kOneShift);
+        b.release(attenuation);
+        b.release(lit);
+        lit = cued;
+    }
+    b.enable_all();
+    const PpField light = b.set_const("light", 0, lit.bits, false);
+    b.enable_if(n_dot_l, PpCompare::Greater, 0);
+    b.assign(light, lit);
+    b.enable_all();
+    b.release(lit);
+    b.release(n_dot_l);
+
+    // c = c_p (k_a + lit), rounded and clamped to the colour code.
+    const PpField factor = b.add_const("factor", light, fixed(lighting.ambient, kOneShift));
+    b.release(light);
+    for (int c = 0; c < 3; ++c) {
+        const PpField product = b.mul("shaded", base[c], factor);
+        b.release(base[c]);
+        const PpField code = rounded_shift(b, "color", product, kOneShift);
+        const PpField clamped = b.min_const("color_clamped", code, color_max);
+        b.release(code);
+        b.store(clamped, layout.color_offset(c));
+        b.release(clamped);
+    }
+    b.release(factor);
+    return b.finish();
+}
+
+QeeCoefficients depth_expression(const ShadingView& view, const SlotFrame& frame, glm::vec3 spacing) {
+    QeeCoefficients e;
+    if (view.radius <= 0.0f) return e;
+    // 256 depth = 256 ((p - centre).forward + radius) / (2 radius), with p = (origin + (x, y, 0)) spacing.
+    const double scale = 256.0 / (2.0 * static_cast<double>(view.radius));
+    const glm::vec3 origin = glm::vec3(frame.origin) * spacing;
+    const double constant = (static_cast<double>(glm::dot(origin - view.center, view.forward)) + view.radius) * scale;
+    e.d = fixed(static_cast<double>(spacing.x * view.forward.x) * scale, kDepthShift);
+    e.e = fixed(static_cast<double>(spacing.y * view.forward.y) * scale, kDepthShift);
+    e.f = fixed(constant, kDepthShift);
+    return e;
+}
+
+}  // namespace pp5

@@ -1,0 +1,383 @@
+#include "sim/renderer/pp_program.h"
+
+#include "sim/core/input_error.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace pp5 {
+
+namespace {
+
+std::int64_t floor_shift(std::int64_t x, int shift) { return x >> shift; }  // arithmetic: floor
+
+std::int64_t isqrt(std::int64_t x) {
+    if (x <= 0) return 0;
+    auto r = static_cast<std::int64_t>(std::sqrt(static_cast<double>(x)));
+    while (r * r > x) --r;
+    while ((r + 1) * (r + 1) <= x) ++r;
+    return r;
+}
+
+}  // namespace
+
+std::string to_string(PpOp op) {
+    switch (op) {
+        case PpOp::SetConst: return "set";
+        case PpOp::Move: return "move";
+        case PpOp::Add: return "add";
+        case PpOp::Sub: return "sub";
+        case PpOp::AddConst: return "add-const";
+        case PpOp::AbsDiffConst: return "abs-diff-const";
+        case PpOp::MinConst: return "min-const";
+        case PpOp::MaxConst: return "max-const";
+        case PpOp::Mul: return "mul";
+        case PpOp::MulConst: return "mul-const";
+        case PpOp::Div: return "div";
+        case PpOp::Sqrt: return "sqrt";
+        case PpOp::Lookup: return "lookup";
+        case PpOp::Qee: return "qee";
+        case PpOp::EnableAll: return "enable-all";
+        case PpOp::EnableIf: return "enable-if";
+        case PpOp::Load: return "load";
+        case PpOp::Store: return "store";
+    }
+    return "?";
+}
+
+int PpTable::runs() const {
+    int runs = 0;
+    for (std::size_t i = 0; i < entries.size(); ++i) runs += (i == 0 || entries[i] != entries[i - 1]) ? 1 : 0;
+    return runs;
+}
+
+int pp_bits_for_range(std::int64_t lo, std::int64_t hi) {
+    if (lo > hi) std::swap(lo, hi);
+    int bits = 1;
+    if (lo < 0) {
+        // Two's complement: bits b holds [-2^(b-1), 2^(b-1) - 1].
+        while (bits < 63 && (lo < -(std::int64_t{1} << (bits - 1)) || hi > (std::int64_t{1} << (bits - 1)) - 1)) ++bits;
+    } else {
+        while (bits < 63 && hi > (std::int64_t{1} << bits) - 1) ++bits;
+    }
+    return bits;
+}
+
+PpProgramBuilder::PpProgramBuilder(std::string name, int local_memory_bits, std::string machine_field)
+    : capacity_bits_(local_memory_bits), machine_field_(std::move(machine_field)),
+      used_(static_cast<std::size_t>(std::max(local_memory_bits, 0)), false) {
+    program_.name = std::move(name);
+}
+
+PpField PpProgramBuilder::alloc(const std::string& name, int bits, bool is_signed) {
+    if (bits < 1 || bits > kMaxPpFieldBits) {
+        throw std::invalid_argument(fmt::format("PP program {}: field {} of {} bits (1 to {} allowed)", program_.name,
+                                                name, bits, kMaxPpFieldBits));
+    }
+    // First fit over the free bits.
+    int offset = -1;
+    for (int start = 0, run = 0; start + run < capacity_bits_;) {
+        if (used_[static_cast<std::size_t>(start + run)]) {
+            start += run + 1;
+            run = 0;
+        } else if (++run == bits) {
+            offset = start;
+            break;
+        }
+    }
+    const int in_use = static_cast<int>(std::count(used_.begin(), used_.end(), true));
+    if (offset < 0) {
+        const int needed = in_use + bits;
+        throw InputError("machine configuration", machine_field_,
+                         fmt::format("PP program {} needs {} bits of local memory for field {}; each PP has {} ({} bits short)",
+                                     program_.name, std::max(needed, capacity_bits_ + 1), name, capacity_bits_,
+                                     std::max(needed - capacity_bits_, 1)));
+    }
+    for (int i = 0; i < bits; ++i) used_[static_cast<std::size_t>(offset + i)] = true;
+    program_.local_memory_bits_used = std::max(program_.local_memory_bits_used, in_use + bits);
+
+    PpField field{static_cast<int>(program_.fields.size()), offset, bits, is_signed};
+    program_.fields.push_back(field);
+    program_.field_names.push_back(name);
+    live_.push_back(true);
+    ranges_.push_back({field.min_value(), field.max_value()});
+    return field;
+}
+
+void PpProgramBuilder::check_live(const PpField& field) const {
+    if (field.id < 0 || field.id >= static_cast<int>(program_.fields.size()) || !live_[static_cast<std::size_t>(field.id)]) {
+        throw std::invalid_argument(fmt::format("PP program {}: use of a released or unknown field", program_.name));
+    }
+}
+
+void PpProgramBuilder::release(PpField field) {
+    check_live(field);
+    live_[static_cast<std::size_t>(field.id)] = false;
+    for (int i = 0; i < field.bits; ++i) used_[static_cast<std::size_t>(field.offset + i)] = false;
+}
+
+PpField PpProgramBuilder::result(const std::string& name, std::int64_t lo, std::int64_t hi) {
+    const PpField f = alloc(name, pp_bits_for_range(lo, hi), lo < 0);
+    ranges_[static_cast<std::size_t>(f.id)] = {lo, hi};
+    return f;
+}
+
+PpField PpProgramBuilder::emit(PpInstruction instruction, const std::string& name, std::int64_t lo, std::int64_t hi) {
+    const PpField dst = result(name, lo, hi);
+    instruction.dst = dst.id;
+    program_.instructions.push_back(instruction);
+    return dst;
+}
+
+std::int64_t PpProgramBuilder::lo(const PpField& f) const { return ranges_[static_cast<std::size_t>(f.id)].lo; }
+std::int64_t PpProgramBuilder::hi(const PpField& f) const { return ranges_[static_cast<std::size_t>(f.id)].hi; }
+
+PpField PpProgramBuilder::set_const(const std::string& name, std::int64_t value) {
+    PpInstruction i{PpOp::SetConst};
+    i.imm = value;
+    return emit(i, name, value, value);
+}
+
+PpField PpProgramBuilder::set_const(const std::string& name, std::int64_t value, int bits, bool is_signed) {
+    const PpField dst = alloc(name, bits, is_signed);
+    if (value < dst.min_value() || value > dst.max_value()) {
+        throw std::invalid_argument(fmt::format("PP program {}: {} does not fit field {}", program_.name, value, name));
+    }
+    // Later conditional writes (assign) widen the range to what they may put there.
+    ranges_[static_cast<std::size_t>(dst.id)] = {value, value};
+    PpInstruction i{PpOp::SetConst};
+    i.dst = dst.id;
+    i.imm = value;
+    program_.instructions.push_back(i);
+    return dst;
+}
+
+PpField PpProgramBuilder::move(const std::string& name, PpField a, int shift) {
+    check_live(a);
+    if (shift < 0) throw std::invalid_argument("PP program: negative shift");
+    PpInstruction i{PpOp::Move};
+    i.a = a.id;
+    i.shift = shift;
+    return emit(i, name, floor_shift(lo(a), shift), floor_shift(hi(a), shift));
+}
+
+PpField PpProgramBuilder::add(const std::string& name, PpField a, PpField b) {
+    check_live(a);
+    check_live(b);
+    PpInstruction i{PpOp::Add};
+    i.a = a.id;
+    i.b = b.id;
+    return emit(i, name, lo(a) + lo(b), hi(a) + hi(b));
+}
+
+PpField PpProgramBuilder::sub(const std::string& name, PpField a, PpField b) {
+    check_live(a);
+    check_live(b);
+    PpInstruction i{PpOp::Sub};
+    i.a = a.id;
+    i.b = b.id;
+    return emit(i, name, lo(a) - hi(b), hi(a) - lo(b));
+}
+
+PpField PpProgramBuilder::add_const(const std::string& name, PpField a, std::int64_t imm) {
+    check_live(a);
+    PpInstruction i{PpOp::AddConst};
+    i.a = a.id;
+    i.imm = imm;
+    return emit(i, name, lo(a) + imm, hi(a) + imm);
+}
+
+PpField PpProgramBuilder::abs_diff_const(const std::string& name, PpField a, std::int64_t imm) {
+    check_live(a);
+    PpInstruction i{PpOp::AbsDiffConst};
+    i.a = a.id;
+    i.imm = imm;
+    const std::int64_t d1 = lo(a) - imm;
+    const std::int64_t d2 = hi(a) - imm;
+    const std::int64_t top = std::max(std::abs(d1), std::abs(d2));
+    const std::int64_t bottom = (d1 <= 0 && d2 >= 0) ? 0 : std::min(std::abs(d1), std::abs(d2));
+    return emit(i, name, bottom, top);
+}
+
+PpField PpProgramBuilder::min_const(const std::string& name, PpField a, std::int64_t imm) {
+    check_live(a);
+    PpInstruction i{PpOp::MinConst};
+    i.a = a.id;
+    i.imm = imm;
+    return emit(i, name, std::min(lo(a), imm), std::min(hi(a), imm));
+}
+
+PpField PpProgramBuilder::max_const(const std::string& name, PpField a, std::int64_t imm) {
+    check_live(a);
+    PpInstruction i{PpOp::MaxConst};
+    i.a = a.id;
+    i.imm = imm;
+    return emit(i, name, std::max(lo(a), imm), std::max(hi(a), imm));
+}
+
+namespace {
+struct ProductRange {
+    std::int64_t lo = 0;
+    std::int64_t hi = 0;
+};
+
+// The range of x * y over x in [a_lo, a_hi], y in [b_lo, b_hi]: the extremes are at the corners.
+ProductRange product_range(std::int64_t a_lo, std::int64_t a_hi, std::int64_t b_lo, std::int64_t b_hi) {
+    const std::int64_t corners[4] = {a_lo * b_lo, a_lo * b_hi, a_hi * b_lo, a_hi * b_hi};
+    return {*std::min_element(corners, corners + 4), *std::max_element(corners, corners + 4)};
+}
+}  // namespace
+
+PpField PpProgramBuilder::mul(const std::string& name, PpField a, PpField b, int shift) {
+    check_live(a);
+    check_live(b);
+    if (shift < 0) throw std::invalid_argument("PP program: negative shift");
+    PpInstruction i{PpOp::Mul};
+    i.a = a.id;
+    i.b = b.id;
+    i.shift = shift;
+    ProductRange r = product_range(lo(a), hi(a), lo(b), hi(b));
+    if (a.id == b.id) {  // a square is never negative
+        const std::int64_t l = lo(a) * lo(a);
+        const std::int64_t h = hi(a) * hi(a);
+        r = {(lo(a) <= 0 && hi(a) >= 0) ? 0 : std::min(l, h), std::max(l, h)};
+    }
+    return emit(i, name, floor_shift(r.lo, shift), floor_shift(r.hi, shift));
+}
+
+PpField PpProgramBuilder::mul_const(const std::string& name, PpField a, std::int64_t imm, int shift) {
+    check_live(a);
+    if (shift < 0) throw std::invalid_argument("PP program: negative shift");
+    PpInstruction i{PpOp::MulConst};
+    i.a = a.id;
+    i.imm = imm;
+    i.shift = shift;
+    const ProductRange r = product_range(lo(a), hi(a), imm, imm);
+    return emit(i, name, floor_shift(r.lo, shift), floor_shift(r.hi, shift));
+}
+
+PpField PpProgramBuilder::div(const std::string& name, PpField a, PpField b, int shift, int bits) {
+    check_live(a);
+    check_live(b);
+    if (lo(a) < 0 || lo(b) < 0) throw std::invalid_argument(fmt::format("PP program {}: divide of signed fields", program_.name));
+    if (shift < 0) throw std::invalid_argument("PP program: negative shift");
+    PpInstruction i{PpOp::Div};
+    i.a = a.id;
+    i.b = b.id;
+    i.shift = shift;
+    const PpField dst = alloc(name, bits, false);
+    i.dst = dst.id;
+    program_.instructions.push_back(i);
+    return dst;
+}
+
+PpField PpProgramBuilder::sqrt(const std::string& name, PpField a) {
+    check_live(a);
+    PpInstruction i{PpOp::Sqrt};
+    i.a = a.id;
+    return emit(i, name, isqrt(std::max<std::int64_t>(lo(a), 0)), isqrt(std::max<std::int64_t>(hi(a), 0)));
+}
+
+PpField PpProgramBuilder::lookup(const std::string& name, PpField index, PpTable table, int bits, bool is_signed) {
+    check_live(index);
+    if (index.is_signed) throw std::invalid_argument(fmt::format("PP program {}: table {} indexed by a signed field", program_.name, table.name));
+    if (table.entries.size() != (std::size_t{1} << index.bits)) {
+        throw std::invalid_argument(fmt::format("PP program {}: table {} has {} entries for a {}-bit index", program_.name,
+                                                table.name, table.entries.size(), index.bits));
+    }
+    const PpField dst = alloc(name, bits, is_signed);
+    for (std::int64_t e : table.entries) {
+        if (e < dst.min_value() || e > dst.max_value()) {
+            throw std::invalid_argument(fmt::format("PP program {}: table {} entry {} does not fit {} bits", program_.name,
+                                                    table.name, e, bits));
+        }
+    }
+    ranges_[static_cast<std::size_t>(dst.id)] = {*std::min_element(table.entries.begin(), table.entries.end()),
+                                                 *std::max_element(table.entries.begin(), table.entries.end())};
+    PpInstruction i{PpOp::Lookup};
+    i.a = index.id;
+    i.dst = dst.id;
+    i.table = static_cast<int>(program_.tables.size());
+    program_.tables.push_back(std::move(table));
+    program_.instructions.push_back(i);
+    return dst;
+}
+
+PpField PpProgramBuilder::qee(const std::string& name, int expression, int bits, bool is_signed, int shift) {
+    if (expression < 0) throw std::invalid_argument("PP program: negative QEE expression");
+    PpInstruction i{PpOp::Qee};
+    i.expression = expression;
+    i.shift = shift;
+    const PpField dst = alloc(name, bits, is_signed);
+    i.dst = dst.id;
+    program_.instructions.push_back(i);
+    program_.expressions = std::max(program_.expressions, expression + 1);
+    return dst;
+}
+
+void PpProgramBuilder::enable_all() { program_.instructions.push_back(PpInstruction{PpOp::EnableAll}); }
+
+void PpProgramBuilder::enable_if(PpField a, PpCompare compare, std::int64_t imm) {
+    check_live(a);
+    PpInstruction i{PpOp::EnableIf};
+    i.a = a.id;
+    i.compare = compare;
+    i.imm = imm;
+    program_.instructions.push_back(i);
+}
+
+PpField PpProgramBuilder::load(const std::string& name, int record_offset, int bits, bool is_signed) {
+    if (record_offset < 0) throw std::invalid_argument("PP program: negative record offset");
+    PpInstruction i{PpOp::Load};
+    i.record_offset = record_offset;
+    const PpField dst = alloc(name, bits, is_signed);
+    i.dst = dst.id;
+    program_.instructions.push_back(i);
+    return dst;
+}
+
+void PpProgramBuilder::store(PpField a, int record_offset) {
+    check_live(a);
+    if (record_offset < 0) throw std::invalid_argument("PP program: negative record offset");
+    PpInstruction i{PpOp::Store};
+    i.a = a.id;
+    i.record_offset = record_offset;
+    program_.instructions.push_back(i);
+}
+
+void PpProgramBuilder::assign(PpField dst, PpField value) {
+    check_live(dst);
+    check_live(value);
+    if (lo(value) < dst.min_value() || hi(value) > dst.max_value()) {
+        throw std::invalid_argument(fmt::format("PP program {}: {} may not fit {}", program_.name,
+                                                program_.field_names[static_cast<std::size_t>(value.id)],
+                                                program_.field_names[static_cast<std::size_t>(dst.id)]));
+    }
+    Range& r = ranges_[static_cast<std::size_t>(dst.id)];
+    r = {std::min(r.lo, lo(value)), std::max(r.hi, hi(value))};
+    PpInstruction i{PpOp::Move};
+    i.a = value.id;
+    i.dst = dst.id;
+    program_.instructions.push_back(i);
+}
+
+void PpProgramBuilder::assign_const(PpField dst, std::int64_t value) {
+    check_live(dst);
+    if (value < dst.min_value() || value > dst.max_value()) {
+        throw std::invalid_argument(fmt::format("PP program {}: {} does not fit {}", program_.name, value,
+                                                program_.field_names[static_cast<std::size_t>(dst.id)]));
+    }
+    Range& r = ranges_[static_cast<std::size_t>(dst.id)];
+    r = {std::min(r.lo, value), std::max(r.hi, value)};
+    PpInstruction i{PpOp::SetConst};
+    i.dst = dst.id;
+    i.imm = value;
+    program_.instructions.push_back(i);
+}
+
+PpProgram PpProgramBuilder::finish() { return std::move(program_); }
+
+}  // namespace pp5
