@@ -24,6 +24,15 @@ struct Wrap {
     }
 };
 
+// floor(a / b) for a >= 0, b > 0: a double estimate, corrected (exact for the fields' widths).
+std::int64_t exact_quotient(std::int64_t a, std::int64_t b) {
+    if (a >= (std::int64_t{1} << 52)) return a / b;
+    auto q = static_cast<std::int64_t>(static_cast<double>(a) / static_cast<double>(b));
+    if (q * b > a) --q;
+    else if ((q + 1) * b <= a) ++q;
+    return q;
+}
+
 std::int64_t exact_isqrt(std::int64_t x) {
     if (x <= 0) return 0;
     auto r = static_cast<std::int64_t>(std::sqrt(static_cast<double>(x)));
@@ -37,6 +46,51 @@ std::int64_t exact_isqrt(std::int64_t x) {
 std::int64_t add64(std::int64_t a, std::int64_t b) { return static_cast<std::int64_t>(static_cast<std::uint64_t>(a) + static_cast<std::uint64_t>(b)); }
 std::int64_t sub64(std::int64_t a, std::int64_t b) { return static_cast<std::int64_t>(static_cast<std::uint64_t>(a) - static_cast<std::uint64_t>(b)); }
 std::int64_t mul64(std::int64_t a, std::int64_t b) { return static_cast<std::int64_t>(static_cast<std::uint64_t>(a) * static_cast<std::uint64_t>(b)); }
+
+// A bit range of every PP's backing store, the same for all PPs of a run: where it starts, which
+// word it is in, and whether it spills into the next.
+struct BitWindow {
+    int word;
+    int shift;
+    int bits;
+    std::uint64_t mask;
+
+    BitWindow(int offset, int width, int store_bits, const char* what)
+        : word(offset / 64), shift(offset % 64), bits(width), mask(width >= 64 ? ~0ull : (1ull << width) - 1) {
+        if (offset < 0 || offset + width > store_bits) {
+            throw std::invalid_argument(fmt::format("PP program {} of {} bits at {} is past the {}-bit backing store", what,
+                                                    width, offset, store_bits));
+        }
+    }
+    std::uint64_t read(const std::uint64_t* words) const {
+        std::uint64_t v = words[word] >> shift;
+        if (shift + bits > 64) v |= words[word + 1] << (64 - shift);
+        return v & mask;
+    }
+    void write(std::uint64_t* words, std::uint64_t value) const {
+        value &= mask;
+        words[word] = (words[word] & ~(mask << shift)) | (value << shift);
+        if (shift + bits > 64) {
+            const std::uint64_t high_mask = (1ull << (shift + bits - 64)) - 1;
+            words[word + 1] = (words[word + 1] & ~high_mask) | (value >> (64 - shift));
+        }
+    }
+};
+
+// dst[p] = value(p) on every enabled PP; a disabled PP keeps its value. The all-enabled case is a
+// plain loop the compiler can vectorise.
+template <class Value>
+void for_enabled(std::size_t n, const std::uint8_t* enabled, bool all, std::int64_t* dst, Value&& value) {
+    if (all) {
+        for (std::size_t p = 0; p < n; ++p) dst[p] = value(p);
+    } else {
+        // A branch-free blend, so this loop vectorises too.
+        for (std::size_t p = 0; p < n; ++p) {
+            const std::int64_t keep = static_cast<std::int64_t>(enabled[p]) - 1;  // 0 where enabled, all ones where not
+            dst[p] = (value(p) & ~keep) | (dst[p] & keep);
+        }
+    }
+}
 
 bool compare(std::int64_t a, PpCompare c, std::int64_t b) {
     switch (c) {
@@ -106,6 +160,9 @@ std::span<const std::int64_t> PpArray::field_values(const PpField& field) const 
     return fields_[static_cast<std::size_t>(field.id)];
 }
 
+// Compiled twice, for AVX2 and for any x86-64, and chosen at load time: the integer results are the
+// same either way, only faster where the host has wider vectors.
+__attribute__((target_clones("avx2", "default")))
 PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context) {
     if (program.local_memory_bits_used > local_memory_bits_) {
         throw std::invalid_argument(fmt::format("PP program {} needs {} bits of local memory; the PPs have {}", program.name,
@@ -115,18 +172,23 @@ PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context)
         throw std::invalid_argument(fmt::format("PP program {} evaluates {} QEE expressions; the slot gives {}", program.name,
                                                 program.expressions, context.expressions.size()));
     }
-    const auto n = static_cast<std::size_t>(size());
+    const auto total = static_cast<std::size_t>(size());
     if (fields_.size() < program.fields.size()) fields_.resize(program.fields.size());
-    for (std::size_t id = 0; id < program.fields.size(); ++id) fields_[id].resize(n, 0);
-    std::fill(enabled_.begin(), enabled_.end(), 1);
+    for (std::size_t id = 0; id < program.fields.size(); ++id) fields_[id].resize(total, 0);
+
+    // PPs never exchange values, so the whole program can run over one block of PPs after another:
+    // the same results, with each block's fields small enough to stay in the host's cache.
+    constexpr std::size_t kBlock = 1024;
+    PpRunCounts counts;
+    for (std::size_t first = 0; first < total; first += kBlock) {
+    const std::size_t n = std::min(kBlock, total - first);
+    auto field = [&](int id) { return fields_[static_cast<std::size_t>(id)].data() + first; };
+    std::uint8_t* en = enabled_.data() + first;
+    std::fill(en, en + n, std::uint8_t{1});
     std::uint64_t enabled_count = n;
 
-    PpRunCounts counts;
-    auto field = [&](int id) { return fields_[static_cast<std::size_t>(id)].data(); };
-    const std::uint8_t* en = enabled_.data();
-
     for (const PpInstruction& in : program.instructions) {
-        ++counts.instructions;
+        counts.instructions += first == 0 ? 1 : 0;
         counts.pp_operations += n;
         counts.enabled_pp_operations += enabled_count;
         std::int64_t* dst = in.dst >= 0 ? field(in.dst) : nullptr;
@@ -134,41 +196,44 @@ PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context)
         const std::int64_t* b = in.b >= 0 ? field(in.b) : nullptr;
         const std::int64_t imm = in.imm;
         const int shift = in.shift;
-        const Wrap wrap = dst != nullptr ? Wrap(program.fields[static_cast<std::size_t>(in.dst)]) : Wrap(PpField{0, 0, 64, true});
+        const Wrap wrap = dst != nullptr ? Wrap(program.fields[static_cast<std::size_t>(in.dst)]) : Wrap(PpField{0, 0, 48, true});
         // Each case is one plain loop over the PPs; a disabled PP keeps its value.
+        const bool all = enabled_count == n;
+        // The builder sizes every result for its operands' ranges, so arithmetic results are exact
+        // in their fields without wrapping; only loads and the QEE take a declared width.
         switch (in.op) {
             case PpOp::SetConst:
-                for (std::size_t p = 0; p < n; ++p) dst[p] = en[p] ? wrap(imm) : dst[p];
+                for_enabled(n, en, all, dst, [&](std::size_t) { return imm; });
                 break;
             case PpOp::Move:
-                for (std::size_t p = 0; p < n; ++p) dst[p] = en[p] ? wrap(a[p] >> shift) : dst[p];
+                for_enabled(n, en, all, dst, [&](std::size_t p) { return a[p] >> shift; });
                 break;
             case PpOp::Add:
-                for (std::size_t p = 0; p < n; ++p) dst[p] = en[p] ? wrap(add64(a[p], b[p])) : dst[p];
+                for_enabled(n, en, all, dst, [&](std::size_t p) { return add64(a[p], b[p]); });
                 break;
             case PpOp::Sub:
-                for (std::size_t p = 0; p < n; ++p) dst[p] = en[p] ? wrap(sub64(a[p], b[p])) : dst[p];
+                for_enabled(n, en, all, dst, [&](std::size_t p) { return sub64(a[p], b[p]); });
                 break;
             case PpOp::AddConst:
-                for (std::size_t p = 0; p < n; ++p) dst[p] = en[p] ? wrap(add64(a[p], imm)) : dst[p];
+                for_enabled(n, en, all, dst, [&](std::size_t p) { return add64(a[p], imm); });
                 break;
             case PpOp::AbsDiffConst:
-                for (std::size_t p = 0; p < n; ++p) {
+                for_enabled(n, en, all, dst, [&](std::size_t p) {
                     const std::int64_t d = sub64(a[p], imm);
-                    dst[p] = en[p] ? wrap(d < 0 ? sub64(0, d) : d) : dst[p];
-                }
+                    return d < 0 ? sub64(0, d) : d;
+                });
                 break;
             case PpOp::MinConst:
-                for (std::size_t p = 0; p < n; ++p) dst[p] = en[p] ? wrap(std::min(a[p], imm)) : dst[p];
+                for_enabled(n, en, all, dst, [&](std::size_t p) { return std::min(a[p], imm); });
                 break;
             case PpOp::MaxConst:
-                for (std::size_t p = 0; p < n; ++p) dst[p] = en[p] ? wrap(std::max(a[p], imm)) : dst[p];
+                for_enabled(n, en, all, dst, [&](std::size_t p) { return std::max(a[p], imm); });
                 break;
             case PpOp::Mul:
-                for (std::size_t p = 0; p < n; ++p) dst[p] = en[p] ? wrap(mul64(a[p], b[p]) >> shift) : dst[p];
+                for_enabled(n, en, all, dst, [&](std::size_t p) { return mul64(a[p], b[p]) >> shift; });
                 break;
             case PpOp::MulConst:
-                for (std::size_t p = 0; p < n; ++p) dst[p] = en[p] ? wrap(mul64(a[p], imm) >> shift) : dst[p];
+                for_enabled(n, en, all, dst, [&](std::size_t p) { return mul64(a[p], imm) >> shift; });
                 break;
             case PpOp::Div: {
                 const PpField& d = program.fields[static_cast<std::size_t>(in.dst)];
@@ -177,66 +242,71 @@ PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context)
                     if (!en[p]) continue;
                     const std::int64_t divisor = b[p];
                     const std::int64_t dividend = static_cast<std::int64_t>(static_cast<std::uint64_t>(a[p]) << shift);
-                    dst[p] = (divisor <= 0 || dividend < 0 || dividend / divisor > top) ? top : dividend / divisor;
+                    if (divisor <= 0 || dividend < 0) {
+                        dst[p] = top;
+                        continue;
+                    }
+                    dst[p] = std::min(exact_quotient(dividend, divisor), top);
                 }
                 break;
             }
             case PpOp::Sqrt:
                 for (std::size_t p = 0; p < n; ++p)
-                    if (en[p]) dst[p] = wrap(exact_isqrt(a[p]));
+                    if (en[p]) dst[p] = exact_isqrt(a[p]);
                 break;
             case PpOp::Lookup: {
                 const auto& entries = program.tables[static_cast<std::size_t>(in.table)].entries;
                 const std::int64_t* table = entries.data();
                 const auto last = static_cast<std::uint64_t>(entries.size() - 1);  // entries: a power of two
-                for (std::size_t p = 0; p < n; ++p) dst[p] = en[p] ? table[static_cast<std::uint64_t>(a[p]) & last] : dst[p];
+                for_enabled(n, en, all, dst, [&](std::size_t p) { return table[static_cast<std::uint64_t>(a[p]) & last]; });
                 break;
             }
             case PpOp::Qee: {
                 const QeeCoefficients& q = context.expressions[static_cast<std::size_t>(in.expression)];
-                for (int row = 0; row < rows_; ++row) {
-                    const std::int64_t y = row;
-                    const std::size_t base = static_cast<std::size_t>(row) * static_cast<std::size_t>(columns_);
-                    for (int column = 0; column < columns_; ++column) {
-                        const std::int64_t x = column;
-                        const std::int64_t v = q.a * x * x + q.b * x * y + q.c * y * y + q.d * x + q.e * y + q.f;  // x, y < 2^12
-                        const std::size_t p = base + static_cast<std::size_t>(column);
-                        dst[p] = en[p] ? wrap(v >> shift) : dst[p];
-                    }
+                const auto columns = static_cast<std::size_t>(columns_);
+                for (std::size_t p = 0; p < n; ++p) {
+                    const auto x = static_cast<std::int64_t>((first + p) % columns);
+                    const auto y = static_cast<std::int64_t>((first + p) / columns);
+                    const std::int64_t v = q.a * x * x + q.b * x * y + q.c * y * y + q.d * x + q.e * y + q.f;  // x, y < 2^12
+                    dst[p] = en[p] ? wrap(v >> shift) : dst[p];
                 }
                 break;
             }
             case PpOp::EnableAll:
-                std::fill(enabled_.begin(), enabled_.end(), 1);
+                std::fill(en, en + n, std::uint8_t{1});
                 enabled_count = n;
                 break;
             case PpOp::EnableIf: {
                 enabled_count = 0;
                 for (std::size_t p = 0; p < n; ++p) {
-                    enabled_[p] = static_cast<std::uint8_t>(enabled_[p] && compare(a[p], in.compare, imm));
-                    enabled_count += enabled_[p];
+                    en[p] = static_cast<std::uint8_t>(en[p] && compare(a[p], in.compare, imm));
+                    enabled_count += en[p];
                 }
                 break;
             }
             case PpOp::Load: {
                 const PpField& d = program.fields[static_cast<std::size_t>(in.dst)];
-                const int offset = context.record_base_bit + in.record_offset;
-                if (offset + d.bits > backing_store_bits_) throw std::invalid_argument("PP program load past the backing store");
+                const BitWindow window(context.record_base_bit + in.record_offset, d.bits, backing_store_bits_, "load");
+                const std::uint64_t* words = backing_.data() + first * static_cast<std::size_t>(backing_words_);
+                const auto stride = static_cast<std::size_t>(backing_words_);
                 for (std::size_t p = 0; p < n; ++p) {
-                    if (en[p]) dst[p] = wrap(static_cast<std::int64_t>(read_backing(static_cast<int>(p), offset, d.bits)));
+                    const std::int64_t v = wrap(static_cast<std::int64_t>(window.read(words + p * stride)));
+                    dst[p] = en[p] ? v : dst[p];
                 }
                 break;
             }
             case PpOp::Store: {
-                const PpField& s = program.fields[static_cast<std::size_t>(in.a)];
-                const int offset = context.record_base_bit + in.record_offset;
-                if (offset + s.bits > backing_store_bits_) throw std::invalid_argument("PP program store past the backing store");
+                const PpField& source = program.fields[static_cast<std::size_t>(in.a)];
+                const BitWindow window(context.record_base_bit + in.record_offset, source.bits, backing_store_bits_, "store");
+                std::uint64_t* words = backing_.data() + first * static_cast<std::size_t>(backing_words_);
+                const auto stride = static_cast<std::size_t>(backing_words_);
                 for (std::size_t p = 0; p < n; ++p) {
-                    if (en[p]) write_backing(static_cast<int>(p), offset, s.bits, static_cast<std::uint64_t>(a[p]));
+                    if (en[p]) window.write(words + p * stride, static_cast<std::uint64_t>(a[p]));
                 }
                 break;
             }
         }
+    }
     }
     return counts;
 }
