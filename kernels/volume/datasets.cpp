@@ -16,13 +16,15 @@ namespace pp5 {
 std::span<const PackagedDataset> packaged_datasets() {
     // Built on first use: strings are not constexpr in C++20's library, and this avoids any static
     // initialisation order question for callers in other static initialisers.
-    static const std::array<PackagedDataset, 3> datasets{{
+    static const std::array<PackagedDataset, 4> datasets{{
         {"ch2", "mricron-data", "/usr/share/mricron/templates/ch2.nii.gz",
          "MR head (Colin27 average), whole head with skin, 181x217x181 uint8, 1 mm"},
         {"ch2better", "mricron-data", "/usr/share/mricron/templates/ch2better.nii.gz",
          "the same MR head, finer: 301x370x316 uint8, 0.5 mm"},
         {"brainsmall", "libvolpack1-dev", "/usr/share/doc/libvolpack1-dev/examples/brainsmall.den",
          "MR head from UNC Chapel Hill (VolPack's example), 128x128x84 uint8"},
+        {"ct-head", "invesalius-examples", "/usr/share/doc/invesalius-examples/examples/Cranium.inv3",
+         "CT head (InVesalius example), 256x256x108 int16 HU, 0.957x0.957x1.5 mm"},
     }};
     return datasets;
 }

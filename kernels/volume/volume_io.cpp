@@ -3,6 +3,7 @@
 
 #include "kernels/volume/volume_io.h"
 
+#include "kernels/volume/inv3_io.h"
 #include "kernels/volume/load_checks.h"
 #include "sim/core/input_error.h"
 
@@ -28,6 +29,7 @@ Volume load_volume(const std::filesystem::path& path) {
     volume_detail::require_regular_file(path);
     if (ends_with(name, ".nii") || ends_with(name, ".nii.gz")) return load_nifti(path);
     if (ends_with(name, ".den") || ends_with(name, ".den.gz")) return load_den(path);
+    if (ends_with(name, ".inv3")) return load_inv3(path);
 
     std::string reason = "unknown volume file type";
     if (ends_with(name, ".hdr") || ends_with(name, ".img"))
