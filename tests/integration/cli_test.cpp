@@ -88,6 +88,25 @@ TEST(Cli, RenderWritesImagesStatsAndConfig) {
     EXPECT_TRUE(stats["components"].contains("gp[31]"));
     EXPECT_TRUE(stats["components"].contains("renderer[15]"));
     EXPECT_TRUE(stats["components"].contains("ring.channel[7]"));
+    // The renderers' passes: the first frame classifies and shades; a camera move or a light change
+    // reshades only; a new classification reruns both (its colours are part of it).
+    const auto& f = stats["frames"];
+    EXPECT_EQ(stats["summary"]["kernel"], "levoy");
+    EXPECT_TRUE(f[0]["renderers"]["classification"]["ran"].get<bool>());
+    EXPECT_TRUE(f[0]["renderers"]["shading"]["ran"].get<bool>());
+    EXPECT_FALSE(f[1]["renderers"]["classification"]["ran"].get<bool>());
+    EXPECT_TRUE(f[1]["renderers"]["shading"]["ran"].get<bool>());
+    EXPECT_FALSE(f[2]["renderers"]["classification"]["ran"].get<bool>());
+    EXPECT_TRUE(f[3]["renderers"]["classification"]["ran"].get<bool>());
+    for (int i = 0; i < 4; ++i) {
+        EXPECT_GT(stats["summary"]["simulated_seconds"][i].get<double>(), 0.0);
+        // The same picture as the reference (35 dB and more is checked under parallel projection in
+        // the unit tests; this scenario is perspective, where the PPs light with one view direction).
+        EXPECT_GE(f[i]["fidelity"]["psnr_db"].get<double>(), 30.0) << "frame " << i;
+    }
+    EXPECT_GT(stats["components"]["renderer[0]"]["busy_cycles"]["value"].get<double>(), 0.0);
+    EXPECT_GT(stats["components"]["renderer[0]"]["slot_cycles"]["value"].get<double>(), 0.0);
+    EXPECT_TRUE(stats.contains("placement"));
     // Frames record what changed, as the scenario says.
     EXPECT_EQ(stats["frames"][1]["changed"]["camera"], true);
     EXPECT_EQ(stats["frames"][1]["changed"]["lighting"], false);
@@ -163,6 +182,10 @@ TEST(Cli, BadMachineIsRejected) {
     expect_rejected("machine_range", "render " + scenario("sphere.toml") + " --machine " + machine.string(),
                     "ring.channels");
     expect_rejected("machine_key", "render " + scenario("sphere.toml") + " --set gp.cout=2", "gp.cout");
+    // A machine too small for the volume: the error says what it would need.
+    expect_rejected("machine_small", "render " + scenario("sphere.toml") + " --set renderer.count=1 --set renderer.backing_store_bits=512",
+                    "renderer.backing_store_bits");
+    expect_rejected("kernel_setting", "render " + scenario("sphere.toml") + " --set levoy.placement=diagonal", "levoy.placement");
 }
 
 TEST(Cli, BadVolumeIsRejected) {
