@@ -66,7 +66,7 @@ TEST(LoadVolume, MissingFileIsReportedBeforeTheExtension) {
 
 TEST(PackagedDatasets, ListsTheDebianVolumes) {
     const auto all = packaged_datasets();
-    ASSERT_EQ(all.size(), 3u);
+    ASSERT_EQ(all.size(), 4u);
     for (const auto& d : all) {
         EXPECT_FALSE(d.name.empty());
         EXPECT_FALSE(d.package.empty());
@@ -77,6 +77,7 @@ TEST(PackagedDatasets, ListsTheDebianVolumes) {
     ASSERT_NE(find_packaged_dataset("ch2"), nullptr);
     EXPECT_EQ(find_packaged_dataset("ch2")->package, "mricron-data");
     EXPECT_EQ(find_packaged_dataset("brainsmall")->package, "libvolpack1-dev");
+    EXPECT_EQ(find_packaged_dataset("ct-head")->package, "invesalius-examples");
     EXPECT_EQ(find_packaged_dataset("ch3"), nullptr);
 }
 
