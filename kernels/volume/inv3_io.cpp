@@ -10,7 +10,6 @@
 #include <cstdlib>
 #include <map>
 #include <optional>
-#include <regex>
 #include <string>
 #include <vector>
 
@@ -51,20 +50,27 @@ std::map<std::string, std::vector<std::byte>> read_tar(GzFile& gz, const std::st
     return members;
 }
 
-// The text inside <key>name</key> <tag>...</tag> within `xml`, for a plist whose nesting this
-// loader knows: the matrix dictionary and the top-level spacing array.
+// The text of the element that follows <key>name</key> in `xml`, if that element is a <tag>. The
+// plists this loader reads nest no element of a tag inside another of the same tag.
 std::optional<std::string> plist_value(const std::string& xml, const std::string& key, const std::string& tag) {
-    const std::regex pattern("<key>" + key + "</key>\\s*<" + tag + ">([\\s\\S]*?)</" + tag + ">");
-    std::smatch m;
-    if (!std::regex_search(xml, m, pattern)) return std::nullopt;
-    return m[1].str();
+    const std::string key_element = "<key>" + key + "</key>";
+    const std::size_t key_at = xml.find(key_element);
+    if (key_at == std::string::npos) return std::nullopt;
+    const std::size_t open_at = xml.find_first_not_of(" \t\r\n", key_at + key_element.size());
+    const std::string open = "<" + tag + ">";
+    if (open_at == std::string::npos || xml.compare(open_at, open.size(), open) != 0) return std::nullopt;
+    const std::size_t body = open_at + open.size();
+    const std::size_t close_at = xml.find("</" + tag + ">", body);
+    if (close_at == std::string::npos) return std::nullopt;
+    return xml.substr(body, close_at - body);
 }
 
+// The numbers of every <tag>...</tag> element in `text`, in order.
 std::vector<double> numbers_in(const std::string& text, const std::string& tag) {
     std::vector<double> out;
-    const std::regex item("<" + tag + ">([^<]*)</" + tag + ">");
-    for (auto it = std::sregex_iterator(text.begin(), text.end(), item); it != std::sregex_iterator(); ++it) {
-        out.push_back(std::strtod((*it)[1].str().c_str(), nullptr));
+    const std::string open = "<" + tag + ">";
+    for (std::size_t at = text.find(open); at != std::string::npos; at = text.find(open, at + 1)) {
+        out.push_back(std::strtod(text.c_str() + at + open.size(), nullptr));
     }
     return out;
 }

@@ -80,7 +80,7 @@ struct BitWindow {
 // dst[p] = value(p) on every enabled PP; a disabled PP keeps its value. The all-enabled case is a
 // plain loop the compiler can vectorise.
 template <class Value>
-void for_enabled(std::size_t n, const std::uint8_t* enabled, bool all, std::int64_t* dst, Value&& value) {
+[[gnu::always_inline]] inline void for_enabled(std::size_t n, const std::uint8_t* enabled, bool all, std::int64_t* dst, Value&& value) {
     if (all) {
         for (std::size_t p = 0; p < n; ++p) dst[p] = value(p);
     } else {
