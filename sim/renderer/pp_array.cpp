@@ -62,17 +62,21 @@ struct BitWindow {
                                                     width, offset, store_bits));
         }
     }
-    std::uint64_t read(const std::uint64_t* words) const {
-        std::uint64_t v = words[word] >> shift;
-        if (shift + bits > 64) v |= words[word + 1] << (64 - shift);
+    // The store is word-major (word w of PP p at store[w * pps + p]), so one window over all PPs
+    // reads memory in order.
+    std::uint64_t read(const std::uint64_t* store, std::size_t pps, std::size_t p) const {
+        const std::uint64_t* low = store + static_cast<std::size_t>(word) * pps + p;
+        std::uint64_t v = *low >> shift;
+        if (shift + bits > 64) v |= low[pps] << (64 - shift);
         return v & mask;
     }
-    void write(std::uint64_t* words, std::uint64_t value) const {
+    void write(std::uint64_t* store, std::size_t pps, std::size_t p, std::uint64_t value) const {
+        std::uint64_t* low = store + static_cast<std::size_t>(word) * pps + p;
         value &= mask;
-        words[word] = (words[word] & ~(mask << shift)) | (value << shift);
+        *low = (*low & ~(mask << shift)) | (value << shift);
         if (shift + bits > 64) {
             const std::uint64_t high_mask = (1ull << (shift + bits - 64)) - 1;
-            words[word + 1] = (words[word + 1] & ~high_mask) | (value >> (64 - shift));
+            low[pps] = (low[pps] & ~high_mask) | (value >> (64 - shift));
         }
     }
 };
@@ -124,35 +128,22 @@ PpArray::PpArray(int columns, int rows, int local_memory_bits, int backing_store
 }
 
 void PpArray::write_backing(int pp, int bit_offset, int bits, std::uint64_t value) {
-    if (pp < 0 || pp >= size() || bits < 1 || bits > 64 || bit_offset < 0 || bit_offset + bits > backing_store_bits_) {
-        throw std::out_of_range(fmt::format("PP backing store: {} bits at {} of PP {} (store of {} bits, {} PPs)", bits,
-                                            bit_offset, pp, backing_store_bits_, size()));
-    }
-    std::uint64_t* words = backing_.data() + static_cast<std::size_t>(pp) * static_cast<std::size_t>(backing_words_);
-    const int word = bit_offset / 64;
-    const int shift = bit_offset % 64;
-    const std::uint64_t mask = bits == 64 ? ~0ull : (1ull << bits) - 1;
-    value &= mask;
-    words[word] = (words[word] & ~(mask << shift)) | (value << shift);
-    if (shift + bits > 64) {
-        const int spill = shift + bits - 64;
-        const std::uint64_t high_mask = (1ull << spill) - 1;
-        words[word + 1] = (words[word + 1] & ~high_mask) | (value >> (64 - shift));
-    }
+    check_backing_access(pp, bit_offset, bits);
+    BitWindow(bit_offset, bits, backing_store_bits_, "write").write(backing_.data(), static_cast<std::size_t>(size()),
+                                                                    static_cast<std::size_t>(pp), value);
 }
 
 std::uint64_t PpArray::read_backing(int pp, int bit_offset, int bits) const {
+    check_backing_access(pp, bit_offset, bits);
+    return BitWindow(bit_offset, bits, backing_store_bits_, "read").read(backing_.data(), static_cast<std::size_t>(size()),
+                                                                         static_cast<std::size_t>(pp));
+}
+
+void PpArray::check_backing_access(int pp, int bit_offset, int bits) const {
     if (pp < 0 || pp >= size() || bits < 1 || bits > 64 || bit_offset < 0 || bit_offset + bits > backing_store_bits_) {
         throw std::out_of_range(fmt::format("PP backing store: {} bits at {} of PP {} (store of {} bits, {} PPs)", bits,
                                             bit_offset, pp, backing_store_bits_, size()));
     }
-    const std::uint64_t* words = backing_.data() + static_cast<std::size_t>(pp) * static_cast<std::size_t>(backing_words_);
-    const int word = bit_offset / 64;
-    const int shift = bit_offset % 64;
-    const std::uint64_t mask = bits == 64 ? ~0ull : (1ull << bits) - 1;
-    std::uint64_t value = words[word] >> shift;
-    if (shift + bits > 64) value |= words[word + 1] << (64 - shift);
-    return value & mask;
 }
 
 std::span<const std::int64_t> PpArray::field_values(const PpField& field) const {
@@ -287,10 +278,8 @@ PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context)
             case PpOp::Load: {
                 const PpField& d = program.fields[static_cast<std::size_t>(in.dst)];
                 const BitWindow window(context.record_base_bit + in.record_offset, d.bits, backing_store_bits_, "load");
-                const std::uint64_t* words = backing_.data() + first * static_cast<std::size_t>(backing_words_);
-                const auto stride = static_cast<std::size_t>(backing_words_);
                 for (std::size_t p = 0; p < n; ++p) {
-                    const std::int64_t v = wrap(static_cast<std::int64_t>(window.read(words + p * stride)));
+                    const std::int64_t v = wrap(static_cast<std::int64_t>(window.read(backing_.data(), total, first + p)));
                     dst[p] = en[p] ? v : dst[p];
                 }
                 break;
@@ -298,10 +287,8 @@ PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context)
             case PpOp::Store: {
                 const PpField& source = program.fields[static_cast<std::size_t>(in.a)];
                 const BitWindow window(context.record_base_bit + in.record_offset, source.bits, backing_store_bits_, "store");
-                std::uint64_t* words = backing_.data() + first * static_cast<std::size_t>(backing_words_);
-                const auto stride = static_cast<std::size_t>(backing_words_);
                 for (std::size_t p = 0; p < n; ++p) {
-                    if (en[p]) window.write(words + p * stride, static_cast<std::uint64_t>(a[p]));
+                    if (en[p]) window.write(backing_.data(), total, first + p, static_cast<std::uint64_t>(a[p]));
                 }
                 break;
             }

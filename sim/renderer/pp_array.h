@@ -60,12 +60,14 @@ public:
     std::span<const std::int64_t> field_values(const PpField& field) const;
 
 private:
+    void check_backing_access(int pp, int bit_offset, int bits) const;
+
     int columns_;
     int rows_;
     int local_memory_bits_;
     int backing_store_bits_;
     int backing_words_;                               // 64-bit words per PP
-    std::vector<std::uint64_t> backing_;              // PP-major
+    std::vector<std::uint64_t> backing_;              // word-major: word w of PP p at [w * size() + p]
     std::vector<std::vector<std::int64_t>> fields_;   // by field id, one value per PP
     std::vector<std::uint8_t> enabled_;
 };
