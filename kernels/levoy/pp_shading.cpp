@@ -104,7 +104,7 @@ void PpShading::load_volume(const Volume& volume) {
     });
 }
 
-PpProgramPass PpShading::run_program(const PpProgram& program, const ShadingView* depth_view, Tick start) {
+PpProgramPass PpShading::run_program(const PpProgram& program, const ShadingView* view, Tick start) {
     auto& renderers = machine_.renderers();
     const int record_bits = settings_.layout.bits();
     std::vector<PpRunCounts> counts(renderers.size());
@@ -116,11 +116,11 @@ PpProgramPass PpShading::run_program(const PpProgram& program, const ShadingView
         for (int slot = 0; slot < placement_.slots_needed(); ++slot) {
             const SlotFrame frame = placement_.frame(static_cast<int>(r), slot);
             if (!frame.used) continue;
-            QeeCoefficients depth;
-            if (depth_view != nullptr) depth = depth_expression(*depth_view, frame, spacing_);
+            std::array<QeeCoefficients, 4> expressions{};
+            if (view != nullptr) expressions = slot_expressions(*view, frame, spacing_);
             PpSlotContext context;
             context.record_base_bit = slot * record_bits;
-            if (depth_view != nullptr) context.expressions = std::span<const QeeCoefficients>(&depth, 1);
+            if (view != nullptr) context.expressions = expressions;
             counts[r] += array.run(program, context);
             ++slots[r];
         }

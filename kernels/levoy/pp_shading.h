@@ -78,7 +78,7 @@ public:
     const GradientField& gradients() const { return gradients_; }
 
 private:
-    PpProgramPass run_program(const PpProgram& program, const ShadingView* depth_view, Tick start);
+    PpProgramPass run_program(const PpProgram& program, const ShadingView* view, Tick start);
     void load_volume(const Volume& volume);
 
     Machine& machine_;

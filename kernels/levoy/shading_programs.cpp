@@ -199,6 +199,42 @@ PpField normal_dot(PpProgramBuilder& b, const std::string& name, const std::arra
     return clamped;
 }
 
+// 256 (N . V) with V the unit direction from each voxel to the eye (a perspective headlight, where
+// L = V): the QEE gives each PP its voxel's vector e to the eye, so N . V = -w.e / (|w| |e|), taken
+// only where positive.
+PpField normal_dot_eye(PpProgramBuilder& b, const std::array<PpField, 3>& w, PpField gmag4) {
+    std::array<PpField, 3> eye;
+    for (int axis = 0; axis < 3; ++axis) eye[axis] = b.qee("to_eye", kToEyeExpression + axis, 12, true, kQeeShift);
+    const PpField eye4 = magnitude_times_four(b, eye);
+    PpField dot;
+    for (int axis = 0; axis < 3; ++axis) {
+        const PpField term = b.mul("n_dot_v_term", w[axis], eye[axis]);
+        b.release(eye[axis]);
+        if (!dot.valid()) {
+            dot = term;
+            continue;
+        }
+        const PpField sum = b.add("n_dot_v_sum", dot, term);
+        b.release(dot);
+        b.release(term);
+        dot = sum;
+    }
+    // -w.e, clamped at zero: the faces turned to the eye.
+    const PpField facing = b.mul_const("n_dot_v_facing", dot, -1);
+    b.release(dot);
+    const PpField positive = b.max_const("n_dot_v_positive", facing, 0);
+    b.release(facing);
+    // 256 (-w.e) / (|w| |e|) = 4096 (-w.e) / (gmag4 eye4).
+    const PpField lengths = b.mul("n_dot_v_lengths", gmag4, eye4);
+    b.release(eye4);
+    const PpField ratio = b.div("n_dot_v_ratio", positive, lengths, 12, kOneShift + 2);
+    b.release(positive);
+    b.release(lengths);
+    const PpField clamped = b.min_const("n_dot_l", ratio, kOne);
+    b.release(ratio);
+    return clamped;
+}
+
 // x^n for x in 1/256ths: by repeated squaring for whole n (each product rounded down to 1/256ths),
 // by a broadcast table otherwise.
 PpField power_256(PpProgramBuilder& b, PpField x, float n) {
@@ -275,7 +311,8 @@ PpProgram build_shading_program(const ColorMap& color_map, const PhongLighting& 
 
     const glm::vec3 to_viewer = -view.forward;
     const glm::vec3 to_light = lighting.light_follows_camera ? to_viewer : glm::normalize(lighting.light_direction);
-    const PpField n_dot_l = normal_dot(b, "n_dot_l", w, gmag4, to_light);
+    const bool eye_per_voxel = lighting.light_follows_camera && view.projection == Projection::Perspective;
+    const PpField n_dot_l = eye_per_voxel ? normal_dot_eye(b, w, gmag4) : normal_dot(b, "n_dot_l", w, gmag4, to_light);
     PpField n_dot_h;
     const glm::vec3 halfway = to_light + to_viewer;
     const bool headlight = lighting.light_follows_camera;
@@ -301,7 +338,7 @@ PpProgram build_shading_program(const ColorMap& color_map, const PhongLighting& 
 
     // Depth cueing: divide by k1 + k2 d, with d from the QEE (256 d, clamped to [0, 256]).
     if (lighting.depth_cue_k2 != 0.0f) {
-        const PpField raw = b.qee("depth_raw", 0, kOneShift + 3, true, kDepthShift);
+        const PpField raw = b.qee("depth_raw", kDepthExpression, kOneShift + 3, true, kQeeShift);
         const PpField low = b.max_const("depth_low", raw, 0);
         b.release(raw);
         const PpField depth = b.min_const("depth", low, kOne);
@@ -345,16 +382,28 @@ PpProgram build_shading_program(const ColorMap& color_map, const PhongLighting& 
     return b.finish();
 }
 
-QeeCoefficients depth_expression(const ShadingView& view, const SlotFrame& frame, glm::vec3 spacing) {
-    QeeCoefficients e;
-    if (view.radius <= 0.0f) return e;
-    // 256 depth = 256 ((p - centre).forward + radius) / (2 radius), with p = (origin + (x, y, 0)) spacing.
-    const double scale = 256.0 / (2.0 * static_cast<double>(view.radius));
+std::array<QeeCoefficients, 4> slot_expressions(const ShadingView& view, const SlotFrame& frame, glm::vec3 spacing) {
+    std::array<QeeCoefficients, 4> e{};
     const glm::vec3 origin = glm::vec3(frame.origin) * spacing;
-    const double constant = (static_cast<double>(glm::dot(origin - view.center, view.forward)) + view.radius) * scale;
-    e.d = fixed(static_cast<double>(spacing.x * view.forward.x) * scale, kDepthShift);
-    e.e = fixed(static_cast<double>(spacing.y * view.forward.y) * scale, kDepthShift);
-    e.f = fixed(constant, kDepthShift);
+    // A voxel at PP (x, y) sits at origin + (x sx, y sy, 0).
+    if (view.radius > 0.0f) {
+        // 256 depth = 256 ((p - centre).forward + radius) / (2 radius).
+        const double scale = 256.0 / (2.0 * static_cast<double>(view.radius));
+        QeeCoefficients& depth = e[kDepthExpression];
+        depth.d = fixed(static_cast<double>(spacing.x * view.forward.x) * scale, kQeeShift);
+        depth.e = fixed(static_cast<double>(spacing.y * view.forward.y) * scale, kQeeShift);
+        depth.f = fixed((static_cast<double>(glm::dot(origin - view.center, view.forward)) + view.radius) * scale, kQeeShift);
+    }
+    const double eye_distance = glm::length(view.eye - view.center);
+    if (view.projection == Projection::Perspective && eye_distance > 0.0) {
+        const double scale = 256.0 / eye_distance;
+        for (int axis = 0; axis < 3; ++axis) {
+            QeeCoefficients& to_eye = e[static_cast<std::size_t>(kToEyeExpression + axis)];
+            to_eye.d = axis == 0 ? fixed(-static_cast<double>(spacing.x) * scale, kQeeShift) : 0;
+            to_eye.e = axis == 1 ? fixed(-static_cast<double>(spacing.y) * scale, kQeeShift) : 0;
+            to_eye.f = fixed(static_cast<double>(view.eye[axis] - origin[axis]) * scale, kQeeShift);
+        }
+    }
     return e;
 }
 

@@ -19,6 +19,8 @@
 
 #include <glm/vec3.hpp>
 
+#include <array>
+
 namespace pp5 {
 
 struct PpProgramInputs {
@@ -30,16 +32,19 @@ struct PpProgramInputs {
 
 PpProgram build_classification_program(const Classification& classification, const PpProgramInputs& inputs);
 
-// Lighting is one-sided Phong with an optional depth cue, as the reference shades. The direction to
-// the viewer is the view's direction for every voxel (exact for parallel projection; under
-// perspective the highlights are those of a distant viewer). With depth cueing the program asks the
-// QEE for each voxel's depth: expression 0, from depth_expression().
+// Lighting is one-sided Phong with an optional depth cue, as the reference shades. Per voxel, the QEE
+// gives what depends on the voxel's position (slot_expressions): its depth for depth cueing and,
+// under perspective with a headlight, its direction to the eye. Under perspective with a fixed light,
+// highlights use the view's central direction (those of a distant viewer).
 PpProgram build_shading_program(const ColorMap& color_map, const PhongLighting& lighting, const ShadingView& view,
                                 const PpProgramInputs& inputs);
 
-// The QEE coefficients giving 256 x (the depth in [0,1] that ShadingView::depth gives) for the voxels
-// of one slot frame, as a linear function of PP column and row. kDepthShift is the fixed-point shift.
-inline constexpr int kDepthShift = 16;
-QeeCoefficients depth_expression(const ShadingView& view, const SlotFrame& frame, glm::vec3 spacing);
+// The QEE expressions of one slot frame, linear in PP column and row, with kQeeShift fraction bits:
+//   kDepthExpression        256 x the depth in [0,1] that ShadingView::depth gives
+//   kToEyeExpression + i    256 x component i of (eye - voxel) / |eye - centre|
+inline constexpr int kQeeShift = 16;
+inline constexpr int kDepthExpression = 0;
+inline constexpr int kToEyeExpression = 1;
+std::array<QeeCoefficients, 4> slot_expressions(const ShadingView& view, const SlotFrame& frame, glm::vec3 spacing);
 
 }  // namespace pp5
