@@ -170,6 +170,20 @@ PpField to_code(PpProgramBuilder& b, const std::string& name, PpField fraction25
     return clamped;
 }
 
+// min(1, (numerator << shift) / denominator) in 1/256ths where the numerator is positive, and 0
+// where it is not: a voxel with no gradient (zero over zero) has no normal and gets no direct light.
+PpField positive_ratio(PpProgramBuilder& b, const std::string& name, PpField numerator, PpField denominator, int shift) {
+    const PpField ratio = b.set_const(name + "_ratio", 0, kOneShift + 2, false);
+    b.enable_if(numerator, PpCompare::Greater, 0);
+    const PpField quotient = b.div(name + "_quotient", numerator, denominator, shift, kOneShift + 2);
+    b.assign(ratio, quotient);
+    b.release(quotient);
+    b.enable_all();
+    const PpField clamped = b.min_const(name, ratio, kOne);
+    b.release(ratio);
+    return clamped;
+}
+
 // 256 (N . d) for the unit normal N = -w/|w| and a unit direction d, where w is the gradient: the
 // dot product -w.d in 1/256ths, divided by |w| = gmag4 / 4. Only where the result is positive.
 PpField normal_dot(PpProgramBuilder& b, const std::string& name, const std::array<PpField, 3>& w, PpField gmag4,
@@ -191,11 +205,9 @@ PpField normal_dot(PpProgramBuilder& b, const std::string& name, const std::arra
     if (!dot.valid()) return b.set_const(name, 0, kOneShift + 1, false);
     const PpField positive = b.max_const(name + "_positive", dot, 0);
     b.release(dot);
-    // 256 (-w.d)/|w| = 4 (256 (-w.d)) / gmag4; a zero gmag4 has a zero dot product and saturates, so clamp.
-    const PpField ratio = b.div(name + "_ratio", positive, gmag4, 2, kOneShift + 2);
+    // 256 (-w.d)/|w| = 4 (256 (-w.d)) / gmag4.
+    const PpField clamped = positive_ratio(b, name, positive, gmag4, 2);
     b.release(positive);
-    const PpField clamped = b.min_const(name, ratio, kOne);
-    b.release(ratio);
     return clamped;
 }
 
@@ -227,11 +239,9 @@ PpField normal_dot_eye(PpProgramBuilder& b, const std::array<PpField, 3>& w, PpF
     // 256 (-w.e) / (|w| |e|) = 4096 (-w.e) / (gmag4 eye4).
     const PpField lengths = b.mul("n_dot_v_lengths", gmag4, eye4);
     b.release(eye4);
-    const PpField ratio = b.div("n_dot_v_ratio", positive, lengths, 12, kOneShift + 2);
+    const PpField clamped = positive_ratio(b, "n_dot_l", positive, lengths, 12);
     b.release(positive);
     b.release(lengths);
-    const PpField clamped = b.min_const("n_dot_l", ratio, kOne);
-    b.release(ratio);
     return clamped;
 }
 

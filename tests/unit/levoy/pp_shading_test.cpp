@@ -6,6 +6,7 @@
 #include "kernels/levoy/pp_shading.h"
 #include "kernels/reference/composite.h"
 #include "kernels/reference/reference_renderer.h"
+#include "kernels/reference/voxel_opacity.h"
 #include "kernels/volume/phantoms.h"
 #include "sim/core/input_error.h"
 #include "sim/machine/machine.h"
@@ -106,6 +107,36 @@ TEST(PpShading, PiecewiseAndRegionBoundaryImagesMatchTheReference) {
         const ImageDifference d = compare_images(r.machine, r.reference);
         EXPECT_GE(d.psnr_db, 35.0) << "kind " << static_cast<int>(c.kind) << " rms " << d.rms_error;
     }
+}
+
+// Voxel by voxel against the reference's shade_voxels: colours within a few codes wherever the voxel
+// is visible, including flat interiors (no gradient: ambient light only).
+TEST(PpShading, VoxelColoursAndOpacitiesMatchTheReference) {
+    const Volume sphere = make_sphere_phantom(32);
+    const Classification ramp = test::piecewise({{50.0f, 0.0f}, {150.0f, 0.8f}});
+    const MachineConfig config = small_machine();
+    Machine machine(config);
+    PpShading pps(machine, sphere, LevoySettings::from(config));
+    const ShadingView view = make_shading_view(oblique_camera(sphere), sphere.dims(), sphere.spacing());
+    pps.update(ramp, kWarm, phong(), view, true, true);
+    const ShadedVolume machine_colours = pps.shaded_volume();
+    const GradientField gradients = compute_gradients(sphere);
+    const std::vector<float> opacities = classify_voxels(sphere, gradients, ramp);
+    const ShadedVolume reference = shade_voxels(sphere, gradients, opacities, kWarm, phong(), view);
+    float worst_colour = 0.0f;
+    float worst_opacity = 0.0f;
+    std::size_t flat_opaque = 0;
+    for (std::size_t i = 0; i < opacities.size(); ++i) {
+        if (opacities[i] <= 0.0f) continue;
+        worst_opacity = std::max(worst_opacity, std::abs(machine_colours.rgba[i].a - reference.rgba[i].a));
+        for (int c = 0; c < 3; ++c) worst_colour = std::max(worst_colour, std::abs(machine_colours.rgba[i][c] - reference.rgba[i][c]));
+        flat_opaque += gradients.gradients[i] == glm::vec3(0.0f) ? 1 : 0;
+    }
+    EXPECT_GT(flat_opaque, 500u) << "the test needs flat opaque voxels";
+    // Within two opacity codes: the value is stored to the nearest code (half a unit on this ramp of
+    // 0.008 per unit) and the opacity rounded to 1/255.
+    EXPECT_LE(worst_opacity, 2.0f / 255.0f);
+    EXPECT_LE(worst_colour, 0.06f);
 }
 
 TEST(PpShading, EachChangeRerunsOnlyItsPass) {
