@@ -1,5 +1,7 @@
 #include "sim/renderer/pp_array.h"
 
+#include "sim/renderer/pp_integer.h"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -33,13 +35,6 @@ std::int64_t exact_quotient(std::int64_t a, std::int64_t b) {
     return q;
 }
 
-std::int64_t exact_isqrt(std::int64_t x) {
-    if (x <= 0) return 0;
-    auto r = static_cast<std::int64_t>(std::sqrt(static_cast<double>(x)));
-    while (r * r > x) --r;
-    while ((r + 1) * (r + 1) <= x) ++r;
-    return r;
-}
 
 // Arithmetic in uint64, where overflow is defined: a PP that is disabled may hold a stale value from
 // an earlier program, and its (discarded) result must not be undefined behaviour.
@@ -243,7 +238,7 @@ PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context)
             }
             case PpOp::Sqrt:
                 for (std::size_t p = 0; p < n; ++p)
-                    if (en[p]) dst[p] = exact_isqrt(a[p]);
+                    if (en[p]) dst[p] = pp_isqrt(a[p]);
                 break;
             case PpOp::Lookup: {
                 const auto& entries = program.tables[static_cast<std::size_t>(in.table)].entries;

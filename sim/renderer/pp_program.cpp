@@ -1,6 +1,7 @@
 #include "sim/renderer/pp_program.h"
 
 #include "sim/core/input_error.h"
+#include "sim/renderer/pp_integer.h"
 
 #include <fmt/format.h>
 
@@ -14,13 +15,6 @@ namespace {
 
 std::int64_t floor_shift(std::int64_t x, int shift) { return x >> shift; }  // arithmetic: floor
 
-std::int64_t isqrt(std::int64_t x) {
-    if (x <= 0) return 0;
-    auto r = static_cast<std::int64_t>(std::sqrt(static_cast<double>(x)));
-    while (r * r > x) --r;
-    while ((r + 1) * (r + 1) <= x) ++r;
-    return r;
-}
 
 }  // namespace
 
@@ -278,7 +272,7 @@ PpField PpProgramBuilder::sqrt(const std::string& name, PpField a) {
     check_live(a);
     PpInstruction i{PpOp::Sqrt};
     i.a = a.id;
-    return emit(i, name, isqrt(std::max<std::int64_t>(lo(a), 0)), isqrt(std::max<std::int64_t>(hi(a), 0)));
+    return emit(i, name, pp_isqrt(std::max<std::int64_t>(lo(a), 0)), pp_isqrt(std::max<std::int64_t>(hi(a), 0)));
 }
 
 PpField PpProgramBuilder::lookup(const std::string& name, PpField index, PpTable table, int bits, bool is_signed) {
