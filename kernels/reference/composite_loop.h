@@ -51,9 +51,7 @@ Image composite_loop(const ShadedVolume& volume, const OccupancyGrid& occupancy,
                 const glm::vec4 s = grid.interpolate_rgba(cell, rgba);
                 return ray_color.add(glm::vec3(s), s.a);
             });
-            counters.samples += marched.samples;
-            counters.samples_skipped += marched.skipped;
-            if (marched.terminated) ++counters.rays_terminated;
+            tally(counters, marched);
         }
         return ray_color.over(settings.background);
     });

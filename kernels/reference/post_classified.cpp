@@ -62,9 +62,7 @@ Image render_post_classified(const Volume& volume, const GradientField& gradient
                     if (alpha <= 0.0f) return false;
                     return ray_color.add(shader.shade(value, g, position * spacing), alpha);
                 });
-                counters.samples += marched.samples;
-                counters.samples_skipped += marched.skipped;
-                if (marched.terminated) ++counters.rays_terminated;
+                detail::tally(counters, marched);
             }
             return ray_color.over(settings.background);
         });

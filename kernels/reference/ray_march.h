@@ -8,6 +8,7 @@
 // whose centres lie inside the box. A sample's position is always computed from k alone, so the
 // skipping walk and the plain loop evaluate bit-identical positions.
 
+#include "kernels/reference/composite.h"
 #include "kernels/reference/occupancy_grid.h"
 #include "kernels/render/camera.h"
 
@@ -96,6 +97,13 @@ struct MarchCounts {
     std::uint64_t skipped = 0;  // samples in empty blocks, not evaluated
     bool terminated = false;    // the visitor stopped the ray
 };
+
+// Adds one marched ray's counts to a compositor's work counters.
+inline void tally(CompositeStats& stats, const MarchCounts& marched) {
+    stats.samples += marched.samples;
+    stats.samples_skipped += marched.skipped;
+    if (marched.terminated) ++stats.rays_terminated;
+}
 
 // Calls visit(k, position) for the ray's samples in order, until it returns true (the ray is opaque).
 // With an occupancy grid, samples in empty blocks are counted and not visited.
