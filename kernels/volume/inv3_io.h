@@ -9,9 +9,15 @@
 
 namespace pp5 {
 
-// Throws InputError(file, field, reason) for a corrupt archive ("archive"), a missing member
-// ("main.plist", "matrix.dat"), a plist without a needed key ("main.plist: matrix.shape", ...), an
-// unsupported dtype, or a matrix whose size does not match its shape and dtype.
+// The volume of an InVesalius project, slices in stored order (for Cranium.inv3 that puts superior at
+// +z, as in the NIfTI heads). Masks, surfaces and measurements in the project are passed over.
+//
+// Throws InputError(file, field, reason) with field
+//   "archive"                     not a gzipped tar, a bad tar header, or data cut short;
+//   "main.plist", "matrix.dat"    the member is missing (the matrix by the name main.plist gives it),
+//                                 or the matrix size does not match its shape and dtype;
+//   "main.plist: matrix.dtype"    (and .filename, .shape[i], spacing[i]) a key missing or malformed,
+//                                 or a dtype that a Volume cannot hold.
 Volume load_inv3(const std::filesystem::path& file);
 
 }  // namespace pp5

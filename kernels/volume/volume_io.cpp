@@ -35,8 +35,9 @@ Volume load_volume(const std::filesystem::path& path) {
     if (ends_with(name, ".hdr") || ends_with(name, ".img"))
         reason += " (a NIfTI/Analyze .hdr/.img pair: convert it to a single .nii file)";
     reason +=
-        ": known are .nii and .nii.gz (NIfTI-1) and .den and .den.gz (UNC); a raw file needs its dims and "
-        "scalar type given (volume-info --dims X Y Z --type T, or a [dataset.raw] table in a scenario)";
+        ": known are .nii and .nii.gz (NIfTI-1), .den and .den.gz (UNC) and .inv3 (InVesalius); a raw file "
+        "needs its dims and scalar type given (volume-info --dims X Y Z --type T, or a [dataset.raw] table in a "
+        "scenario)";
     throw InputError(path.string(), "file name", reason);
 }
 

@@ -1,5 +1,6 @@
 #pragma once
-// Reading volumes from files: NIfTI-1 (.nii, .nii.gz), UNC .den (.den, .den.gz) and headerless raw.
+// Reading volumes from files: NIfTI-1 (.nii, .nii.gz), UNC .den (.den, .den.gz), headerless raw, and
+// InVesalius projects (.inv3, declared in inv3_io.h).
 //
 // Every failure throws InputError naming the file, the field at fault ("header.dim[1]",
 // "header.magic", "voxel data", ...) and why, so the CLI can print one line and stop. Samples that
@@ -35,7 +36,7 @@ Volume load_raw(const std::filesystem::path& file, const RawLayout& layout);
 // in the writer's byte order, then uint8 samples. Gzipped files are read too. Spacing is 1.
 Volume load_den(const std::filesystem::path& file);
 
-// By file name: .nii, .nii.gz, .den, .den.gz. Anything else throws InputError saying which are known
+// By file name: .nii, .nii.gz, .den, .den.gz, .inv3. Anything else throws InputError saying which are known
 // (raw files need dims and type, so they go through load_raw).
 Volume load_volume(const std::filesystem::path& file);
 

@@ -4,13 +4,21 @@
 #include <bit>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 
 namespace pp5 {
 
 namespace {
 
+// factor x work rounded up to whole cycles. A product that is a whole number up to rounding error
+// (1.1 x 50 = 55.000000000000007 in binary floating point) counts as that number, not the next.
 std::uint64_t cycles(double factor, std::uint64_t work) {
-    return static_cast<std::uint64_t>(std::ceil(factor * static_cast<double>(work)));
+    const double exact = factor * static_cast<double>(work);
+    const double nearest = std::round(exact);
+    // The factor's representation and the product each err by at most half an ulp: 4 epsilon is ample.
+    const double tolerance = 4 * std::numeric_limits<double>::epsilon() * std::max(1.0, exact);
+    const double rounded = std::abs(exact - nearest) <= tolerance ? nearest : std::ceil(exact);
+    return static_cast<std::uint64_t>(rounded);
 }
 
 std::uint64_t bits_of(const PpProgram& program, int id) {
@@ -30,19 +38,24 @@ const ParamGroup& PpCostModel::params() {
                   "machine.md: about n^2 cycles for an n x n multiply ([D])")
             .real("divide_cycles_per_bit_product", 1.0, "cycles", 0.01, 100,
                   "Cycles per result bit times trial-subtraction width of a restoring divide or square root",
-                  Provenance::Default, "pp5sim: a bit-serial restoring divide does one trial subtraction per quotient bit")
+                  Provenance::Default,
+                  "machine.md: about one cycle per operand bit for add/compare ([D]); a restoring divide or square "
+                  "root does one trial subtraction per result bit")
             .integer("qee_latency_cycles", 4, "cycles", 0, 1000,
                      "Pipeline latency of the quadratic expression evaluator, on top of one cycle per result bit",
-                     Provenance::Default, "machine.md: about (bits + a few) cycles per expression ([D])")
+                     Provenance::Default, "machine.md: QEE about (bits + a few) cycles per expression ([D])")
             .integer("controller_cycles_per_instruction", 2, "cycles", 0, 1000,
                      "Cycles the renderer's controller adds to each instruction it issues", Provenance::Default,
-                     "machine.md: the controller turns ring messages into micro-instructions ([D])")
+                     "machine.md: the renderer controller turns ring messages into micro-instructions ([D]); "
+                     "its issue cost is not published")
             .integer("backing_store_cycles_per_block", 32, "cycles", 1, 100000,
                      "Cycles to move one block between a PP's local memory and its backing store", Provenance::Default,
-                     "pp5sim: a 32-bit block enters the bit-organised local memory one bit a cycle")
+                     "machine.md: backing store moved in 32-bit blocks, slower than local memory ([S]); a block "
+                     "entering the bit-organised local memory one bit per cycle is our default ([D])")
             .integer("backing_store_setup_cycles", 4, "cycles", 0, 100000,
-                     "Cycles to start a backing-store transfer of a slot's blocks", Provenance::Default,
-                     "machine.md: transfers are asynchronous and overlap computation ([D])");
+                     "Cycles to start a slot's backing-store transfer in either direction", Provenance::Default,
+                     "machine.md: transfers asynchronous and overlapping compute ([S]); the start-up cost is not "
+                     "published ([D])");
         return g;
     }();
     return group;
@@ -78,7 +91,8 @@ std::uint64_t PpCostModel::alu_cycles(const PpProgram& program, const PpInstruct
             return cycles(multiply_cycles_per_bit_product_, a * b);
         case PpOp::MulConst: {
             // Shift-and-add over the broadcast constant's bits.
-            const auto magnitude = static_cast<std::uint64_t>(in.imm < 0 ? -in.imm : in.imm);
+            const auto raw = static_cast<std::uint64_t>(in.imm);
+            const std::uint64_t magnitude = in.imm < 0 ? ~raw + 1 : raw;  // |imm|, defined for the most negative too
             const auto constant_bits = static_cast<std::uint64_t>(std::max(1, static_cast<int>(std::bit_width(magnitude))));
             return cycles(multiply_cycles_per_bit_product_, a * constant_bits);
         }
@@ -121,15 +135,23 @@ PpProgramCost PpCostModel::cost(const PpProgram& program) const {
 PpPassCycles PpCostModel::pass(const PpProgramCost& cost, std::uint64_t slots) const {
     PpPassCycles p;
     if (slots == 0) return p;
-    // Slots run one after another. While slot k computes, the port brings in slot k+1's inputs and
-    // writes out slot k-1's results, so a slot takes the longer of its computation and that traffic.
-    // Nothing hides the first slot's load or the last slot's store.
+    // Slots run one after another. While slot k computes, the backing-store port brings in slot k+1's
+    // inputs and writes out slot k-1's results, so a slot takes the longer of its computation and that
+    // traffic; nothing hides the first slot's load or the last slot's store:
+    //
+    //   total = L + sum over k = 0 .. S-1 of max(C, L [k < S-1] + W [k > 0]) + W
+    //
+    // with C = compute (ALU + controller), L = load cycles, W = store cycles, S = slots. For S = 1 that
+    // is L + C + W; for S >= 2, L + max(C, L) + (S - 2) max(C, L + W) + max(C, W) + W. Whatever of the
+    // total is not ALU or controller time is backing-store stall.
     const std::uint64_t compute = cost.compute_cycles();
-    p.total = cost.load_cycles + cost.store_cycles;
-    for (std::uint64_t k = 0; k < slots; ++k) {
-        const std::uint64_t next_load = k + 1 < slots ? cost.load_cycles : 0;
-        const std::uint64_t previous_store = k > 0 ? cost.store_cycles : 0;
-        p.total += std::max(compute, next_load + previous_store);
+    const std::uint64_t load = cost.load_cycles;
+    const std::uint64_t store = cost.store_cycles;
+    p.total = load + store;
+    if (slots == 1) {
+        p.total += compute;
+    } else {  // the first slot, the slots - 2 middle ones, the last: O(1) for any number of slots
+        p.total += std::max(compute, load) + (slots - 2) * std::max(compute, load + store) + std::max(compute, store);
     }
     p.alu = slots * cost.alu_cycles;
     p.controller = slots * cost.controller_cycles;

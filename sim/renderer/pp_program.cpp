@@ -6,7 +6,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace pp5 {
@@ -15,6 +15,56 @@ namespace {
 
 std::int64_t floor_shift(std::int64_t x, int shift) { return x >> shift; }  // arithmetic: floor
 
+std::string plural_bits(std::int64_t n) { return fmt::format("{} bit{}", n, n == 1 ? "" : "s"); }
+
+// Range arithmetic that refuses to overflow: a range past 64 bits could never be held by a field
+// (at most kMaxPpFieldBits), so the instruction is rejected, naming the field it would have made.
+class CheckedRange {
+public:
+    CheckedRange(const std::string& program, const std::string& field) : program_(program), field_(field) {}
+
+    std::int64_t add(std::int64_t a, std::int64_t b) const {
+        std::int64_t r = 0;
+        if (__builtin_add_overflow(a, b, &r)) fail();
+        return r;
+    }
+    std::int64_t sub(std::int64_t a, std::int64_t b) const {
+        std::int64_t r = 0;
+        if (__builtin_sub_overflow(a, b, &r)) fail();
+        return r;
+    }
+    std::int64_t mul(std::int64_t a, std::int64_t b) const {
+        std::int64_t r = 0;
+        if (__builtin_mul_overflow(a, b, &r)) fail();
+        return r;
+    }
+    std::int64_t abs(std::int64_t a) const {
+        if (a == std::numeric_limits<std::int64_t>::min()) fail();
+        return a < 0 ? -a : a;
+    }
+
+private:
+    [[noreturn]] void fail() const {
+        throw std::invalid_argument(fmt::format("PP program {}: the values of field {} would need more than 64 bits "
+                                                "(a field holds at most {})",
+                                                program_, field_, kMaxPpFieldBits));
+    }
+
+    const std::string& program_;
+    const std::string& field_;
+};
+
+struct ProductRange {
+    std::int64_t lo = 0;
+    std::int64_t hi = 0;
+};
+
+// The range of x * y over x in [a_lo, a_hi], y in [b_lo, b_hi]: the extremes are at the corners.
+ProductRange product_range(const CheckedRange& c, std::int64_t a_lo, std::int64_t a_hi, std::int64_t b_lo,
+                           std::int64_t b_hi) {
+    const std::int64_t corners[4] = {c.mul(a_lo, b_lo), c.mul(a_lo, b_hi), c.mul(a_hi, b_lo), c.mul(a_hi, b_hi)};
+    return {*std::min_element(corners, corners + 4), *std::max_element(corners, corners + 4)};
+}
 
 }  // namespace
 
@@ -52,10 +102,10 @@ int pp_bits_for_range(std::int64_t lo, std::int64_t hi) {
     if (lo > hi) std::swap(lo, hi);
     int bits = 1;
     if (lo < 0) {
-        // Two's complement: bits b holds [-2^(b-1), 2^(b-1) - 1].
-        while (bits < 63 && (lo < -(std::int64_t{1} << (bits - 1)) || hi > (std::int64_t{1} << (bits - 1)) - 1)) ++bits;
+        // Two's complement: b bits hold [-2^(b-1), 2^(b-1) - 1].
+        while (bits < 64 && (lo < -(std::int64_t{1} << (bits - 1)) || hi > (std::int64_t{1} << (bits - 1)) - 1)) ++bits;
     } else {
-        while (bits < 63 && hi > (std::int64_t{1} << bits) - 1) ++bits;
+        while (bits < 63 && hi > (std::int64_t{1} << bits) - 1) ++bits;  // 63 bits hold any non-negative int64
     }
     return bits;
 }
@@ -66,11 +116,33 @@ PpProgramBuilder::PpProgramBuilder(std::string name, int local_memory_bits, std:
     program_.name = std::move(name);
 }
 
-PpField PpProgramBuilder::alloc(const std::string& name, int bits, bool is_signed) {
+namespace {
+
+void check_width(const std::string& program, const std::string& field, int bits) {
     if (bits < 1 || bits > kMaxPpFieldBits) {
-        throw std::invalid_argument(fmt::format("PP program {}: field {} of {} bits (1 to {} allowed)", program_.name,
-                                                name, bits, kMaxPpFieldBits));
+        throw std::invalid_argument(fmt::format("PP program {}: field {} of {} bits (1 to {} allowed)", program, field,
+                                                bits, kMaxPpFieldBits));
     }
+}
+
+// Right shifts of a 64-bit value: 0 to 63 places.
+void check_shift(const std::string& program, const std::string& field, int shift) {
+    if (shift < 0 || shift > 63) {
+        throw std::invalid_argument(fmt::format("PP program {}: field {}: shift of {} (0 to 63 allowed)", program, field, shift));
+    }
+}
+
+void check_record_offset(const std::string& program, const std::string& field, int record_offset) {
+    if (record_offset < 0) {
+        throw std::invalid_argument(fmt::format("PP program {}: field {}: negative record offset {}", program, field,
+                                                record_offset));
+    }
+}
+
+}  // namespace
+
+PpField PpProgramBuilder::alloc(const std::string& name, int bits, bool is_signed) {
+    check_width(program_.name, name, bits);
     // First fit over the free bits.
     int offset = -1;
     for (int start = 0, run = 0; start + run < capacity_bits_;) {
@@ -85,10 +157,22 @@ PpField PpProgramBuilder::alloc(const std::string& name, int bits, bool is_signe
     const int in_use = static_cast<int>(std::count(used_.begin(), used_.end(), true));
     if (offset < 0) {
         const int needed = in_use + bits;
+        if (needed > capacity_bits_) {
+            throw InputError("machine configuration", machine_field_,
+                             fmt::format("PP program {} needs {} bits of local memory for field {}; each PP has {} ({} short)",
+                                         program_.name, needed, name, capacity_bits_, plural_bits(needed - capacity_bits_)));
+        }
+        // Enough bits are free, but released fields left them in pieces too small for this one.
+        int longest = 0;
+        for (int i = 0, run = 0; i < capacity_bits_; ++i) {
+            run = used_[static_cast<std::size_t>(i)] ? 0 : run + 1;
+            longest = std::max(longest, run);
+        }
         throw InputError("machine configuration", machine_field_,
-                         fmt::format("PP program {} needs {} bits of local memory for field {}; each PP has {} ({} bits short)",
-                                     program_.name, std::max(needed, capacity_bits_ + 1), name, capacity_bits_,
-                                     std::max(needed - capacity_bits_, 1)));
+                         fmt::format("PP program {} needs {} contiguous bits of local memory for field {}; each PP has {}, "
+                                     "{} of them free but the longest free run is {} ({} short)",
+                                     program_.name, bits, name, capacity_bits_, capacity_bits_ - in_use,
+                                     plural_bits(longest), plural_bits(bits - longest)));
     }
     for (int i = 0; i < bits; ++i) used_[static_cast<std::size_t>(offset + i)] = true;
     program_.local_memory_bits_used = std::max(program_.local_memory_bits_used, in_use + bits);
@@ -97,13 +181,24 @@ PpField PpProgramBuilder::alloc(const std::string& name, int bits, bool is_signe
     program_.fields.push_back(field);
     program_.field_names.push_back(name);
     live_.push_back(true);
-    ranges_.push_back({field.min_value(), field.max_value()});
+    ranges_.push_back({field.min_value(), field.max_value()});  // unknown contents: anything the width holds
     return field;
 }
 
 void PpProgramBuilder::check_live(const PpField& field) const {
-    if (field.id < 0 || field.id >= static_cast<int>(program_.fields.size()) || !live_[static_cast<std::size_t>(field.id)]) {
-        throw std::invalid_argument(fmt::format("PP program {}: use of a released or unknown field", program_.name));
+    if (field.id < 0 || field.id >= static_cast<int>(program_.fields.size())) {
+        throw std::invalid_argument(fmt::format("PP program {}: field id {} is not a field of this program", program_.name,
+                                                field.id));
+    }
+    const auto id = static_cast<std::size_t>(field.id);
+    const PpField& known = program_.fields[id];
+    if (known.offset != field.offset || known.bits != field.bits || known.is_signed != field.is_signed) {
+        throw std::invalid_argument(fmt::format("PP program {}: field id {} ({}) does not match this program's field",
+                                                program_.name, field.id, program_.field_names[id]));
+    }
+    if (!live_[id]) {
+        throw std::invalid_argument(fmt::format("PP program {}: field {} (id {}) used after it was released", program_.name,
+                                                program_.field_names[id], field.id));
     }
 }
 
@@ -136,10 +231,13 @@ PpField PpProgramBuilder::set_const(const std::string& name, std::int64_t value)
 }
 
 PpField PpProgramBuilder::set_const(const std::string& name, std::int64_t value, int bits, bool is_signed) {
-    const PpField dst = alloc(name, bits, is_signed);
-    if (value < dst.min_value() || value > dst.max_value()) {
-        throw std::invalid_argument(fmt::format("PP program {}: {} does not fit field {}", program_.name, value, name));
+    check_width(program_.name, name, bits);
+    const PpField shape{0, 0, bits, is_signed};
+    if (value < shape.min_value() || value > shape.max_value()) {
+        throw std::invalid_argument(fmt::format("PP program {}: {} does not fit field {} ({} bits, {})", program_.name,
+                                                value, name, bits, is_signed ? "signed" : "unsigned"));
     }
+    const PpField dst = alloc(name, bits, is_signed);
     // Later conditional writes (assign) widen the range to what they may put there.
     ranges_[static_cast<std::size_t>(dst.id)] = {value, value};
     PpInstruction i{PpOp::SetConst};
@@ -151,7 +249,7 @@ PpField PpProgramBuilder::set_const(const std::string& name, std::int64_t value,
 
 PpField PpProgramBuilder::move(const std::string& name, PpField a, int shift) {
     check_live(a);
-    if (shift < 0) throw std::invalid_argument("PP program: negative shift");
+    check_shift(program_.name, name, shift);
     PpInstruction i{PpOp::Move};
     i.a = a.id;
     i.shift = shift;
@@ -161,38 +259,43 @@ PpField PpProgramBuilder::move(const std::string& name, PpField a, int shift) {
 PpField PpProgramBuilder::add(const std::string& name, PpField a, PpField b) {
     check_live(a);
     check_live(b);
+    const CheckedRange c(program_.name, name);
     PpInstruction i{PpOp::Add};
     i.a = a.id;
     i.b = b.id;
-    return emit(i, name, lo(a) + lo(b), hi(a) + hi(b));
+    return emit(i, name, c.add(lo(a), lo(b)), c.add(hi(a), hi(b)));
 }
 
 PpField PpProgramBuilder::sub(const std::string& name, PpField a, PpField b) {
     check_live(a);
     check_live(b);
+    const CheckedRange c(program_.name, name);
     PpInstruction i{PpOp::Sub};
     i.a = a.id;
     i.b = b.id;
-    return emit(i, name, lo(a) - hi(b), hi(a) - lo(b));
+    if (a.id == b.id) return emit(i, name, 0, 0);  // x - x
+    return emit(i, name, c.sub(lo(a), hi(b)), c.sub(hi(a), lo(b)));
 }
 
 PpField PpProgramBuilder::add_const(const std::string& name, PpField a, std::int64_t imm) {
     check_live(a);
+    const CheckedRange c(program_.name, name);
     PpInstruction i{PpOp::AddConst};
     i.a = a.id;
     i.imm = imm;
-    return emit(i, name, lo(a) + imm, hi(a) + imm);
+    return emit(i, name, c.add(lo(a), imm), c.add(hi(a), imm));
 }
 
 PpField PpProgramBuilder::abs_diff_const(const std::string& name, PpField a, std::int64_t imm) {
     check_live(a);
+    const CheckedRange c(program_.name, name);
     PpInstruction i{PpOp::AbsDiffConst};
     i.a = a.id;
     i.imm = imm;
-    const std::int64_t d1 = lo(a) - imm;
-    const std::int64_t d2 = hi(a) - imm;
-    const std::int64_t top = std::max(std::abs(d1), std::abs(d2));
-    const std::int64_t bottom = (d1 <= 0 && d2 >= 0) ? 0 : std::min(std::abs(d1), std::abs(d2));
+    const std::int64_t d1 = c.sub(lo(a), imm);
+    const std::int64_t d2 = c.sub(hi(a), imm);
+    const std::int64_t top = std::max(c.abs(d1), c.abs(d2));
+    const std::int64_t bottom = (d1 <= 0 && d2 >= 0) ? 0 : std::min(c.abs(d1), c.abs(d2));
     return emit(i, name, bottom, top);
 }
 
@@ -212,31 +315,19 @@ PpField PpProgramBuilder::max_const(const std::string& name, PpField a, std::int
     return emit(i, name, std::max(lo(a), imm), std::max(hi(a), imm));
 }
 
-namespace {
-struct ProductRange {
-    std::int64_t lo = 0;
-    std::int64_t hi = 0;
-};
-
-// The range of x * y over x in [a_lo, a_hi], y in [b_lo, b_hi]: the extremes are at the corners.
-ProductRange product_range(std::int64_t a_lo, std::int64_t a_hi, std::int64_t b_lo, std::int64_t b_hi) {
-    const std::int64_t corners[4] = {a_lo * b_lo, a_lo * b_hi, a_hi * b_lo, a_hi * b_hi};
-    return {*std::min_element(corners, corners + 4), *std::max_element(corners, corners + 4)};
-}
-}  // namespace
-
 PpField PpProgramBuilder::mul(const std::string& name, PpField a, PpField b, int shift) {
     check_live(a);
     check_live(b);
-    if (shift < 0) throw std::invalid_argument("PP program: negative shift");
+    check_shift(program_.name, name, shift);
+    const CheckedRange c(program_.name, name);
     PpInstruction i{PpOp::Mul};
     i.a = a.id;
     i.b = b.id;
     i.shift = shift;
-    ProductRange r = product_range(lo(a), hi(a), lo(b), hi(b));
+    ProductRange r = product_range(c, lo(a), hi(a), lo(b), hi(b));
     if (a.id == b.id) {  // a square is never negative
-        const std::int64_t l = lo(a) * lo(a);
-        const std::int64_t h = hi(a) * hi(a);
+        const std::int64_t l = c.mul(lo(a), lo(a));
+        const std::int64_t h = c.mul(hi(a), hi(a));
         r = {(lo(a) <= 0 && hi(a) >= 0) ? 0 : std::min(l, h), std::max(l, h)};
     }
     return emit(i, name, floor_shift(r.lo, shift), floor_shift(r.hi, shift));
@@ -244,25 +335,37 @@ PpField PpProgramBuilder::mul(const std::string& name, PpField a, PpField b, int
 
 PpField PpProgramBuilder::mul_const(const std::string& name, PpField a, std::int64_t imm, int shift) {
     check_live(a);
-    if (shift < 0) throw std::invalid_argument("PP program: negative shift");
+    check_shift(program_.name, name, shift);
+    const CheckedRange c(program_.name, name);
     PpInstruction i{PpOp::MulConst};
     i.a = a.id;
     i.imm = imm;
     i.shift = shift;
-    const ProductRange r = product_range(lo(a), hi(a), imm, imm);
+    const ProductRange r = product_range(c, lo(a), hi(a), imm, imm);
     return emit(i, name, floor_shift(r.lo, shift), floor_shift(r.hi, shift));
 }
 
 PpField PpProgramBuilder::div(const std::string& name, PpField a, PpField b, int shift, int bits) {
     check_live(a);
     check_live(b);
-    if (lo(a) < 0 || lo(b) < 0) throw std::invalid_argument(fmt::format("PP program {}: divide of signed fields", program_.name));
-    if (shift < 0) throw std::invalid_argument("PP program: negative shift");
+    check_width(program_.name, name, bits);
+    if (lo(a) < 0 || lo(b) < 0) {
+        throw std::invalid_argument(fmt::format("PP program {}: divide {} = {} / {}: operands may be negative "
+                                                "(ranges [{}, {}] and [{}, {}])",
+                                                program_.name, name, program_.field_names[static_cast<std::size_t>(a.id)],
+                                                program_.field_names[static_cast<std::size_t>(b.id)], lo(a), hi(a), lo(b),
+                                                hi(b)));
+    }
+    // The dividend a << shift must fit 63 bits.
+    if (shift < 0 || shift > 62 || hi(a) > (std::numeric_limits<std::int64_t>::max() >> shift)) {
+        throw std::invalid_argument(fmt::format("PP program {}: divide {}: dividend up to {} shifted by {} does not fit 63 bits",
+                                                program_.name, name, hi(a), shift));
+    }
     PpInstruction i{PpOp::Div};
     i.a = a.id;
     i.b = b.id;
     i.shift = shift;
-    const PpField dst = alloc(name, bits, false);
+    const PpField dst = alloc(name, bits, false);  // range [0, 2^bits - 1]: it saturates
     i.dst = dst.id;
     program_.instructions.push_back(i);
     return dst;
@@ -277,18 +380,25 @@ PpField PpProgramBuilder::sqrt(const std::string& name, PpField a) {
 
 PpField PpProgramBuilder::lookup(const std::string& name, PpField index, PpTable table, int bits, bool is_signed) {
     check_live(index);
-    if (index.is_signed) throw std::invalid_argument(fmt::format("PP program {}: table {} indexed by a signed field", program_.name, table.name));
-    if (table.entries.size() != (std::size_t{1} << index.bits)) {
-        throw std::invalid_argument(fmt::format("PP program {}: table {} has {} entries for a {}-bit index", program_.name,
-                                                table.name, table.entries.size(), index.bits));
+    check_width(program_.name, name, bits);
+    if (index.is_signed) {
+        throw std::invalid_argument(fmt::format("PP program {}: table {} indexed by signed field {}", program_.name,
+                                                table.name, program_.field_names[static_cast<std::size_t>(index.id)]));
     }
-    const PpField dst = alloc(name, bits, is_signed);
-    for (std::int64_t e : table.entries) {
-        if (e < dst.min_value() || e > dst.max_value()) {
-            throw std::invalid_argument(fmt::format("PP program {}: table {} entry {} does not fit {} bits", program_.name,
-                                                    table.name, e, bits));
+    if (index.bits > 30 || table.entries.size() != (std::size_t{1} << index.bits)) {
+        throw std::invalid_argument(fmt::format("PP program {}: table {} has {} entries; a {}-bit index needs 2^{}",
+                                                program_.name, table.name, table.entries.size(), index.bits, index.bits));
+    }
+    const PpField shape{0, 0, bits, is_signed};
+    for (std::size_t k = 0; k < table.entries.size(); ++k) {
+        const std::int64_t e = table.entries[k];
+        if (e < shape.min_value() || e > shape.max_value()) {
+            throw std::invalid_argument(fmt::format("PP program {}: table {} entry {} = {} does not fit {} ({} bits, {})",
+                                                    program_.name, table.name, k, e, name, bits,
+                                                    is_signed ? "signed" : "unsigned"));
         }
     }
+    const PpField dst = alloc(name, bits, is_signed);
     ranges_[static_cast<std::size_t>(dst.id)] = {*std::min_element(table.entries.begin(), table.entries.end()),
                                                  *std::max_element(table.entries.begin(), table.entries.end())};
     PpInstruction i{PpOp::Lookup};
@@ -301,11 +411,14 @@ PpField PpProgramBuilder::lookup(const std::string& name, PpField index, PpTable
 }
 
 PpField PpProgramBuilder::qee(const std::string& name, int expression, int bits, bool is_signed, int shift) {
-    if (expression < 0) throw std::invalid_argument("PP program: negative QEE expression");
+    if (expression < 0) {
+        throw std::invalid_argument(fmt::format("PP program {}: field {}: QEE expression {}", program_.name, name, expression));
+    }
+    check_shift(program_.name, name, shift);
     PpInstruction i{PpOp::Qee};
     i.expression = expression;
     i.shift = shift;
-    const PpField dst = alloc(name, bits, is_signed);
+    const PpField dst = alloc(name, bits, is_signed);  // the declared width: values past it wrap
     i.dst = dst.id;
     program_.instructions.push_back(i);
     program_.expressions = std::max(program_.expressions, expression + 1);
@@ -324,7 +437,7 @@ void PpProgramBuilder::enable_if(PpField a, PpCompare compare, std::int64_t imm)
 }
 
 PpField PpProgramBuilder::load(const std::string& name, int record_offset, int bits, bool is_signed) {
-    if (record_offset < 0) throw std::invalid_argument("PP program: negative record offset");
+    check_record_offset(program_.name, name, record_offset);
     PpInstruction i{PpOp::Load};
     i.record_offset = record_offset;
     const PpField dst = alloc(name, bits, is_signed);
@@ -335,7 +448,7 @@ PpField PpProgramBuilder::load(const std::string& name, int record_offset, int b
 
 void PpProgramBuilder::store(PpField a, int record_offset) {
     check_live(a);
-    if (record_offset < 0) throw std::invalid_argument("PP program: negative record offset");
+    check_record_offset(program_.name, program_.field_names[static_cast<std::size_t>(a.id)], record_offset);
     PpInstruction i{PpOp::Store};
     i.a = a.id;
     i.record_offset = record_offset;
@@ -346,9 +459,10 @@ void PpProgramBuilder::assign(PpField dst, PpField value) {
     check_live(dst);
     check_live(value);
     if (lo(value) < dst.min_value() || hi(value) > dst.max_value()) {
-        throw std::invalid_argument(fmt::format("PP program {}: {} may not fit {}", program_.name,
-                                                program_.field_names[static_cast<std::size_t>(value.id)],
-                                                program_.field_names[static_cast<std::size_t>(dst.id)]));
+        throw std::invalid_argument(fmt::format("PP program {}: {} (values [{}, {}]) may not fit {} ({} bits, {})",
+                                                program_.name, program_.field_names[static_cast<std::size_t>(value.id)],
+                                                lo(value), hi(value), program_.field_names[static_cast<std::size_t>(dst.id)],
+                                                dst.bits, dst.is_signed ? "signed" : "unsigned"));
     }
     Range& r = ranges_[static_cast<std::size_t>(dst.id)];
     r = {std::min(r.lo, lo(value)), std::max(r.hi, hi(value))};
@@ -361,8 +475,9 @@ void PpProgramBuilder::assign(PpField dst, PpField value) {
 void PpProgramBuilder::assign_const(PpField dst, std::int64_t value) {
     check_live(dst);
     if (value < dst.min_value() || value > dst.max_value()) {
-        throw std::invalid_argument(fmt::format("PP program {}: {} does not fit {}", program_.name, value,
-                                                program_.field_names[static_cast<std::size_t>(dst.id)]));
+        throw std::invalid_argument(fmt::format("PP program {}: {} does not fit {} ({} bits, {})", program_.name, value,
+                                                program_.field_names[static_cast<std::size_t>(dst.id)], dst.bits,
+                                                dst.is_signed ? "signed" : "unsigned"));
     }
     Range& r = ranges_[static_cast<std::size_t>(dst.id)];
     r = {std::min(r.lo, value), std::max(r.hi, value)};

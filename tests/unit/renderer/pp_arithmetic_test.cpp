@@ -5,8 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 
 namespace pp5 {
 namespace {
@@ -14,23 +16,38 @@ namespace {
 using test::Operands;
 using test::run_exhaustive;
 
-// Checks `body`'s result for every (a, b) against `expected`.
+enum class Width { Tight, Declared };
+
+// Checks `body`'s result for every (a, b) against `expected`. With Width::Tight, also checks that the
+// builder gave the result the narrowest field that holds every value it took (signed only if one
+// was negative): the inferred widths neither overflow nor waste bits.
 template <class Body, class Expected>
-void check_pairs(int a_bits, bool a_signed, int b_bits, bool b_signed, Body body, Expected expected) {
-    const auto values = run_exhaustive(a_bits, a_signed, b_bits, b_signed, body);
+void check_pairs(int a_bits, bool a_signed, int b_bits, bool b_signed, Body body, Expected expected,
+                 Width width = Width::Tight) {
+    PpProgram program;
+    const auto values = run_exhaustive(a_bits, a_signed, b_bits, b_signed, body, &program);
     const std::int64_t count_a = std::int64_t{1} << a_bits;
     const std::int64_t count_b = b_bits > 0 ? std::int64_t{1} << b_bits : 1;
     const std::int64_t a_min = a_signed ? -(count_a / 2) : 0;
     const std::int64_t b_min = b_signed ? -(count_b / 2) : 0;
     int failures = 0;
-    for (std::int64_t p = 0; p < count_a * count_b && failures < 5; ++p) {
+    std::int64_t lowest = std::numeric_limits<std::int64_t>::max();
+    std::int64_t highest = std::numeric_limits<std::int64_t>::min();
+    for (std::int64_t p = 0; p < count_a * count_b; ++p) {
         const std::int64_t a = a_min + p % count_a;
         const std::int64_t b = b_min + p / count_a;
         const std::int64_t want = expected(a, b);
-        if (values[static_cast<std::size_t>(p)] != want) {
+        lowest = std::min(lowest, want);
+        highest = std::max(highest, want);
+        if (values[static_cast<std::size_t>(p)] != want && failures < 5) {
             ADD_FAILURE() << "a=" << a << " b=" << b << ": got " << values[static_cast<std::size_t>(p)] << ", want " << want;
             ++failures;
         }
+    }
+    if (width == Width::Tight) {
+        const PpField& result = program.fields[static_cast<std::size_t>(program.instructions.back().dst)];
+        EXPECT_EQ(result.bits, pp_bits_for_range(lowest, highest)) << "values in [" << lowest << ", " << highest << "]";
+        EXPECT_EQ(result.is_signed, lowest < 0) << "values in [" << lowest << ", " << highest << "]";
     }
 }
 
@@ -40,6 +57,27 @@ TEST(PpArithmetic, AddAndSubtractAllEightBitPairs) {
                     [](std::int64_t a, std::int64_t b) { return a + b; });
         check_pairs(8, is_signed, 8, is_signed, [](PpProgramBuilder& b, Operands o) { return b.sub("difference", o.a, o.b); },
                     [](std::int64_t a, std::int64_t b) { return a - b; });
+    }
+}
+
+TEST(PpArithmetic, MixedSignednessAllEightBitPairs) {
+    // A signed and an unsigned operand: the result's range, and so its width, comes from both.
+    check_pairs(8, true, 8, false, [](PpProgramBuilder& b, Operands o) { return b.add("sum", o.a, o.b); },
+                [](std::int64_t a, std::int64_t b) { return a + b; });
+    check_pairs(8, false, 8, true, [](PpProgramBuilder& b, Operands o) { return b.sub("difference", o.a, o.b); },
+                [](std::int64_t a, std::int64_t b) { return a - b; });
+    check_pairs(8, true, 8, false, [](PpProgramBuilder& b, Operands o) { return b.mul("product", o.a, o.b, 5); },
+                [](std::int64_t a, std::int64_t b) { return (a * b) >> 5; });
+    // Unequal widths: 8-bit a, 6-bit b.
+    check_pairs(8, true, 6, true, [](PpProgramBuilder& b, Operands o) { return b.mul("product", o.a, o.b); },
+                [](std::int64_t a, std::int64_t b) { return a * b; });
+}
+
+TEST(PpArithmetic, SquaresOfEveryEightBitValue) {
+    // mul(a, a) knows a square is never negative: unsigned, one bit narrower than a general product.
+    for (bool is_signed : {false, true}) {
+        check_pairs(8, is_signed, 0, false, [](PpProgramBuilder& b, Operands o) { return b.mul("square", o.a, o.a); },
+                    [](std::int64_t a, std::int64_t) { return a * a; });
     }
 }
 
@@ -55,12 +93,16 @@ TEST(PpArithmetic, MultiplyAllEightBitPairsWithAndWithoutShift) {
 TEST(PpArithmetic, DivideAllEightBitPairsSaturating) {
     // (a << 4) / b into 9 bits: saturates at 511 for b = 0 and for quotients that do not fit.
     check_pairs(8, false, 8, false, [](PpProgramBuilder& b, Operands o) { return b.div("quotient", o.a, o.b, 4, 9); },
-                [](std::int64_t a, std::int64_t b) { return b == 0 ? 511 : std::min<std::int64_t>((a << 4) / b, 511); });
+                [](std::int64_t a, std::int64_t b) { return b == 0 ? 511 : std::min<std::int64_t>((a << 4) / b, 511); },
+                Width::Declared);
+    // Without a shift, into 8 bits: only b = 0 saturates.
+    check_pairs(8, false, 8, false, [](PpProgramBuilder& b, Operands o) { return b.div("quotient", o.a, o.b, 0, 8); },
+                [](std::int64_t a, std::int64_t b) { return b == 0 ? 255 : a / b; }, Width::Declared);
 }
 
 TEST(PpArithmetic, ConstantFormsOverEveryInput) {
     for (bool is_signed : {false, true}) {
-        for (std::int64_t k : {-300, -7, 0, 5, 100, 255}) {
+        for (std::int64_t k : {-300, -128, -7, -1, 0, 1, 5, 100, 127, 255}) {
             check_pairs(8, is_signed, 0, false, [&](PpProgramBuilder& b, Operands o) { return b.add_const("r", o.a, k); },
                         [&](std::int64_t a, std::int64_t) { return a + k; });
             check_pairs(8, is_signed, 0, false, [&](PpProgramBuilder& b, Operands o) { return b.abs_diff_const("r", o.a, k); },
@@ -84,13 +126,20 @@ TEST(PpArithmetic, SquareRootOfEverySixteenBitValue) {
                     while ((r + 1) * (r + 1) <= a) ++r;
                     return r;
                 });
+    // A signed operand: negative values give 0 (the root's range starts at 0, so it is unsigned).
+    check_pairs(16, true, 0, false, [](PpProgramBuilder& b, Operands o) { return b.sqrt("root", o.a); },
+                [](std::int64_t a, std::int64_t) {
+                    std::int64_t r = 0;
+                    while ((r + 1) * (r + 1) <= a) ++r;
+                    return r;
+                });
 }
 
 TEST(PpArithmetic, LookupOfEveryIndex) {
     PpTable table{"squares", {}};
     for (int i = 0; i < 256; ++i) table.entries.push_back((i * i) % 1000 - 500);
     check_pairs(8, false, 0, false, [&](PpProgramBuilder& b, Operands o) { return b.lookup("r", o.a, table, 10, true); },
-                [&](std::int64_t a, std::int64_t) { return table.entries[static_cast<std::size_t>(a)]; });
+                [&](std::int64_t a, std::int64_t) { return table.entries[static_cast<std::size_t>(a)]; }, Width::Declared);
 }
 
 TEST(PpArithmetic, QeeGivesEachPpItsOwnValue) {

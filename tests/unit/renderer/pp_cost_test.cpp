@@ -17,7 +17,7 @@ std::uint64_t last_cycles(const PpCostModel& model, const PpProgram& program) {
 TEST(PpCost, SingleOperationsAtDefaultCosts) {
     const MachineConfig config = test::pp_config();
     const PpCostModel model(config);
-    PpProgramBuilder b("ops", 208);
+    PpProgramBuilder b("ops", 4096);  // room for every result at once: this test is about cycles
     const PpField u8 = b.load("u8", 0, 8, false);
     const PpField v8 = b.load("v8", 8, 8, false);
     const PpField w16 = b.load("w16", 16, 16, false);
@@ -30,7 +30,19 @@ TEST(PpCost, SingleOperationsAtDefaultCosts) {
         p = copy.finish();
         return last_cycles(model, p);
     };
+    const PpField u7 = b.load("u7", 48, 7, false);
+    const PpField w7 = b.load("w7", 56, 7, false);
+    EXPECT_EQ(cycles_of([&] { b.add("sum8", u7, w7); }), 8u);           // an 8-bit add: [0, 254]
     EXPECT_EQ(cycles_of([&] { b.add("sum", u8, v8); }), 9u);            // 9-bit result
+    EXPECT_EQ(cycles_of([&] { b.sub("difference", u8, v8); }), 9u);     // [-255, 255]: 9 bits signed
+    EXPECT_EQ(cycles_of([&] { b.add_const("plus", u8, 1); }), 9u);      // [1, 256]
+    EXPECT_EQ(cycles_of([&] { b.set_const("k", 100); }), 7u);
+    EXPECT_EQ(cycles_of([&] { b.max_const("high", u8, 3); }), 16u);     // 2 x 8 operand bits
+    EXPECT_EQ(cycles_of([&] { b.mul_const("negated", u8, -5); }), 24u); // |-5| has 3 bits
+    EXPECT_EQ(cycles_of([&] { b.mul_const("zero", u8, 0); }), 8u);      // at least one constant bit
+    EXPECT_EQ(cycles_of([&] { b.mul_const("times256", u8, 256); }), 72u);  // 9 constant bits
+    EXPECT_EQ(cycles_of([&] { b.store(u8, 100); }), 0u);               // the backing-store port's, not the ALU's
+    EXPECT_EQ(cycles_of([&] { b.load("more", 120, 16, false); }), 0u);
     EXPECT_EQ(cycles_of([&] { b.move("copy", w16); }), 16u);
     EXPECT_EQ(cycles_of([&] { b.mul("product", u8, v8); }), 64u);      // 8 x 8
     EXPECT_EQ(cycles_of([&] { b.mul_const("times5", u8, 5); }), 24u);  // 8 bits x 3 constant bits
@@ -49,6 +61,27 @@ TEST(PpCost, SingleOperationsAtDefaultCosts) {
     EXPECT_EQ(cycles_of([&] { b.qee("depth", 0, 10, false, 0); }), 14u);
 }
 
+TEST(PpCost, SixtyFourBitsOfLoadsAreTwoBlocks) {
+    // Two 32-bit loads (a field holds at most 48 bits): 2 blocks, 2 x 32 cycles + one setup of 4.
+    const PpCostModel model(test::pp_config());
+    PpProgramBuilder b("loads", 208);
+    b.load("low", 0, 32, false);
+    b.load("high", 32, 32, false);
+    const PpProgramCost c = model.cost(b.finish());
+    EXPECT_EQ(c.load_blocks, 2u);
+    EXPECT_EQ(c.load_cycles, 2u * 32u + 4u);
+    EXPECT_EQ(c.store_blocks, 0u);
+    EXPECT_EQ(c.store_cycles, 0u);  // no stores, no setup
+    EXPECT_EQ(c.alu_cycles, 0u);
+    EXPECT_EQ(c.controller_cycles, 4u);
+
+    // Each load rounds up to whole blocks: 33 bits and 1 bit are 2 + 1 blocks.
+    PpProgramBuilder odd("odd", 208);
+    odd.load("wide", 0, 33, false);
+    odd.load("flag", 40, 1, false);
+    EXPECT_EQ(model.cost(odd.finish()).load_blocks, 3u);
+}
+
 TEST(PpCost, ParametersScaleTheCosts) {
     MachineConfig config = test::pp_config();
     config.apply_override("pp.multiply_cycles_per_bit_product=1.5");
@@ -61,6 +94,78 @@ TEST(PpCost, ParametersScaleTheCosts) {
     const PpProgram p = b.finish();
     EXPECT_EQ(model.alu_cycles(p, p.instructions[1]), 96u);
     EXPECT_EQ(model.alu_cycles(p, p.instructions[2]), 22u);
+}
+
+TEST(PpCost, EveryParameterComesFromTheConfiguration) {
+    MachineConfig config = test::pp_config();
+    config.set("pp.cycles_per_bit", 1.5, "test");
+    config.set("pp.divide_cycles_per_bit_product", 2.0, "test");
+    config.set("pp.controller_cycles_per_instruction", std::int64_t{5}, "test");
+    config.set("pp.backing_store_cycles_per_block", std::int64_t{10}, "test");
+    config.set("pp.backing_store_setup_cycles", std::int64_t{7}, "test");
+    config.apply_override("renderer.backing_store_block_bits=16");
+    const PpCostModel model(config);
+    PpProgramBuilder b("ops", 208);
+    const PpField u8 = b.load("u8", 0, 8, false);
+    const PpField w16 = b.load("w16", 8, 16, false);
+    const PpField d9 = b.load("d9", 24, 9, false);
+    const PpField r40 = b.load("r40", 40, 40, false);
+    b.add("sum", u8, u8);          // 9 bits x 1.5 = 13.5: 14
+    b.div("q", w16, d9, 0, 8);     // 8 x 10 x 2 = 160
+    b.store(r40, 100);             // 40 bits in 16-bit blocks: 3
+    const PpProgram p = b.finish();
+    EXPECT_EQ(model.alu_cycles(p, p.instructions[4]), 14u);
+    EXPECT_EQ(model.alu_cycles(p, p.instructions[5]), 160u);
+    const PpProgramCost c = model.cost(p);
+    EXPECT_EQ(c.controller_cycles, 7u * 5u);
+    EXPECT_EQ(c.load_blocks, 1u + 1u + 1u + 3u);
+    EXPECT_EQ(c.load_cycles, 6u * 10u + 7u);
+    EXPECT_EQ(c.store_blocks, 3u);
+    EXPECT_EQ(c.store_cycles, 3u * 10u + 7u);
+}
+
+TEST(PpCost, FractionalFactorsRoundUpToWholeCyclesWithoutFloatingPointError) {
+    MachineConfig config = test::pp_config();
+    config.apply_override("pp.cycles_per_bit=1.1");
+    const PpCostModel model(config);
+    PpProgramBuilder b("round", 208);
+    const PpField u8 = b.load("u8", 0, 8, false);
+    const PpField index = b.load("index", 8, 2, false);
+    b.add_const("s", u8, 1);       // 9 bits x 1.1 = 9.9: 10
+    b.abs_diff_const("d", u8, 0);  // 2 x 8 x 1.1 = 17.6: 18
+    // 1 run x (2 index bits + 48 value bits) = 50; 1.1 x 50 is 55.000000000000007 in doubles: 55, not 56.
+    b.lookup("value", index, PpTable{"flat", std::vector<std::int64_t>(4, 0)}, 48, false);
+    const PpProgram p = b.finish();
+    EXPECT_EQ(model.alu_cycles(p, p.instructions[2]), 10u);
+    EXPECT_EQ(model.alu_cycles(p, p.instructions[3]), 18u);
+    EXPECT_EQ(model.alu_cycles(p, p.instructions[4]), 55u);
+}
+
+TEST(PpCost, ParameterTableDocumentsEveryKey) {
+    const ParamGroup& g = PpCostModel::params();
+    EXPECT_EQ(g.prefix(), "pp");
+    const std::vector<std::string> keys = {"cycles_per_bit", "multiply_cycles_per_bit_product", "divide_cycles_per_bit_product",
+                                           "qee_latency_cycles", "controller_cycles_per_instruction",
+                                           "backing_store_cycles_per_block", "backing_store_setup_cycles"};
+    ASSERT_EQ(g.specs().size(), keys.size());
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+        const ParamSpec& spec = g.specs()[i];
+        EXPECT_EQ(spec.name, keys[i]);
+        EXPECT_FALSE(spec.unit.empty()) << spec.name;
+        EXPECT_FALSE(spec.doc.empty()) << spec.name;
+        EXPECT_TRUE(spec.min.has_value() && spec.max.has_value()) << spec.name;
+        EXPECT_EQ(spec.provenance, Provenance::Default) << spec.name;
+        EXPECT_NE(spec.source.find("machine.md"), std::string::npos) << spec.name << ": " << spec.source;
+        EXPECT_TRUE(spec.check(spec.default_value).empty()) << spec.name;
+    }
+    const MachineConfig config = test::pp_config();
+    EXPECT_EQ(config.real("pp.cycles_per_bit"), 1.0);
+    EXPECT_EQ(config.real("pp.multiply_cycles_per_bit_product"), 1.0);
+    EXPECT_EQ(config.real("pp.divide_cycles_per_bit_product"), 1.0);
+    EXPECT_EQ(config.integer("pp.qee_latency_cycles"), 4);
+    EXPECT_EQ(config.integer("pp.controller_cycles_per_instruction"), 2);
+    EXPECT_EQ(config.integer("pp.backing_store_cycles_per_block"), 32);
+    EXPECT_EQ(config.integer("pp.backing_store_setup_cycles"), 4);
 }
 
 TEST(PpCost, BackingStoreTransfersAndTheSlotPipeline) {
@@ -94,7 +199,49 @@ TEST(PpCost, BackingStoreTransfersAndTheSlotPipeline) {
     const PpPassCycles hidden = model.pass(heavy, 3);
     EXPECT_EQ(hidden.total, 68u + 3u * 1006u + 68u);
     EXPECT_EQ(hidden.backing_store_stall, 136u);
-    EXPECT_EQ(model.pass(c, 0).total, 0u);
+    const PpPassCycles hidden_one = model.pass(heavy, 1);
+    EXPECT_EQ(hidden_one.total, 68u + 1006u + 68u);
+    EXPECT_EQ(hidden_one.alu, 1000u);
+    EXPECT_EQ(hidden_one.controller, 6u);
+    EXPECT_EQ(hidden_one.backing_store_stall, 136u);
+
+    // Between the two: compute 100 hides a load (68) or a store (68) alone, not both (136).
+    PpProgramCost middle = c;
+    middle.alu_cycles = 94;
+    EXPECT_EQ(model.pass(middle, 3).total, 68u + 100u + 136u + 100u + 68u);
+    EXPECT_EQ(model.pass(middle, 2).total, 68u + 100u + 100u + 68u);
+
+    const PpPassCycles none = model.pass(c, 0);
+    EXPECT_EQ(none.total, 0u);
+    EXPECT_EQ(none.alu, 0u);
+    EXPECT_EQ(none.controller, 0u);
+    EXPECT_EQ(none.backing_store_stall, 0u);
+}
+
+TEST(PpCost, PassIsTheSlotBySlotSum) {
+    // The closed form against the definition, slot by slot, over loads, stores and computations
+    // on either side of each other.
+    const PpCostModel model(test::pp_config());
+    for (std::uint64_t load : {0u, 36u, 68u, 500u}) {
+        for (std::uint64_t store : {0u, 36u, 300u}) {
+            for (std::uint64_t alu : {0u, 50u, 400u}) {
+                PpProgramCost c;
+                c.alu_cycles = alu;
+                c.controller_cycles = 10;
+                c.load_cycles = load;
+                c.store_cycles = store;
+                for (std::uint64_t slots : {1u, 2u, 3u, 7u, 64u}) {
+                    std::uint64_t want = load + store;
+                    for (std::uint64_t k = 0; k < slots; ++k) {
+                        want += std::max(alu + 10, (k + 1 < slots ? load : 0) + (k > 0 ? store : 0));
+                    }
+                    const PpPassCycles got = model.pass(c, slots);
+                    EXPECT_EQ(got.total, want) << load << " " << store << " " << alu << " " << slots;
+                    EXPECT_EQ(got.total, got.alu + got.controller + got.backing_store_stall);
+                }
+            }
+        }
+    }
 }
 
 TEST(PpLocalMemory, ProgramsFitExactlyOrSayHowFarShort) {
@@ -111,7 +258,8 @@ TEST(PpLocalMemory, ProgramsFitExactlyOrSayHowFarShort) {
     } catch (const InputError& e) {
         EXPECT_EQ(e.field(), "renderer.local_memory_bits");
         const std::string what = e.what();
-        EXPECT_NE(what.find("1 bits short"), std::string::npos) << what;
+        EXPECT_NE(what.find("needs 209 bits"), std::string::npos) << what;
+        EXPECT_NE(what.find("has 208 (1 bit short)"), std::string::npos) << what;
         EXPECT_NE(what.find("extra"), std::string::npos) << what;
         EXPECT_NE(what.find("over"), std::string::npos) << what;
     }

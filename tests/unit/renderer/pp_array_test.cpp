@@ -1,0 +1,398 @@
+// The PP array's execution: loads sign-extend and stores write only their bits, every result wraps
+// to its field's width, every operation's writes (and stores) are masked by the enable bit, the QEE
+// gives each PP its own value across the array's blocks, counts are exact, and a program the array
+// cannot run is refused before anything changes. Also the backing store against a bit-by-bit model.
+
+#include "sim/renderer/pp_array.h"
+#include "sim/renderer/pp_program.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace pp5 {
+namespace {
+
+// A value as a field of `bits` bits holds it: modulo 2^bits, two's complement when signed.
+std::int64_t wrapped(std::int64_t v, int bits, bool is_signed) {
+    const auto mask = (std::uint64_t{1} << bits) - 1;
+    auto u = static_cast<std::uint64_t>(v) & mask;
+    if (is_signed && (u >> (bits - 1)) != 0) u |= ~mask;
+    return static_cast<std::int64_t>(u);
+}
+
+std::span<const QeeCoefficients> one(const QeeCoefficients& q) { return {&q, 1}; }
+
+TEST(PpArray, ConstructorRejectsNonPositiveSizes) {
+    EXPECT_THROW(PpArray(0, 4, 208, 64), std::invalid_argument);
+    EXPECT_THROW(PpArray(4, 0, 208, 64), std::invalid_argument);
+    EXPECT_THROW(PpArray(4, 4, 0, 64), std::invalid_argument);
+    EXPECT_THROW(PpArray(4, 4, 208, -1), std::invalid_argument);
+    const PpArray no_backing(3, 2, 208, 0);  // a backing store is optional
+    EXPECT_EQ(no_backing.size(), 6);
+    EXPECT_THROW(no_backing.read_backing(0, 0, 1), std::out_of_range);
+}
+
+TEST(PpBackingStore, RandomWritesMatchABitByBitModel) {
+    // Widths 1..64 at any offset, straddling words, against one bool per bit.
+    constexpr int kBits = 300;
+    PpArray array(3, 2, 208, kBits);
+    std::vector<std::vector<bool>> model(6, std::vector<bool>(kBits, false));
+    std::mt19937_64 rng(7);
+    for (int step = 0; step < 3000; ++step) {
+        const int pp = static_cast<int>(rng() % 6);
+        const int bits = 1 + static_cast<int>(rng() % 64);
+        const int offset = static_cast<int>(rng() % static_cast<std::uint64_t>(kBits - bits + 1));
+        const std::uint64_t value = rng();  // bits past `bits` must be ignored
+        array.write_backing(pp, offset, bits, value);
+        for (int i = 0; i < bits; ++i) {
+            model[static_cast<std::size_t>(pp)][static_cast<std::size_t>(offset + i)] = ((value >> i) & 1) != 0;
+        }
+        const int read_bits = 1 + static_cast<int>(rng() % 64);
+        const int read_offset = static_cast<int>(rng() % static_cast<std::uint64_t>(kBits - read_bits + 1));
+        const int read_pp = static_cast<int>(rng() % 6);
+        std::uint64_t want = 0;
+        for (int i = 0; i < read_bits; ++i) {
+            if (model[static_cast<std::size_t>(read_pp)][static_cast<std::size_t>(read_offset + i)]) want |= std::uint64_t{1} << i;
+        }
+        ASSERT_EQ(array.read_backing(read_pp, read_offset, read_bits), want)
+            << "step " << step << ": PP " << read_pp << ", " << read_bits << " bits at " << read_offset;
+    }
+}
+
+TEST(PpBackingStore, AccessOutsideTheStoreThrows) {
+    PpArray array(2, 2, 208, 128);
+    EXPECT_NO_THROW(array.write_backing(3, 64, 64, ~0ull));
+    EXPECT_EQ(array.read_backing(3, 64, 64), ~0ull);
+    EXPECT_THROW(array.write_backing(3, 65, 64, 0), std::out_of_range);  // one bit past the end
+    EXPECT_THROW(array.read_backing(0, 127, 2), std::out_of_range);
+    EXPECT_THROW(array.read_backing(0, -1, 8), std::out_of_range);
+    EXPECT_THROW(array.read_backing(0, 0, 0), std::out_of_range);
+    EXPECT_THROW(array.read_backing(0, 0, 65), std::out_of_range);
+    EXPECT_THROW(array.read_backing(-1, 0, 8), std::out_of_range);
+    EXPECT_THROW(array.write_backing(4, 0, 8, 0), std::out_of_range);
+    EXPECT_THROW(array.read_backing(0, 2147483600, 64), std::out_of_range);  // no overflow in the check
+}
+
+TEST(PpArray, LoadsSignExtendAndStoresWriteOnlyTheirBits) {
+    PpArray array(4, 1, 208, 256);
+    const std::int64_t inputs[4] = {0, 1, 127, 255};
+    for (int p = 0; p < 4; ++p) {
+        array.write_backing(p, 60, 8, static_cast<std::uint64_t>(inputs[p]));  // straddles words 0 and 1
+        array.write_backing(p, 130, 30, (1u << 30) - 1);                       // ones around the store
+    }
+    PpProgramBuilder b("io", 208);
+    const PpField s = b.load("s", 20, 8, true);
+    const PpField u = b.load("u", 20, 8, false);
+    const PpField y = b.add_const("y", s, -3);  // 9 bits signed
+    b.store(y, 100);
+    const PpProgram program = b.finish();
+    array.run(program, PpSlotContext{40, {}});  // the record starts at bit 40: loads from 60, stores at 140
+    for (int p = 0; p < 4; ++p) {
+        const std::int64_t as_signed = inputs[p] >= 128 ? inputs[p] - 256 : inputs[p];
+        EXPECT_EQ(array.field_values(s)[static_cast<std::size_t>(p)], as_signed);
+        EXPECT_EQ(array.field_values(u)[static_cast<std::size_t>(p)], inputs[p]);
+        EXPECT_EQ(array.read_backing(p, 140, 9), static_cast<std::uint64_t>(as_signed - 3) & 0x1FF);
+        EXPECT_EQ(array.read_backing(p, 130, 10), 0x3FFu);  // below the store
+        EXPECT_EQ(array.read_backing(p, 149, 11), 0x7FFu);  // above it
+    }
+}
+
+TEST(PpArray, EveryResultWrapsToItsFieldsWidth) {
+    // A program made by hand, with fields narrower than their results: the array keeps what
+    // bit-serial hardware would keep (the builder never makes such a program, except by QEE).
+    PpProgram p;
+    p.name = "narrow";
+    p.fields = {PpField{0, 0, 8, false}, PpField{1, 8, 4, true}, PpField{2, 12, 4, false}, PpField{3, 16, 8, false},
+                PpField{4, 24, 3, true}, PpField{5, 27, 5, false}, PpField{6, 32, 6, true}};
+    p.field_names = {"a", "twice", "next", "k", "lut", "prod", "neg"};
+    p.tables = {PpTable{"wide", {}}};
+    for (int i = 0; i < 256; ++i) p.tables[0].entries.push_back(i * 3 - 300);
+    auto op = [](PpOp o, int dst, int a, int b, std::int64_t imm) {
+        PpInstruction in{o};
+        in.dst = dst;
+        in.a = a;
+        in.b = b;
+        in.imm = imm;
+        return in;
+    };
+    p.instructions = {op(PpOp::Load, 0, -1, -1, 0),          op(PpOp::Add, 1, 0, 0, 0),
+                      op(PpOp::AddConst, 2, 0, -1, 1),       op(PpOp::SetConst, 3, -1, -1, 300),
+                      op(PpOp::Lookup, 4, 0, -1, 0),         op(PpOp::MulConst, 5, 0, -1, 7),
+                      op(PpOp::Sub, 6, 3, 0, 0)};
+    p.instructions[4].table = 0;
+    p.local_memory_bits_used = 38;
+
+    PpArray array(16, 16, 208, 64);
+    for (int v = 0; v < 256; ++v) array.write_backing(v, 0, 8, static_cast<std::uint64_t>(v));
+    array.run(p, PpSlotContext{});
+    for (int v = 0; v < 256; ++v) {
+        const auto at = [&](int id) { return array.field_values(p.fields[static_cast<std::size_t>(id)])[static_cast<std::size_t>(v)]; };
+        ASSERT_EQ(at(1), wrapped(2 * v, 4, true)) << v;
+        ASSERT_EQ(at(2), wrapped(v + 1, 4, false)) << v;
+        ASSERT_EQ(at(3), 44) << v;  // 300 mod 256
+        ASSERT_EQ(at(4), wrapped(v * 3 - 300, 3, true)) << v;
+        ASSERT_EQ(at(5), wrapped(v * 7, 5, false)) << v;
+        ASSERT_EQ(at(6), wrapped(44 - v, 6, true)) << v;
+    }
+}
+
+TEST(PpArray, QeeGivesEveryPpItsValueAcrossBlocks) {
+    // 100 x 37 PPs: the array runs in blocks of PPs that end mid-row. Coefficients of both signs,
+    // a shift (arithmetic: floor), a 48-bit field and a narrow one that wraps.
+    PpArray array(100, 37, 208, 64);
+    PpProgramBuilder b("qee", 208);
+    const PpField full = b.qee("full", 0, 48, true, 3);
+    const PpField narrow = b.qee("narrow", 1, 10, false, 0);
+    const PpProgram program = b.finish();
+    const QeeCoefficients q[2] = {{-3, 5, 2, -7, 11, -13}, {std::int64_t{1} << 40, -9, 4, 1, -1, 123456789}};
+    array.run(program, PpSlotContext{0, std::span<const QeeCoefficients>(q, 2)});
+    for (std::int64_t y = 0; y < 37; ++y) {
+        for (std::int64_t x = 0; x < 100; ++x) {
+            const auto p = static_cast<std::size_t>(x + 100 * y);
+            const std::int64_t v0 = -3 * x * x + 5 * x * y + 2 * y * y - 7 * x + 11 * y - 13;
+            const std::int64_t v1 = (std::int64_t{1} << 40) * x * x - 9 * x * y + 4 * y * y + x - y + 123456789;
+            ASSERT_EQ(array.field_values(full)[p], v0 >> 3) << x << ", " << y;
+            ASSERT_EQ(array.field_values(narrow)[p], wrapped(v1, 10, false)) << x << ", " << y;
+        }
+    }
+}
+
+// Inputs per PP for the masking test: a flag, two operands and a late-loaded value.
+struct MaskInputs {
+    std::vector<int> flag;
+    std::vector<std::int64_t> a, b, late;
+};
+
+void write_inputs(PpArray& array, const MaskInputs& in) {
+    for (int p = 0; p < array.size(); ++p) {
+        const auto i = static_cast<std::size_t>(p);
+        array.write_backing(p, 0, 1, static_cast<std::uint64_t>(in.flag[i]));
+        array.write_backing(p, 8, 8, static_cast<std::uint64_t>(in.a[i]));
+        array.write_backing(p, 16, 8, static_cast<std::uint64_t>(in.b[i]));
+        array.write_backing(p, 24, 8, static_cast<std::uint64_t>(in.late[i]));
+    }
+}
+
+MaskInputs random_inputs(int pps, std::uint32_t seed, bool all_enabled) {
+    std::mt19937 rng(seed);
+    MaskInputs in;
+    for (int p = 0; p < pps; ++p) {
+        // The first block (1024 PPs) all enabled, the rest mixed: both the plain and the blended loops.
+        in.flag.push_back(all_enabled || p < 1024 ? 1 : static_cast<int>(rng() % 2));
+        in.a.push_back(static_cast<std::int64_t>(rng() % 256) - 128);
+        in.b.push_back(static_cast<std::int64_t>(rng() % 256));
+        in.late.push_back(static_cast<std::int64_t>(rng() % 256));
+    }
+    return in;
+}
+
+TEST(PpArray, EveryWriteAndStoreIsMaskedByTheEnableBit) {
+    // Run a program once with every PP enabled, then again with new inputs and some PPs disabled:
+    // each field of a disabled PP keeps its first-run value (storage persists across runs), each
+    // enabled PP gets what a run with every PP enabled would give, and the same holds for the store.
+    PpProgramBuilder b("masked", 4096);
+    const PpField flag = b.load("flag", 0, 1, false);
+    const PpField a = b.load("a", 8, 8, true);
+    const PpField bb = b.load("b", 16, 8, false);
+    b.enable_if(flag, PpCompare::Equal, 1);
+    std::vector<PpField> results = {
+        b.load("late", 24, 8, false),
+        b.add("add", a, bb),
+        b.sub("sub", a, bb),
+        b.add_const("add_const", a, 5),
+        b.abs_diff_const("abs_diff", a, 3),
+        b.min_const("min", a, 10),
+        b.max_const("max", a, -10),
+        b.mul("mul", a, bb, 2),
+        b.mul_const("mul_const", a, -7, 1),
+        b.move("move", a, 1),
+        b.sqrt("sqrt", bb),
+        b.lookup("lookup", bb, PpTable{"t", [] {
+                                           std::vector<std::int64_t> e;
+                                           for (int i = 0; i < 256; ++i) e.push_back((i * 37) % 101);
+                                           return e;
+                                       }()},
+                 7, false),
+        b.qee("qee", 0, 24, true, 1),
+    };
+    results.push_back(b.div("div", bb, results[0], 3, 10));
+    const PpField copy = b.set_const("copy", 0, 10, true);  // add: [-128, 382]
+    b.assign(copy, results[1]);  // a Move into an existing field
+    results.push_back(copy);
+    b.store(results[1], 40);
+    b.store(a, 60);  // loaded on every PP: an unmasked store would change a disabled PP's record
+    b.enable_all();
+    const PpProgram program = b.finish();
+
+    const int columns = 50, rows = 45;  // 2250 PPs: three blocks
+    const int pps = columns * rows;
+    const QeeCoefficients q1{1, 2, 3, 4, 5, 6}, q2{-6, 5, -4, 3, -2, 1};
+    const MaskInputs first = random_inputs(pps, 1, true);
+    const MaskInputs second = random_inputs(pps, 2, false);
+
+    // What the second inputs give with every PP enabled.
+    PpArray reference(columns, rows, 4096, 128);
+    write_inputs(reference, MaskInputs{std::vector<int>(static_cast<std::size_t>(pps), 1), second.a, second.b, second.late});
+    reference.run(program, PpSlotContext{0, one(q2)});
+
+    PpArray array(columns, rows, 4096, 128);
+    write_inputs(array, first);
+    array.run(program, PpSlotContext{0, one(q1)});
+    std::vector<std::vector<std::int64_t>> before;
+    for (const PpField& f : results) before.emplace_back(array.field_values(f).begin(), array.field_values(f).end());
+    std::vector<std::uint64_t> stored_before, a_stored_before;
+    for (int p = 0; p < pps; ++p) {
+        stored_before.push_back(array.read_backing(p, 40, results[1].bits));
+        a_stored_before.push_back(array.read_backing(p, 60, 8));
+    }
+
+    write_inputs(array, second);
+    const PpRunCounts counts = array.run(program, PpSlotContext{0, one(q2)});
+    int enabled = 0;
+    for (int p = 0; p < pps; ++p) {
+        const auto i = static_cast<std::size_t>(p);
+        const bool on = second.flag[i] == 1;
+        enabled += on ? 1 : 0;
+        for (std::size_t r = 0; r < results.size(); ++r) {
+            const std::int64_t want = on ? reference.field_values(results[r])[i] : before[r][i];
+            ASSERT_EQ(array.field_values(results[r])[i], want)
+                << program.field_names[static_cast<std::size_t>(results[r].id)] << " at PP " << p << (on ? " (enabled)" : " (disabled)");
+        }
+        const std::uint64_t stored = on ? reference.read_backing(p, 40, results[1].bits) : stored_before[i];
+        ASSERT_EQ(array.read_backing(p, 40, results[1].bits), stored) << "store at PP " << p;
+        const std::uint64_t a_stored = on ? static_cast<std::uint64_t>(second.a[i]) & 0xFF : a_stored_before[i];
+        ASSERT_EQ(array.read_backing(p, 60, 8), a_stored) << "store of a at PP " << p;
+    }
+    ASSERT_GT(enabled, 1024);
+    ASSERT_LT(enabled, pps);
+    // 3 loads and the enable-if on every PP; the masked instructions and the enable-all on the enabled.
+    const auto n = static_cast<std::uint64_t>(program.instructions.size());
+    EXPECT_EQ(counts.instructions, n);
+    EXPECT_EQ(counts.pp_operations, n * static_cast<std::uint64_t>(pps));
+    EXPECT_EQ(counts.enabled_pp_operations, 4u * static_cast<std::uint64_t>(pps) + (n - 4u) * static_cast<std::uint64_t>(enabled));
+    EXPECT_NE(first.a, second.a);
+}
+
+TEST(PpArray, CountsAddUpOverRuns) {
+    PpRunCounts total;
+    total += PpRunCounts{2, 20, 15};
+    total += PpRunCounts{3, 30, 30};
+    EXPECT_EQ(total.instructions, 5u);
+    EXPECT_EQ(total.pp_operations, 50u);
+    EXPECT_EQ(total.enabled_pp_operations, 45u);
+}
+
+TEST(PpArray, DivideAndSquareRootAreExactAtFullWidth) {
+    // 48-bit operands: roots of k^2 - 1, k^2 and k^2 + 1 near 2^24, where a double estimate alone
+    // can be off by one; quotients of 40-bit dividends shifted by 8, saturating at 2^40 - 1.
+    constexpr int kPps = 512;
+    PpArray array(kPps, 1, 208, 128);
+    std::mt19937_64 rng(3);
+    std::vector<std::int64_t> square(kPps), dividend(kPps), divisor(kPps);
+    for (int p = 0; p < kPps; ++p) {
+        const auto i = static_cast<std::size_t>(p);
+        const std::int64_t k = (std::int64_t{1} << 24) - 1 - p / 3;
+        square[i] = p % 3 == 0 ? k * k - 1 : p % 3 == 1 ? k * k : k * k + 1;
+        if (p == kPps - 1) square[i] = (std::int64_t{1} << 48) - 1;
+        dividend[i] = static_cast<std::int64_t>(rng() >> 24);  // 40 bits
+        divisor[i] = p % 17 == 0 ? 0 : static_cast<std::int64_t>(rng() >> (24 + p % 40));  // 40 bits down to 1
+        array.write_backing(p, 0, 48, static_cast<std::uint64_t>(square[i]));
+        array.write_backing(p, 48, 40, static_cast<std::uint64_t>(dividend[i]));
+        array.write_backing(p, 88, 40, static_cast<std::uint64_t>(divisor[i]));
+    }
+    PpProgramBuilder b("wide", 208);
+    const PpField s = b.load("s", 0, 48, false);
+    const PpField root = b.sqrt("root", s);
+    b.release(s);
+    const PpField n = b.load("n", 48, 40, false);
+    const PpField d = b.load("d", 88, 40, false);
+    const PpField q = b.div("q", n, d, 8, 40);
+    const PpProgram program = b.finish();
+    array.run(program, PpSlotContext{});
+    const std::int64_t top = (std::int64_t{1} << 40) - 1;
+    for (int p = 0; p < kPps; ++p) {
+        const auto i = static_cast<std::size_t>(p);
+        const std::int64_t r = array.field_values(root)[i];
+        ASSERT_TRUE(r * r <= square[i] && (r + 1) * (r + 1) > square[i]) << square[i] << " -> " << r;
+        const std::int64_t want = divisor[i] == 0 ? top : std::min(top, (dividend[i] << 8) / divisor[i]);
+        ASSERT_EQ(array.field_values(q)[i], want) << dividend[i] << " / " << divisor[i];
+    }
+}
+
+TEST(PpArray, StorageIsReusedAcrossDifferentPrograms) {
+    // Two programs with differently shaped fields, alternately on one array: each run's results are
+    // those of a fresh array.
+    auto program_of = [](int bits, std::int64_t k) {
+        PpProgramBuilder b(bits == 8 ? "p8" : "p4", 208);
+        const PpField x = b.load("x", 0, bits, true);
+        b.mul_const("y", x, k);
+        return b.finish();
+    };
+    const PpProgram p8 = program_of(8, 3);
+    const PpProgram p4 = program_of(4, -5);
+    const PpField y8 = p8.fields[1];
+    const PpField y4 = p4.fields[1];
+    auto fill = [](PpArray& a) {
+        for (int p = 0; p < a.size(); ++p) a.write_backing(p, 0, 8, static_cast<std::uint64_t>(p * 7));
+    };
+    PpArray fresh8(40, 30, 208, 64), fresh4(40, 30, 208, 64), shared(40, 30, 208, 64);
+    fill(fresh8);
+    fill(fresh4);
+    fill(shared);
+    fresh8.run(p8, PpSlotContext{});
+    fresh4.run(p4, PpSlotContext{});
+    const std::vector<std::int64_t> want8(fresh8.field_values(y8).begin(), fresh8.field_values(y8).end());
+    const std::vector<std::int64_t> want4(fresh4.field_values(y4).begin(), fresh4.field_values(y4).end());
+    for (int round = 0; round < 2; ++round) {
+        shared.run(p8, PpSlotContext{});
+        EXPECT_TRUE(std::equal(want8.begin(), want8.end(), shared.field_values(y8).begin()));
+        shared.run(p4, PpSlotContext{});
+        EXPECT_TRUE(std::equal(want4.begin(), want4.end(), shared.field_values(y4).begin()));
+    }
+    EXPECT_EQ(want4[1], -35);  // 7 as a signed 4-bit field is 7; times -5
+    EXPECT_THROW(shared.field_values(PpField{9, 0, 8, false}), std::out_of_range);
+    EXPECT_THROW(shared.field_values(PpField{}), std::out_of_range);
+}
+
+TEST(PpArray, RefusesWhatItCannotRunBeforeChangingAnything) {
+    PpArray array(8, 8, 100, 128);
+    for (int p = 0; p < array.size(); ++p) array.write_backing(p, 0, 16, 0xBEEF);
+
+    PpProgramBuilder big("big", 208);
+    big.alloc("wide", 48, false);
+    big.alloc("wider", 48, false);
+    big.alloc("widest", 48, false);  // 144 bits: the array's PPs have 100
+    EXPECT_THROW(array.run(big.finish(), PpSlotContext{}), std::invalid_argument);
+
+    PpProgramBuilder qee("qee", 100);
+    qee.qee("q", 1, 8, false, 0);  // needs two expressions
+    const QeeCoefficients q{};
+    EXPECT_THROW(array.run(qee.finish(), PpSlotContext{0, one(q)}), std::invalid_argument);
+
+    // A store that would run, then a load past the store's end: nothing is stored.
+    PpProgramBuilder past("past", 100);
+    const PpField zero = past.set_const("zero", 0, 16, false);
+    past.store(zero, 0);
+    past.load("late", 90, 30, false);  // record bits 90..119
+    const PpProgram past_program = past.finish();
+    try {
+        array.run(past_program, PpSlotContext{10, {}});  // bits 100..129 of a 128-bit store
+        FAIL() << "a load past the backing store";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("past the 128-bit backing store"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(array.run(past_program, PpSlotContext{-200, {}}), std::invalid_argument);
+    for (int p = 0; p < array.size(); ++p) ASSERT_EQ(array.read_backing(p, 10, 16), 0xBEEFu >> 10);
+
+    // With the record at bit 0 it runs, and the store lands.
+    EXPECT_NO_THROW(array.run(past_program, PpSlotContext{0, {}}));
+    EXPECT_EQ(array.read_backing(0, 0, 16), 0u);
+}
+
+}  // namespace
+}  // namespace pp5
