@@ -1,5 +1,6 @@
 #include "ring/ring_network.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace pp5 {
@@ -32,12 +33,53 @@ RingChannel::RingChannel(std::size_t index, Component* ring)
       bytes(stats().counter("bytes", "bytes", "Header and payload bytes carried")),
       busy_ps(stats().counter("busy_time", "ps", "Simulated time the channel was held by a sender")) {}
 
+const char* to_string(MessageKind kind) {
+    switch (kind) {
+        case MessageKind::VoxelRequest: return "voxel_request";
+        case MessageKind::VoxelReply: return "voxel_reply";
+        case MessageKind::Pixels: return "pixels";
+        case MessageKind::Pyramid: return "pyramid";
+        case MessageKind::Command: return "command";
+    }
+    return "unknown";
+}
+
+namespace {
+std::vector<std::string> message_kind_names() {
+    std::vector<std::string> names;
+    for (std::size_t k = 0; k < kMessageKinds; ++k) names.emplace_back(to_string(static_cast<MessageKind>(k)));
+    return names;
+}
+// Powers of two of ring cycles, 0 to 2^20: a delay histogram readable at any load.
+std::vector<std::int64_t> cycle_buckets() {
+    std::vector<std::int64_t> bounds{0};
+    for (std::int64_t b = 1; b <= (1 << 20); b *= 2) bounds.push_back(b);
+    return bounds;
+}
+}  // namespace
+
 RingNetwork::RingNetwork(const MachineConfig& config, std::size_t gps, std::size_t renderers)
     : Component("ring", nullptr),
       clock_(ClockDomain::from_megahertz("ring.clock", config.real("ring.clock_mhz"))),
-      channel_width_bits_(static_cast<int>(config.integer("ring.channel_width_bits"))) {
+      channel_width_bits_(static_cast<int>(config.integer("ring.channel_width_bits"))),
+      header_words_(static_cast<int>(config.integer("ring.header_words"))),
+      hop_latency_cycles_(static_cast<int>(config.integer("ring.hop_latency_cycles"))),
+      messages_by_kind_(stats().vector("messages", "count", "Messages carried, by type", message_kind_names())),
+      bytes_by_kind_(stats().vector("bytes", "bytes", "Header and payload bytes carried, by type", message_kind_names())),
+      queueing_delay_(stats().histogram("queueing_delay", "ring cycles",
+                                        "Wait from asking for a channel to the message's head leaving", cycle_buckets())),
+      latency_(stats().histogram("latency", "ring cycles", "From asking for a channel to the tail's arrival",
+                                 cycle_buckets())) {
     const auto channel_count = static_cast<std::size_t>(config.integer("ring.channels"));
-    for (std::size_t i = 0; i < channel_count; ++i) channels_.push_back(std::make_unique<RingChannel>(i, this));
+    for (std::size_t i = 0; i < channel_count; ++i) {
+        channels_.push_back(std::make_unique<RingChannel>(i, this));
+        RingChannel* channel = channels_.back().get();
+        channel->stats().formula("utilisation", "fraction", "Busy time over the time up to the ring's last activity",
+                                 [this, channel] {
+                                     return horizon_ > 0 ? static_cast<double>(channel->busy_ps.value()) / static_cast<double>(horizon_) : 0.0;
+                                 });
+    }
+    channel_free_.assign(channel_count, 0);
 
     const auto add = [this](StationKind kind, std::size_t index, const char* base) {
         stations_.push_back(RingStation{kind, index, indexed(base, index)});
@@ -72,6 +114,49 @@ std::size_t RingNetwork::position(StationKind kind, std::size_t index) const {
 std::size_t RingNetwork::hops(std::size_t from_position, std::size_t to_position) const {
     const std::size_t n = stations_.size();
     return (to_position + n - from_position) % n;
+}
+
+std::uint64_t RingNetwork::message_words(std::uint64_t payload_bits) const {
+    const auto width = static_cast<std::uint64_t>(channel_width_bits_);
+    return static_cast<std::uint64_t>(header_words_) + (payload_bits + width - 1) / width;
+}
+
+RingTransit RingNetwork::transmit(Tick now, const RingMessage& message) {
+    const std::size_t n = stations_.size();
+    if (message.from >= n || (!message.broadcast && message.to >= n))
+        throw std::out_of_range("ring message between unknown stations");
+    RingTransit transit;
+    transit.requested = now;
+    transit.words = message_words(message.payload_bits);
+    transit.hops = message.broadcast ? n - 1 : hops(message.from, message.to);
+    const auto earliest = std::min_element(channel_free_.begin(), channel_free_.end());
+    transit.channel = static_cast<int>(earliest - channel_free_.begin());
+    transit.start = std::max(clock_.next_edge(now), *earliest);
+    const Tick hold = clock_.cycles_to_ticks(transit.words);
+    *earliest = transit.start + hold;
+    transit.arrival = transit.start + hold +
+                      clock_.cycles_to_ticks(transit.hops * static_cast<std::uint64_t>(hop_latency_cycles_));
+    horizon_ = std::max(horizon_, *earliest);
+
+    RingChannel& channel = *channels_[static_cast<std::size_t>(transit.channel)];
+    const std::uint64_t bytes = transit.words * static_cast<std::uint64_t>(channel_width_bits_) / 8;
+    ++channel.messages;
+    channel.bytes += bytes;
+    channel.busy_ps += static_cast<std::uint64_t>(hold);
+    const auto kind = static_cast<std::size_t>(message.kind);
+    messages_by_kind_.add(kind);
+    bytes_by_kind_.add(kind, bytes);
+    queueing_delay_.sample(static_cast<std::int64_t>(clock_.ticks_to_cycles(transit.start - now)));
+    latency_.sample(static_cast<std::int64_t>(clock_.ticks_to_cycles(transit.arrival - now)));
+    if (observer_ != nullptr) observer_->on_message(message, transit);
+    return transit;
+}
+
+RingTransit RingNetwork::send(EventQueue& events, Tick now, const RingMessage& message, EventHandler& receiver,
+                              std::uint64_t payload, int priority) {
+    const RingTransit transit = transmit(now, message);
+    events.schedule(transit.arrival, receiver, payload, priority);
+    return transit;
 }
 
 double RingNetwork::bandwidth_bits_per_second() const {

@@ -1,5 +1,9 @@
 #include "sim/components/graphics_processor.h"
 
+#include "sim/core/input_error.h"
+
+#include <stdexcept>
+
 namespace pp5 {
 
 const ParamGroup& GraphicsProcessor::params() {
@@ -18,7 +22,9 @@ const ParamGroup& GraphicsProcessor::params() {
                      Provenance::Default, "machine.md: about 8 MB per GP board, not confirmed")
             .integer("ray_contexts", 8, "count", 1, 4096,
                      "Rays a GP keeps in flight, switching between them while voxel requests are outstanding",
-                     Provenance::Default, "Levoy 1989 says 'several rays' without a number");
+                     Provenance::Default, "Levoy 1989 says 'several rays' without a number")
+            .integer("cache_associativity", 8, "ways", 1, 1 << 20, "Ways per set of the voxel cache (LRU within a set)",
+                     Provenance::Default, "not published: the cache is software on the i860, any organisation is possible");
         return g;
     }();
     return group;
@@ -28,11 +34,36 @@ GraphicsProcessor::GraphicsProcessor(std::size_t index, const MachineConfig& con
     : Component(indexed("gp", index), nullptr),
       rays(stats().counter("rays", "count", "Rays traced to completion")),
       samples(stats().counter("samples", "count", "Resampling points interpolated and composited")),
+      samples_skipped(stats().counter("samples_skipped", "count", "Samples in empty pyramid cells, not computed")),
+      pyramid_steps(stats().counter("pyramid_steps", "count", "Visits to cells of the pyramid of binary volumes")),
+      rays_terminated(stats().counter("rays_terminated", "count", "Rays stopped by early termination")),
+      pixels_filled(stats().counter("pixels_filled", "count", "Pixels interpolated from their square's corners, not cast")),
+      requests(stats().counter("requests", "count", "Voxel request messages sent to renderers")),
+      replies(stats().counter("replies", "count", "Voxel replies received")),
+      context_switches(stats().counter("context_switches", "count", "Switches from a waiting ray to a ready one")),
       busy_ps(stats().counter("busy_time", "ps", "Simulated time spent computing")),
-      wait_ps(stats().counter("wait_time", "ps", "Simulated time with every ray context waiting for voxels")),
+      wait_ps(stats().counter("wait_time", "ps", "Simulated time with work left and every ray context waiting for voxels")),
       index_(index),
       clock_(ClockDomain::from_megahertz(name() + ".clock", config.real("gp.clock_mhz"))),
       cache_bits_(static_cast<std::uint64_t>(config.integer("gp.cache_bits"))),
-      ray_contexts_(static_cast<int>(config.integer("gp.ray_contexts"))) {}
+      ray_contexts_(static_cast<int>(config.integer("gp.ray_contexts"))),
+      cache_associativity_(static_cast<int>(config.integer("gp.cache_associativity"))),
+      costs_(GpCostModel::from(config)) {}
+
+VoxelCache& GraphicsProcessor::cache(std::uint64_t block_bits) {
+    if (block_bits == 0) throw std::invalid_argument("voxel cache blocks need at least one bit");
+    if (cache_ && block_bits != cache_block_bits_) throw std::logic_error(name() + ": cache already built for another block size");
+    if (!cache_) {
+        const std::uint64_t blocks = cache_bits_ / block_bits;
+        if (blocks == 0) {
+            throw InputError("machine configuration", "gp.cache_bits",
+                             "the voxel cache (" + std::to_string(cache_bits_) + " bits) cannot hold one block of " +
+                                 std::to_string(block_bits) + " bits");
+        }
+        cache_block_bits_ = block_bits;
+        cache_ = std::make_unique<VoxelCache>(this, blocks, cache_associativity_);
+    }
+    return *cache_;
+}
 
 }  // namespace pp5

@@ -1,6 +1,7 @@
 #include "sim/components/renderer.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace pp5 {
 
@@ -21,7 +22,13 @@ const ParamGroup& Renderer::params() {
                      "Size of one backing-store transfer between local memory and the backing store",
                      Provenance::Hardware, "Fuchs et al. 1989: moved in 32-bit blocks")
             .real("clock_mhz", 40.0, "MHz", 1, 1000, "Pixel-processor clock", Provenance::Hardware,
-                  "Fuchs et al. 1989: chips designed for 40 MHz");
+                  "Fuchs et al. 1989: chips designed for 40 MHz")
+            .integer("request_setup_cycles", 64, "cycles", 0, 1 << 24,
+                     "Controller cycles to decode a voxel request and set up the read-out", Provenance::Default,
+                     "not published: a few dozen controller instructions")
+            .real("request_cycles_per_voxel", 4.0, "cycles", 0, 1 << 20,
+                  "Cycles to read one voxel's colour and opacity out of the PPs onto the ring port", Provenance::Default,
+                  "not published: a 32-bit word through the renderer's port in a few cycles");
         return g;
     }();
     return group;
@@ -29,8 +36,11 @@ const ParamGroup& Renderer::params() {
 
 Renderer::Renderer(std::size_t index, const MachineConfig& config)
     : Component(indexed("renderer", index), nullptr),
-      busy_ps(stats().counter("busy_time", "ps", "Simulated time the PP array spent executing")),
+      busy_ps(stats().counter("busy_time", "ps", "Simulated time busy: PP passes and voxel requests")),
       voxel_requests(stats().counter("voxel_requests", "count", "Voxel requests answered for the GPs")),
+      voxels_sent(stats().counter("voxels_sent", "count", "Voxels read out in answer to requests")),
+      request_busy_ps(stats().counter("request_busy_time", "ps", "Simulated time spent answering voxel requests")),
+      request_wait_ps(stats().counter("request_wait_time", "ps", "Time requests waited for the renderer to be free")),
       index_(index),
       clock_(ClockDomain::from_megahertz(name() + ".clock", config.real("renderer.clock_mhz"))),
       columns_(static_cast<std::uint64_t>(config.integer("renderer.pp_columns"))),
@@ -38,6 +48,8 @@ Renderer::Renderer(std::size_t index, const MachineConfig& config)
       local_memory_bits_(static_cast<std::uint64_t>(config.integer("renderer.local_memory_bits"))),
       backing_store_bits_(static_cast<std::uint64_t>(config.integer("renderer.backing_store_bits"))),
       cost_model_(config),
+      request_setup_cycles_(static_cast<std::uint64_t>(config.integer("renderer.request_setup_cycles"))),
+      request_cycles_per_voxel_(config.real("renderer.request_cycles_per_voxel")),
       passes_(stats().counter("passes", "count", "PP program runs over voxel slots")),
       slots_(stats().counter("slots", "count", "Voxel slots processed, summed over passes")),
       busy_cycles_(stats().counter("busy_cycles", "cycles", "PP clock cycles spent in passes")),
@@ -94,6 +106,20 @@ Tick Renderer::begin_pass(EventQueue& events, Tick start, const RendererPass& pa
     last_slot_cycles_ = pass.cost.compute_cycles();
 
     events.schedule(busy_until_, *this);
+    return busy_until_;
+}
+
+Tick Renderer::serve_request(Tick arrival, std::uint64_t voxels) {
+    const Tick begin = clock_.next_edge(std::max(arrival, busy_until_));
+    const auto cycles = request_setup_cycles_ +
+                        static_cast<std::uint64_t>(std::ceil(request_cycles_per_voxel_ * static_cast<double>(voxels)));
+    const Tick duration = clock_.cycles_to_ticks(cycles);
+    busy_until_ = begin + duration;
+    ++voxel_requests;
+    voxels_sent += voxels;
+    request_busy_ps += static_cast<std::uint64_t>(duration);
+    request_wait_ps += static_cast<std::uint64_t>(begin - arrival);
+    busy_ps += static_cast<std::uint64_t>(duration);
     return busy_until_;
 }
 

@@ -49,11 +49,17 @@ public:
     // Starts `pass` at `start` (or when the renderer is next free, if later); returns when it will end.
     Tick begin_pass(EventQueue& events, Tick start, const RendererPass& pass);
     Tick busy_until() const { return busy_until_; }
+    // Answers a voxel request for `voxels` voxels that arrived at `arrival`: requests and passes are
+    // served one at a time in the order they come. Returns when the reply is ready to leave.
+    Tick serve_request(Tick arrival, std::uint64_t voxels);
     // Bits of each PP's backing store holding data, as the kernel that placed it reports.
     void set_backing_store_bits_used(std::uint64_t bits) { backing_store_bits_used_ = bits; }
 
     Counter& busy_ps;
     Counter& voxel_requests;
+    Counter& voxels_sent;
+    Counter& request_busy_ps;
+    Counter& request_wait_ps;
 
 private:
     void handle_event(Tick now, std::uint64_t payload) override;
@@ -65,6 +71,8 @@ private:
     std::uint64_t local_memory_bits_;
     std::uint64_t backing_store_bits_;
     PpCostModel cost_model_;
+    std::uint64_t request_setup_cycles_;
+    double request_cycles_per_voxel_;
     std::unique_ptr<PpArray> array_;
     Tick busy_until_ = 0;
     std::uint64_t backing_store_bits_used_ = 0;

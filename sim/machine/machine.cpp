@@ -6,7 +6,7 @@
 namespace pp5 {
 
 std::vector<const ParamGroup*> Machine::param_groups() {
-    return {&GraphicsProcessor::params(), &Renderer::params(), &PpCostModel::params(), &FrameBuffer::params(),
+    return {&GraphicsProcessor::params(), &GpCostModel::params(), &Renderer::params(), &PpCostModel::params(), &FrameBuffer::params(),
             &RingNetwork::params()};
 }
 

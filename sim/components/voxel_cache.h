@@ -1,0 +1,53 @@
+#pragma once
+// A GP's voxel cache: what Levoy's GPs keep of the voxels they have received, so that the next ray,
+// the next refinement pass or the next frame need not ask the renderers again.
+//
+// It holds whole blocks (a block is what one voxel request returns), set-associative with least
+// recently used replacement. Sets are chosen by a multiplicative hash of the block number, so blocks
+// that neighbour each other in the volume spread over the sets. Contents survive between frames and
+// refinement passes; invalidate() drops them when the voxels' colours or opacities change.
+
+#include "sim/core/component.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace pp5 {
+
+class VoxelCache : public Component {
+public:
+    // capacity_blocks >= 1; an associativity above the capacity makes the cache fully associative.
+    VoxelCache(Component* owner, std::uint64_t capacity_blocks, int associativity);
+
+    // Whether `block` is held; a hit makes it the most recently used of its set.
+    bool lookup(std::uint64_t block);
+    // Whether `block` is held, without touching the replacement order or the counters.
+    bool contains(std::uint64_t block) const;
+    // Stores `block` (a fill after a miss), evicting its set's least recently used block if full.
+    void insert(std::uint64_t block);
+    // Drops every block: the voxels they hold are stale.
+    void invalidate();
+
+    std::uint64_t capacity_blocks() const { return sets_ * static_cast<std::uint64_t>(ways_); }
+    int associativity() const { return ways_; }
+    std::uint64_t occupancy() const { return occupied_; }
+
+    Counter& hits;
+    Counter& misses;
+    Counter& fills;
+    Counter& evictions;
+    Counter& invalidations;
+
+private:
+    static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
+    std::uint64_t set_of(std::uint64_t block) const;
+
+    std::uint64_t sets_;
+    int ways_;
+    std::vector<std::uint64_t> tags_;      // sets_ x ways_
+    std::vector<std::uint64_t> last_use_;  // a use counter per way: the smallest is the LRU
+    std::uint64_t use_clock_ = 0;
+    std::uint64_t occupied_ = 0;
+};
+
+}  // namespace pp5
