@@ -1,9 +1,10 @@
 // `pp5sim render [SCENARIO]`: render every frame of a scenario on a configured machine and write the
 // images, stats.json and config.json.
 //
-// With the levoy kernel the renderers' PPs classify and shade the volume (functionally and in
-// simulated time) and the host composites their colours and opacities; every frame is also rendered
-// by the floating-point reference renderer, and stats.json says how far the two images are apart.
+// With the levoy kernel the whole frame runs on the simulated machine (kernels/levoy/levoy_renderer.h):
+// the renderers' PPs classify and shade, the GPs cast rays pass after pass of adaptive refinement with
+// voxels fetched over the ring. Every frame is also rendered by the floating-point reference renderer,
+// and stats.json says how far the two images are apart.
 // With the reference kernel the host renderer alone makes the images and simulated time is zero.
 
 #include "frontends/cli/commands.h"
@@ -12,7 +13,7 @@
 #include "frontends/cli/run_config.h"
 #include "frontends/image_io.h"
 #include "frontends/scenario.h"
-#include "kernels/levoy/pp_shading.h"
+#include "kernels/levoy/levoy_renderer.h"
 #include "kernels/reference/composite.h"
 #include "kernels/reference/reference_renderer.h"
 #include "sim/core/config.h"
@@ -72,8 +73,59 @@ nlohmann::json pass_record(const PpProgramPass& pass) {
 }
 
 // One frame's record in stats.json: what changed, what the reference did, what the machine did.
+double seconds(Tick t) { return ticks_to_seconds(t); }
+
+// The machine's side of a frame: where the time went and what the GPs did.
+nlohmann::json machine_record(const LevoyFrameReport& f, const std::vector<std::string>& pass_images) {
+    const RayCastReport& rc = f.ray_cast;
+    const double cast_seconds = seconds(rc.end - rc.start);
+    const double gps = rc.gp_busy + rc.gp_wait > 0 ? 1.0 : 0.0;
+    nlohmann::json passes = nlohmann::json::array();
+    for (std::size_t i = 0; i < f.passes.size(); ++i) {
+        const RefinementPassReport& p = f.passes[i];
+        passes.push_back({{"pass", i},
+                          {"image", pass_images.at(i)},
+                          {"complete_seconds", seconds(p.end_ps)},
+                          {"rays", p.rays},
+                          {"samples", p.samples},
+                          {"pixels_cast_so_far", p.pixels_cast}});
+    }
+    const std::uint64_t lookups = rc.cache_hits + rc.cache_misses;
+    return {{"simulated_seconds", seconds(f.duration_ps())},
+            {"crude_seconds", f.passes.empty() ? 0.0 : seconds(f.passes.front().end_ps)},
+            {"refined_seconds", seconds(f.duration_ps())},
+            {"phases",
+             {{"pixel_processors_seconds", seconds(f.pixel_processors.duration_ps())},
+              {"pyramid_seconds", seconds(f.pyramid_ps)},
+              {"ray_casting_seconds", cast_seconds}}},
+            {"ray_casting_breakdown",
+             {{"gp_computing_seconds", seconds(rc.gp_busy)},
+              {"gp_waiting_seconds", seconds(rc.gp_wait)},
+              {"ring_busy_seconds", seconds(rc.ring_busy)},
+              {"renderers_answering_seconds", seconds(rc.renderer_busy)},
+              {"note", "each summed over the GPs, channels or renderers; ray_casting_seconds is wall time"},
+              {"gp_busy_fraction", gps > 0 ? static_cast<double>(rc.gp_busy) / static_cast<double>(rc.gp_busy + rc.gp_wait) : 0.0}}},
+            {"pyramid_rebuilt", f.pyramid_rebuilt},
+            {"pyramid_cells_occupied", f.pyramid_cells_occupied},
+            {"caches_invalidated", f.caches_invalidated},
+            {"depth_buffer_used", f.depth_buffer_used},
+            {"rays", rc.rays},
+            {"samples", rc.samples},
+            {"samples_skipped", rc.samples_skipped},
+            {"pyramid_steps", rc.pyramid_steps},
+            {"rays_terminated", rc.rays_terminated},
+            {"pixels_filled", rc.pixels_filled},
+            {"cache", {{"hits", rc.cache_hits}, {"misses", rc.cache_misses},
+                       {"hit_rate", lookups == 0 ? 0.0 : static_cast<double>(rc.cache_hits) / static_cast<double>(lookups)}}},
+            {"voxel_requests", rc.requests},
+            {"context_switches", rc.context_switches},
+            {"events", rc.events},
+            {"passes", passes}};
+}
+
 nlohmann::json frame_record(std::size_t index, const FrameSpec& frame, const std::string& image_name,
-                            const RenderStats& stats, const std::optional<PpFrameReport>& machine_work,
+                            const RenderStats& stats, const std::optional<LevoyFrameReport>& machine_work,
+                            const std::vector<std::string>& pass_images,
                             const std::optional<ImageDifference>& fidelity, double host_seconds) {
     nlohmann::json record = {
         {"index", index},
@@ -81,7 +133,7 @@ nlohmann::json frame_record(std::size_t index, const FrameSpec& frame, const std
         {"image", image_name},
         {"changed", {{"camera", frame.camera_changed}, {"lighting", frame.lighting_changed},
                      {"classification", frame.classification_changed}}},
-        {"simulated_seconds", machine_work ? static_cast<double>(machine_work->duration_ps()) / static_cast<double>(kTicksPerSecond) : 0.0},
+        {"simulated_seconds", machine_work ? seconds(machine_work->duration_ps()) : 0.0},
         {"reference",
          {{"rays", stats.composite.rays},
           {"samples", stats.composite.samples},
@@ -89,8 +141,9 @@ nlohmann::json frame_record(std::size_t index, const FrameSpec& frame, const std
           {"rays_terminated", stats.composite.rays_terminated}}},
         {"host_seconds", host_seconds}};
     if (machine_work) {
-        record["renderers"] = {{"classification", pass_record(machine_work->classification)},
-                               {"shading", pass_record(machine_work->shading)}};
+        record["renderers"] = {{"classification", pass_record(machine_work->pixel_processors.classification)},
+                               {"shading", pass_record(machine_work->pixel_processors.shading)}};
+        record["machine"] = machine_record(*machine_work, pass_images);
     }
     if (fidelity) {
         record["fidelity"] = {{"against", "reference renderer"},
@@ -112,7 +165,12 @@ std::string describe_frame(const nlohmann::json& f) {
             line += fmt::format("; PP {} {:.2f} ms ({} cycles a slot)", pass, p["simulated_seconds"].get<double>() * 1e3,
                                 p["slot_cycles"].dump());
         }
-        line += fmt::format("; simulated {:.2f} ms", f["simulated_seconds"].get<double>() * 1e3);
+        const auto& m = f["machine"];
+        line += fmt::format("\n    GPs: {} rays in {} passes, {} samples ({} skipped), cache hit rate {:.1f}%; crude {:.1f} ms, "
+                            "refined {:.1f} ms simulated",
+                            m["rays"].dump(), m["passes"].size(), m["samples"].dump(), m["samples_skipped"].dump(),
+                            100.0 * m["cache"]["hit_rate"].get<double>(), m["crude_seconds"].get<double>() * 1e3,
+                            m["refined_seconds"].get<double>() * 1e3);
     }
     if (f.contains("fidelity")) line += fmt::format("; PSNR {} dB against the reference", f["fidelity"]["psnr_db"].dump());
     return line;
@@ -144,16 +202,22 @@ int run_render(const RenderOptions& o) {
     const float radius = std::max(0.5f * glm::length(extent), 1e-3f);
 
     // The machine's kernel places the volume in the PPs first: a volume that does not fit stops here.
-    std::optional<PpShading> pixel_processors;
-    if (on_machine) pixel_processors.emplace(machine, volume, LevoySettings::from(config));
+    std::optional<LevoyRenderer> workstation;
+    if (on_machine) {
+        LevoyImageSettings image;
+        image.width = scenario.image.width;
+        image.height = scenario.image.height;
+        image.sample_step = scenario.image.sample_step;
+        image.termination_opacity = scenario.image.termination_opacity;
+        image.background = scenario.image.background;
+        workstation.emplace(machine, volume, LevoySettings::from(config), image);
+    }
 
     StagedOutput output(o.out.empty() ? std::filesystem::path("out") / scenario.name : std::filesystem::path(o.out));
     ReferenceRenderer reference(volume);
     const RenderSettings settings = render_settings(scenario.image);
     nlohmann::json frames = nlohmann::json::array();
     nlohmann::json simulated = nlohmann::json::array();
-    std::optional<ShadingView> shaded_for;
-    std::optional<ShadedVolume> shaded;
     Progress progress("render " + scenario.name, scenario.frames.size());
     for (std::size_t i = 0; i < scenario.frames.size(); ++i) {
         const FrameSpec& frame = scenario.frames[i];
@@ -163,25 +227,27 @@ int run_render(const RenderOptions& o) {
         if (frame.lighting_changed) reference.set_lighting(frame.lighting);
         RenderStats stats;
         Image image = reference.render(camera, settings, &stats);
+        const Image reference_image = on_machine ? image : Image();
 
-        std::optional<PpFrameReport> machine_work;
+        std::optional<LevoyFrameReport> machine_work;
         std::optional<ImageDifference> fidelity;
-        if (pixel_processors) {
-            // Colours depend on the colour map (part of the classification), the lights and the view.
-            const ShadingView view = make_shading_view(camera, volume.dims(), volume.spacing());
-            const bool reshade = frame.classification_changed || frame.lighting_changed || shaded_for != view;
-            machine_work = pixel_processors->update(frame.classification, frame.colors, frame.lighting, view,
-                                                    frame.classification_changed, reshade);
-            if (frame.classification_changed || reshade || !shaded) shaded = pixel_processors->shaded_volume();
-            shaded_for = view;
-            Image simulated_image = composite(*shaded, camera, settings.composite_settings());
-            fidelity = compare_images(simulated_image, image);
-            image = std::move(simulated_image);
+        std::vector<std::string> pass_images;
+        if (workstation) {
+            LevoyFrameInputs inputs{camera, frame.classification, frame.colors, frame.lighting,
+                                    frame.classification_changed, frame.lighting_changed};
+            machine_work = workstation->render(inputs);
+            for (std::size_t p = 0; p < machine_work->passes.size(); ++p) {
+                pass_images.push_back(fmt::format("frame_{:04}_pass_{}.{}", i, p, o.format));
+                output.add_image(pass_images.back(), std::move(machine_work->passes[p].image), format);
+            }
+            // The last pass's picture is the frame; pass images were moved out, so read it back.
+            image = std::move(machine_work->final_image);
+            fidelity = compare_images(image, reference_image);
         }
         const std::string image_name = fmt::format("frame_{:04}.{}", i, o.format);
         output.add_image(image_name, std::move(image), format);
         const double host = Seconds(std::chrono::steady_clock::now() - frame_start).count();
-        frames.push_back(frame_record(i, frame, image_name, stats, machine_work, fidelity, host));
+        frames.push_back(frame_record(i, frame, image_name, stats, machine_work, pass_images, fidelity, host));
         simulated.push_back(frames.back()["simulated_seconds"]);
         progress.update(i + 1);
     }
@@ -193,9 +259,9 @@ int run_render(const RenderOptions& o) {
                               {"frames", scenario.frames.size()},
                               {"image_size", {scenario.image.width, scenario.image.height}},
                               {"simulated_seconds", simulated},
-                              {"timing_model", on_machine ? "renderers: PP classification and shading passes, timed from the "
-                                                            "programs' operations; ray casting and compositing run on the host "
-                                                            "and are not timed yet"
+                              {"timing_model", on_machine ? "event-driven: PP passes from their programs' operations, the pyramid's "
+                                                            "distribution and building, and the GPs' ray casting with voxel "
+                                                            "requests over the ring; uncalibrated default costs"
                                                           : "none: the host reference renderer; simulated time is 0"},
                               {"host_seconds", host_seconds}};
     nlohmann::json stats = {
@@ -209,9 +275,9 @@ int run_render(const RenderOptions& o) {
         {"frames", frames},
         {"simulation", {{"events_run", machine.events().events_run()}, {"simulated_ticks_ps", machine.events().now()}}},
         {"components", machine.statistics()}};
-    if (pixel_processors) {
-        const VoxelPlacement& p = pixel_processors->placement();
-        const VoxelQuantization& q = pixel_processors->quantization();
+    if (workstation) {
+        const VoxelPlacement& p = workstation->pixel_processors().placement();
+        const VoxelQuantization& q = workstation->pixel_processors().quantization();
         stats["placement"] = {{"policy", to_string(p.policy())},
                               {"record_bits", p.record_bits()},
                               {"slots_needed", p.slots_needed()},

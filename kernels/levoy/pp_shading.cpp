@@ -38,7 +38,7 @@ PpArrayShape shape_of(const Machine& machine) {
 
 const ParamGroup& LevoySettings::params() {
     static const ParamGroup group = [] {
-        ParamGroup g("levoy", "Levoy's volume rendering kernel: how the volume sits in the pixel processors");
+        ParamGroup g("levoy", "Levoy's volume rendering kernel: the volume in the pixel processors, the GPs' ray casting");
         g.text("placement", "bricks", {"bricks", "slices"},
                "Which renderer, PP and slot holds each voxel: solid bricks per renderer, or z-slices dealt round-robin",
                Provenance::Default, "pp5sim: Levoy gives each PP 64 voxels but not their arrangement")
@@ -49,7 +49,26 @@ const ParamGroup& LevoySettings::params() {
             .integer("color_bits", 8, "bits", 1, 16, "Bits of each shaded colour channel", Provenance::Default,
                      "pp5sim: one byte each fills Levoy's 8-byte budget")
             .integer("opacity_bits", 8, "bits", 1, 16, "Bits of each voxel's opacity", Provenance::Default,
-                     "pp5sim: one byte fills Levoy's 8-byte budget");
+                     "pp5sim: one byte fills Levoy's 8-byte budget")
+            .integer("block_cells", 4, "cells", 1, 64,
+                     "Cells along each edge of the block one voxel request asks for ((n+1)^3 voxels)", Provenance::Default,
+                     "Levoy 1989: GPs 'request sets of voxels', size not given")
+            .text("ray_assignment", "static_tiles", {"static_tiles", "work_queue"},
+                  "Which GP casts which rays: tiles dealt round-robin, or handed out by the host as GPs ask",
+                  Provenance::Default, "Levoy 1989: 'each is assigned a set of rays', policy not given")
+            .integer("tile_pixels", 16, "pixels", 1, 4096, "Edge of the square tiles of rays a GP works on",
+                     Provenance::Default, "pp5sim")
+            .integer("refinement_spacing", 8, "pixels", 1, 1024, "Pixels between the rays of the first, sparse pass",
+                     Provenance::Paper, "Levoy 1990 (adaptive refinement): one ray per 4x4 or 8x8 pixels first")
+            .real("refinement_threshold", 0.1, "colour", -1, 1,
+                  "A square splits when its corners differ by more than this in r, g or b (0-1); below 0 every pixel is cast",
+                  Provenance::Default, "Levoy 1990 uses a colour-difference threshold; its value is ours")
+            .boolean("pyramid_skipping", true, "Skip empty space with the pyramid of binary volumes", Provenance::Paper,
+                     "Levoy 1989 and 1990: hierarchical spatial enumeration")
+            .boolean("depth_buffer", true,
+                     "While the observer and the set of non-empty voxels stay, start rays at the first non-empty sample "
+                     "found in an earlier frame",
+                     Provenance::Paper, "Levoy 1989: record the depth of the first non-empty voxel along each ray");
         return g;
     }();
     return group;
@@ -62,6 +81,13 @@ LevoySettings LevoySettings::from(const MachineConfig& config) {
     s.layout.gradient_bits = static_cast<int>(config.integer("levoy.gradient_bits"));
     s.layout.color_bits = static_cast<int>(config.integer("levoy.color_bits"));
     s.layout.opacity_bits = static_cast<int>(config.integer("levoy.opacity_bits"));
+    s.block_cells = static_cast<int>(config.integer("levoy.block_cells"));
+    s.ray_assignment = config.text("levoy.ray_assignment") == "work_queue" ? RayAssignment::WorkQueue : RayAssignment::StaticTiles;
+    s.tile_pixels = static_cast<int>(config.integer("levoy.tile_pixels"));
+    s.refinement.initial_spacing = static_cast<int>(config.integer("levoy.refinement_spacing"));
+    s.refinement.threshold = static_cast<float>(config.real("levoy.refinement_threshold"));
+    s.pyramid_skipping = config.boolean("levoy.pyramid_skipping");
+    s.depth_buffer = config.boolean("levoy.depth_buffer");
     return s;
 }
 

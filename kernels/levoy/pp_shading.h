@@ -12,6 +12,8 @@
 // Not modelled yet: moving the volume into the backing stores (the ring brings it once, before any
 // frame) and the commands that start each pass (they arrive over the ring from a GP).
 
+#include "kernels/levoy/adaptive_refinement.h"
+#include "kernels/levoy/ray_cast_timing.h"
 #include "kernels/levoy/shading_programs.h"
 #include "kernels/levoy/voxel_placement.h"
 #include "kernels/levoy/voxel_record.h"
@@ -31,10 +33,16 @@
 
 namespace pp5 {
 
-// The kernel's own parameters ("levoy.*"): how the volume sits in the PPs.
+// The kernel's own parameters ("levoy.*"): how the volume sits in the PPs, how the GPs cast rays.
 struct LevoySettings {
     PlacementPolicy placement = PlacementPolicy::Bricks;
     VoxelRecordLayout layout;
+    int block_cells = 4;
+    RayAssignment ray_assignment = RayAssignment::StaticTiles;
+    int tile_pixels = 16;
+    RefinementSettings refinement;
+    bool pyramid_skipping = true;
+    bool depth_buffer = true;
 
     static const ParamGroup& params();
     static LevoySettings from(const MachineConfig& config);

@@ -1,0 +1,76 @@
+#include "kernels/levoy/binary_pyramid.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <numeric>
+#include <stdexcept>
+
+namespace pp5 {
+
+namespace {
+std::size_t index_of(glm::ivec3 p, glm::ivec3 dims) {
+    return static_cast<std::size_t>(p.x) +
+           static_cast<std::size_t>(dims.x) * (static_cast<std::size_t>(p.y) + static_cast<std::size_t>(dims.y) * static_cast<std::size_t>(p.z));
+}
+}  // namespace
+
+BinaryPyramid BinaryPyramid::from_opacity(const ShadedVolume& volume) {
+    const glm::ivec3 dims = volume.dims;
+    if (dims.x < 2 || dims.y < 2 || dims.z < 2) throw std::invalid_argument("pyramid: a volume needs two voxels along each axis");
+    BinaryPyramid pyramid;
+    Level base;
+    base.dims = dims - 1;
+    base.bits.assign(static_cast<std::size_t>(base.dims.x) * static_cast<std::size_t>(base.dims.y) * static_cast<std::size_t>(base.dims.z), 0);
+    // A voxel row's non-empty flags, ORed with the next voxel's: the x extent of each cell.
+    tbb::parallel_for(tbb::blocked_range<int>(0, base.dims.z), [&](const tbb::blocked_range<int>& r) {
+        std::vector<std::uint8_t> row(static_cast<std::size_t>(dims.x));
+        for (int z = r.begin(); z != r.end(); ++z) {
+            for (int y = 0; y < base.dims.y; ++y) {
+                std::fill(row.begin(), row.end(), 0);
+                for (int dz = 0; dz < 2; ++dz) {
+                    for (int dy = 0; dy < 2; ++dy) {
+                        const std::size_t start = index_of({0, y + dy, z + dz}, dims);
+                        for (int x = 0; x < dims.x; ++x) if (volume.rgba[start + static_cast<std::size_t>(x)].a > 0.0f) row[static_cast<std::size_t>(x)] = 1;
+                    }
+                }
+                std::uint8_t* out = &base.bits[index_of({0, y, z}, base.dims)];
+                for (int x = 0; x < base.dims.x; ++x) out[x] = static_cast<std::uint8_t>(row[static_cast<std::size_t>(x)] | row[static_cast<std::size_t>(x) + 1]);
+            }
+        }
+    });
+    pyramid.levels_.push_back(std::move(base));
+    while (pyramid.levels_.back().dims != glm::ivec3(1)) {
+        const Level& below = pyramid.levels_.back();
+        Level up;
+        up.dims = (below.dims + 1) / 2;
+        up.bits.assign(static_cast<std::size_t>(up.dims.x) * static_cast<std::size_t>(up.dims.y) * static_cast<std::size_t>(up.dims.z), 0);
+        for (int z = 0; z < below.dims.z; ++z)
+            for (int y = 0; y < below.dims.y; ++y)
+                for (int x = 0; x < below.dims.x; ++x)
+                    if (below.bits[index_of({x, y, z}, below.dims)] != 0) up.bits[index_of({x / 2, y / 2, z / 2}, up.dims)] = 1;
+        pyramid.levels_.push_back(std::move(up));
+    }
+    return pyramid;
+}
+
+std::uint64_t BinaryPyramid::cells(int level) const { return levels_.at(static_cast<std::size_t>(level)).bits.size(); }
+
+std::uint64_t BinaryPyramid::occupied_cells(int level) const {
+    const auto& bits = levels_.at(static_cast<std::size_t>(level)).bits;
+    return static_cast<std::uint64_t>(std::count_if(bits.begin(), bits.end(), [](std::uint8_t b) { return b != 0; }));
+}
+
+std::uint64_t BinaryPyramid::total_cells() const {
+    std::uint64_t n = 0;
+    for (const Level& l : levels_) n += l.bits.size();
+    return n;
+}
+
+bool BinaryPyramid::same_cells(const BinaryPyramid& other) const {
+    return !levels_.empty() && !other.levels_.empty() && levels_.front().dims == other.levels_.front().dims &&
+           levels_.front().bits == other.levels_.front().bits;
+}
+
+}  // namespace pp5

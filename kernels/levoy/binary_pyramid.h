@@ -1,0 +1,48 @@
+#pragma once
+// Levoy's hierarchical spatial enumeration ("Efficient ray tracing of volume data", 1990): a pyramid of
+// binary volumes over the cells of the volume. A cell of level 0 is the box between eight neighbouring
+// voxels, and it is occupied when any of those eight has non-zero opacity; a cell of level m covers
+// 2^m x 2^m x 2^m cells of level 0 and is occupied when any of them is. The top level has one cell.
+//
+// A sample whose level-0 cell is empty interpolates eight zero opacities, so it is exactly transparent:
+// skipping it changes nothing in the image, only the work.
+
+#include "kernels/reference/shaded_volume.h"
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace pp5 {
+
+class BinaryPyramid {
+public:
+    BinaryPyramid() = default;
+    // Built from the voxels' opacities (alpha > 0 is non-empty). Every dimension must be >= 2.
+    static BinaryPyramid from_opacity(const ShadedVolume& volume);
+
+    int levels() const { return static_cast<int>(levels_.size()); }
+    glm::ivec3 cell_dims(int level) const { return levels_[static_cast<std::size_t>(level)].dims; }
+    // `cell` must lie inside cell_dims(level).
+    bool occupied(int level, glm::ivec3 cell) const {
+        const Level& l = levels_[static_cast<std::size_t>(level)];
+        return l.bits[static_cast<std::size_t>(cell.x) +
+                      static_cast<std::size_t>(l.dims.x) * (static_cast<std::size_t>(cell.y) +
+                                                             static_cast<std::size_t>(l.dims.y) * static_cast<std::size_t>(cell.z))] != 0;
+    }
+    std::uint64_t cells(int level) const;
+    std::uint64_t occupied_cells(int level) const;
+    std::uint64_t total_cells() const;  // over all levels: what building it visits
+    // True when both mark the same level-0 cells (then every level agrees).
+    bool same_cells(const BinaryPyramid& other) const;
+
+private:
+    struct Level {
+        glm::ivec3 dims{0};
+        std::vector<std::uint8_t> bits;  // one byte per cell, x fastest
+    };
+    std::vector<Level> levels_;
+};
+
+}  // namespace pp5

@@ -1,0 +1,100 @@
+#pragma once
+// Levoy's volume rendering workstation on the simulated machine, one frame at a time:
+//   1. the renderers' PPs classify and shade the voxels that need it (pp_shading.h);
+//   2. when the classification changed the set of non-empty voxels, the renderers send every GP the
+//      voxels' emptiness and each GP rebuilds the pyramid of binary volumes (binary_pyramid.h);
+//   3. the GPs cast rays pass after pass of adaptive refinement (ray_caster.h, adaptive_refinement.h),
+//      fetching voxels over the ring into their caches (ray_cast_timing.h).
+// Each change between frames reruns only what it needs (Levoy's animation sequences): a light or
+// colour change reshades, a classification change reclassifies and rebuilds the pyramid only if the
+// non-empty set moved, an observer move reshades only if the shading depends on the view. GP caches
+// survive between frames and are dropped when the PPs' voxels change; while the observer and the
+// non-empty set stay, rays start at the depth buffer's first non-empty sample.
+
+#include "kernels/levoy/binary_pyramid.h"
+#include "kernels/levoy/pp_shading.h"
+#include "kernels/levoy/ray_cast_timing.h"
+#include "kernels/levoy/voxel_blocks.h"
+#include "kernels/render/camera.h"
+#include "kernels/render/image.h"
+
+#include <optional>
+#include <vector>
+
+namespace pp5 {
+
+struct LevoyFrameInputs {
+    Camera camera;
+    Classification classification;
+    ColorMap colors;
+    PhongLighting lighting;
+    bool classification_changed = true;
+    bool lighting_changed = true;  // lights or colours
+};
+
+struct RefinementPassReport {
+    Tick end_ps = 0;  // from the frame's start to the pass's last pixels at the frame buffer
+    std::uint64_t rays = 0;
+    std::uint64_t samples = 0;
+    std::uint64_t pixels_cast = 0;  // so far, in all passes
+    Image image;                    // the picture after this pass
+};
+
+struct LevoyFrameReport {
+    Tick start_ps = 0;
+    Tick end_ps = 0;
+    PpFrameReport pixel_processors;
+    bool pyramid_rebuilt = false;
+    Tick pyramid_ps = 0;  // distributing the emptiness bits and building
+    std::uint64_t pyramid_cells_occupied = 0;
+    bool caches_invalidated = false;
+    bool depth_buffer_used = false;
+    RayCastReport ray_cast;
+    std::vector<RefinementPassReport> passes;
+    Image final_image;  // the last pass's picture
+    Tick duration_ps() const { return end_ps - start_ps; }
+};
+
+struct LevoyImageSettings {
+    int width = 512;
+    int height = 512;
+    float sample_step = 1.0f;
+    float termination_opacity = 0.95f;  // >= 1: no early termination
+    glm::vec3 background{0.0f};
+};
+
+class LevoyRenderer {
+public:
+    // Places the volume in the PPs (InputError if it does not fit) and sizes the GP caches.
+    LevoyRenderer(Machine& machine, const Volume& volume, const LevoySettings& settings, const LevoyImageSettings& image);
+
+    LevoyFrameReport render(const LevoyFrameInputs& frame);
+
+    const PpShading& pixel_processors() const { return pixel_processors_; }
+    const ShadedVolume& shaded_volume() const { return shaded_; }
+    const BinaryPyramid& pyramid() const { return pyramid_; }
+    const VoxelBlocks& blocks() const { return blocks_; }
+
+private:
+    Tick distribute_pyramid(Tick start);
+    RayCastJob cast_frame(const Camera& camera, LevoyFrameReport& report);
+
+    Machine& machine_;
+    LevoySettings settings_;
+    LevoyImageSettings image_;
+    glm::ivec3 dims_;
+    glm::vec3 spacing_;
+    PpShading pixel_processors_;
+    VoxelBlocks blocks_;
+    ShadedVolume shaded_;
+    BinaryPyramid pyramid_;
+    std::optional<ShadingView> shaded_for_;
+    std::optional<Camera> depth_for_;
+    std::vector<std::uint32_t> depth_;
+    bool first_frame_ = true;
+};
+
+// Whether voxel colours depend on where the observer is: a headlight, a highlight or depth cueing.
+bool shading_depends_on_view(const PhongLighting& lighting);
+
+}  // namespace pp5

@@ -1,0 +1,59 @@
+#include "kernels/levoy/voxel_blocks.h"
+
+#include <glm/common.hpp>
+
+#include <algorithm>
+#include <limits>
+#include <map>
+#include <stdexcept>
+
+namespace pp5 {
+
+namespace {
+constexpr std::uint32_t kUnknown = std::numeric_limits<std::uint32_t>::max();
+}
+
+VoxelBlocks::VoxelBlocks(const VoxelPlacement& placement, int block_cells, int voxel_bits)
+    : placement_(placement), block_cells_(block_cells), voxel_bits_(voxel_bits) {
+    if (block_cells < 1 || voxel_bits < 1) throw std::invalid_argument("voxel blocks: sizes must be positive");
+    const glm::ivec3 cells = placement.volume_dims() - 1;
+    blocks_ = (glm::max(cells, glm::ivec3(1)) + block_cells - 1) / block_cells;
+    const auto count = block_count();
+    if (count >= kUnknown) throw std::invalid_argument("voxel blocks: too many blocks; use larger ones");
+    first_part_.assign(count, kUnknown);
+    part_count_.assign(count, 0);
+}
+
+std::uint64_t VoxelBlocks::block_bits() const {
+    const auto side = static_cast<std::uint64_t>(block_cells_ + 1);
+    return side * side * side * static_cast<std::uint64_t>(voxel_bits_);
+}
+
+std::span<const VoxelBlocks::Part> VoxelBlocks::parts(std::uint32_t block) {
+    if (first_part_.at(block) == kUnknown) {
+        const glm::ivec3 b{static_cast<int>(block % static_cast<std::uint32_t>(blocks_.x)),
+                           static_cast<int>(block / static_cast<std::uint32_t>(blocks_.x) % static_cast<std::uint32_t>(blocks_.y)),
+                           static_cast<int>(block / static_cast<std::uint32_t>(blocks_.x * blocks_.y))};
+        const glm::ivec3 lo = b * block_cells_;
+        const glm::ivec3 hi = glm::min(lo + block_cells_, placement_.volume_dims() - 1);  // inclusive
+        const int columns = placement_.shape().columns;
+        const int rows = placement_.shape().rows;
+        // Within one z and one tile of PP columns x rows, every voxel is on the same renderer.
+        std::map<int, std::uint32_t> by_renderer;
+        for (int z = lo.z; z <= hi.z; ++z) {
+            for (int y = lo.y; y <= hi.y; y = (y / rows + 1) * rows) {
+                const int y_end = std::min(hi.y + 1, (y / rows + 1) * rows);
+                for (int x = lo.x; x <= hi.x; x = (x / columns + 1) * columns) {
+                    const int x_end = std::min(hi.x + 1, (x / columns + 1) * columns);
+                    by_renderer[placement_.locate({x, y, z}).renderer] += static_cast<std::uint32_t>((x_end - x) * (y_end - y));
+                }
+            }
+        }
+        first_part_[block] = static_cast<std::uint32_t>(parts_.size());
+        part_count_[block] = static_cast<std::uint16_t>(by_renderer.size());
+        for (const auto& [renderer, voxels] : by_renderer) parts_.push_back(Part{renderer, voxels});
+    }
+    return {parts_.data() + first_part_[block], part_count_[block]};
+}
+
+}  // namespace pp5

@@ -1,0 +1,51 @@
+#pragma once
+// What one voxel request asks for: a block of b x b x b cells, that is the (b+1)^3 voxels at their
+// corners (neighbouring blocks share a face of voxels, so every sample's eight voxels are in one
+// block). A block's voxels may lie on several renderers (always with the slices placement, at brick
+// faces with bricks): the GP asks each of them for its part and has the block when every part is in.
+
+#include "kernels/levoy/voxel_placement.h"
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace pp5 {
+
+class VoxelBlocks {
+public:
+    struct Part {
+        int renderer = 0;
+        std::uint32_t voxels = 0;
+    };
+
+    // block_cells >= 1; voxel_bits: what a voxel's colour and opacity take on the ring and in the cache.
+    VoxelBlocks(const VoxelPlacement& placement, int block_cells, int voxel_bits);
+
+    int block_cells() const { return block_cells_; }
+    std::uint64_t block_count() const { return static_cast<std::uint64_t>(blocks_.x) * static_cast<std::uint64_t>(blocks_.y) * static_cast<std::uint64_t>(blocks_.z); }
+    // The cache's unit: a whole block's voxels (blocks at the volume's far faces are smaller, but take a
+    // whole cache block).
+    std::uint64_t block_bits() const;
+    int voxel_bits() const { return voxel_bits_; }
+
+    std::uint32_t block_of(glm::ivec3 cell) const {
+        const glm::ivec3 b = cell / block_cells_;
+        return static_cast<std::uint32_t>(b.x + blocks_.x * (b.y + blocks_.y * b.z));
+    }
+    // Renderers holding the block's voxels, with how many each; computed on first use.
+    std::span<const Part> parts(std::uint32_t block);
+
+private:
+    const VoxelPlacement& placement_;
+    int block_cells_;
+    int voxel_bits_;
+    glm::ivec3 blocks_;
+    std::vector<std::uint32_t> first_part_;  // per block: index into parts_, or kUnknown
+    std::vector<std::uint16_t> part_count_;
+    std::vector<Part> parts_;
+};
+
+}  // namespace pp5
