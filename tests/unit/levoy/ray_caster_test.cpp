@@ -1,0 +1,328 @@
+// The GPs' ray casting: the pyramid of binary volumes, adaptive refinement, the ray caster's image
+// against the reference compositor (exact, with and without skipping), its work records, and the
+// whole frame on a small machine (caches warm across frames, identical results at 1 and 2 threads).
+
+#include "kernels/levoy/adaptive_refinement.h"
+#include "kernels/levoy/binary_pyramid.h"
+#include "kernels/levoy/levoy_renderer.h"
+#include "kernels/levoy/ray_caster.h"
+#include "kernels/reference/composite.h"
+#include "kernels/volume/phantoms.h"
+#include "sim/machine/machine.h"
+#include "tests/unit/render/test_scenes.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <numeric>
+
+namespace pp5 {
+namespace {
+
+MachineConfig small_machine(std::initializer_list<std::string_view> overrides = {}) {
+    std::vector<const ParamGroup*> groups = Machine::param_groups();
+    groups.push_back(&LevoySettings::params());
+    MachineConfig config(groups);
+    for (const char* o : {"renderer.count=4", "renderer.pp_columns=32", "renderer.pp_rows=32", "renderer.backing_store_bits=2048",
+                          "gp.count=4", "levoy.tile_pixels=8"})
+        config.apply_override(o);
+    for (auto o : overrides) config.apply_override(o);
+    return config;
+}
+
+ShadedVolume empty_volume(glm::ivec3 dims) {
+    return ShadedVolume{dims, glm::vec3(1.0f), std::vector<glm::vec4>(static_cast<std::size_t>(dims.x * dims.y * dims.z), glm::vec4(0.0f))};
+}
+
+TEST(BinaryPyramid, ACellIsOccupiedWhenAnyOfItsCornersIsOpaque) {
+    ShadedVolume v = empty_volume({9, 9, 9});
+    v.rgba[static_cast<std::size_t>(4 + 9 * (4 + 9 * 4))].a = 0.5f;  // voxel (4,4,4)
+    const BinaryPyramid p = BinaryPyramid::from_opacity(v);
+    EXPECT_EQ(p.cell_dims(0), glm::ivec3(8));
+    EXPECT_EQ(p.occupied_cells(0), 8u);  // the eight cells around the voxel
+    EXPECT_TRUE(p.occupied(0, {3, 3, 3}));
+    EXPECT_TRUE(p.occupied(0, {4, 4, 4}));
+    EXPECT_FALSE(p.occupied(0, {5, 4, 4}));
+    // Cells 3 and 4 fall in different halves at every level up to 8 cells: each level holds 8 again,
+    // until the top single cell.
+    ASSERT_EQ(p.levels(), 4);
+    EXPECT_EQ(p.occupied_cells(1), 8u);
+    EXPECT_EQ(p.occupied_cells(2), 8u);
+    EXPECT_EQ(p.cell_dims(3), glm::ivec3(1));
+    EXPECT_TRUE(p.occupied(3, {0, 0, 0}));
+    EXPECT_EQ(p.total_cells(), 512u + 64u + 8u + 1u);
+}
+
+TEST(BinaryPyramid, SameCellsComparesTheNonEmptySet) {
+    ShadedVolume a = empty_volume({6, 5, 4});
+    a.rgba[7].a = 0.2f;
+    ShadedVolume b = a;
+    b.rgba[7].a = 0.9f;  // other opacity, same set
+    ShadedVolume c = a;
+    c.rgba[8].a = 0.1f;  // one more non-empty voxel
+    EXPECT_TRUE(BinaryPyramid::from_opacity(a).same_cells(BinaryPyramid::from_opacity(b)));
+    EXPECT_FALSE(BinaryPyramid::from_opacity(a).same_cells(BinaryPyramid::from_opacity(c)));
+}
+
+TEST(AdaptiveRefinement, NegativeThresholdCastsEveryPixelOnce) {
+    AdaptiveRefinement r(37, 21, RefinementSettings{8, -1.0f});
+    std::vector<int> times(37 * 21, 0);
+    int passes = 0;
+    while (!r.finished()) {
+        for (const std::uint32_t p : r.pending()) ++times[p];
+        r.record(std::vector<glm::vec4>(r.pending().size(), glm::vec4(0.5f)));
+        ++passes;
+    }
+    EXPECT_TRUE(std::all_of(times.begin(), times.end(), [](int n) { return n == 1; }));
+    EXPECT_EQ(r.pixels_cast(), 37u * 21u);
+    EXPECT_GE(passes, 4);  // spacing 8, 4, 2, 1 and the uneven edge squares
+}
+
+TEST(AdaptiveRefinement, SmoothImageStopsAfterTheSparsePassAndInterpolatesExactly) {
+    // Colours linear in x and y: no square's corners differ by more than the threshold, and bilinear
+    // fill reproduces the plane everywhere.
+    const int w = 33;
+    const int h = 17;
+    const auto plane = [](std::uint32_t p) {
+        const float x = static_cast<float>(p % 33);
+        const float y = static_cast<float>(p / 33);
+        return glm::vec4(0.01f * x, 0.02f * y, 0.1f, 1.0f);
+    };
+    AdaptiveRefinement r(w, h, RefinementSettings{8, 0.2f});
+    std::vector<glm::vec4> colors;
+    for (const std::uint32_t p : r.pending()) colors.push_back(plane(p));
+    EXPECT_EQ(r.pending().size(), 5u * 3u);  // x: 0 8 16 24 32, y: 0 8 16
+    r.record(colors);
+    EXPECT_TRUE(r.finished());
+    EXPECT_EQ(r.tested_squares().size(), 4u * 2u);
+    const Image image = r.image();
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const glm::vec4 expect = plane(static_cast<std::uint32_t>(x + w * y));
+            for (int c = 0; c < 4; ++c) EXPECT_NEAR(image.at(x, y)[c], expect[c], 1e-5f) << x << "," << y;
+        }
+}
+
+TEST(AdaptiveRefinement, SplitsOnlyWhereCornersDiffer) {
+    AdaptiveRefinement r(17, 17, RefinementSettings{8, 0.1f});
+    std::vector<glm::vec4> colors;
+    for (const std::uint32_t p : r.pending()) colors.push_back(p == 16 ? glm::vec4(1.0f) : glm::vec4(0.0f));  // pixel (16, 0)
+    r.record(colors);
+    // Only the top-right square [8,16]x[0,8] touches the bright corner: its 5 new corners.
+    EXPECT_EQ(r.pending().size(), 5u);
+    for (const std::uint32_t p : r.pending()) {
+        EXPECT_GE(p % 17, 8u);
+        EXPECT_LE(p / 17, 8u);
+    }
+}
+
+// A small shaded phantom with its pyramid and blocks, for casting.
+struct Scene {
+    Volume volume = make_head_phantom(32);
+    MachineConfig config = small_machine();
+    Machine machine{config};
+    LevoyImageSettings image{72, 64, 1.0f, 1.0f, glm::vec3(0.1f, 0.1f, 0.2f)};
+    Camera camera;
+    LevoyFrameInputs inputs;
+
+    Scene() {
+        camera.projection = Projection::Perspective;
+        const glm::vec3 center = test::box_center(volume);
+        camera.eye = center + glm::vec3(-70.0f, -90.0f, 40.0f);
+        camera.target = center;
+        camera.up = glm::vec3(0.0f, 0.0f, 1.0f);
+        camera.fov_y_degrees = 40.0f;
+        inputs.camera = camera;
+        inputs.classification.kind = ClassificationKind::IsovalueContours;
+        inputs.classification.contours = {{40.0f, 0.3f, 1.5f}, {160.0f, 0.9f, 1.5f}};
+        inputs.colors = ColorMap{{{0.0f, {0.9f, 0.7f, 0.6f}}, {220.0f, {1.0f, 1.0f, 0.95f}}}};
+    }
+    CompositeSettings composite_settings() const {
+        CompositeSettings s;
+        s.width = image.width;
+        s.height = image.height;
+        s.sample_step = image.sample_step;
+        s.early_termination = false;
+        s.background = image.background;
+        return s;
+    }
+};
+
+TEST(RayCaster, FullyRefinedImageEqualsTheReferenceCompositorWithAndWithoutSkipping) {
+    for (const bool skipping : {true, false}) {
+        Scene s;
+        s.config.apply_override("levoy.refinement_threshold=-1");
+        s.config.apply_override(skipping ? "levoy.pyramid_skipping=true" : "levoy.pyramid_skipping=false");
+        Machine machine(s.config);
+        LevoyRenderer renderer(machine, s.volume, LevoySettings::from(s.config), s.image);
+        const LevoyFrameReport report = renderer.render(s.inputs);
+        const Image reference = composite(renderer.shaded_volume(), s.camera, s.composite_settings());
+        ASSERT_EQ(report.final_image.pixels.size(), reference.pixels.size());
+        float worst = 0.0f;
+        for (std::size_t i = 0; i < reference.pixels.size(); ++i)
+            for (int c = 0; c < 4; ++c) worst = std::max(worst, std::abs(report.final_image.pixels[i][c] - reference.pixels[i][c]));
+        EXPECT_LE(worst, 1.0f / 255.0f) << "skipping " << skipping;
+        EXPECT_EQ(report.ray_cast.rays, static_cast<std::uint64_t>(s.image.width * s.image.height));
+        if (skipping) {
+            EXPECT_GT(report.ray_cast.samples_skipped, report.ray_cast.samples) << "the pyramid should pass over most samples";
+            EXPECT_GT(report.ray_cast.pyramid_steps, 0u);
+        } else {
+            EXPECT_EQ(report.ray_cast.pyramid_steps, 0u);
+        }
+    }
+}
+
+TEST(RayCaster, SkippingChangesTheWorkNotThePixels) {
+    Scene s;
+    const ShadedVolume& shaded = [&]() -> const ShadedVolume& {
+        static Machine machine(s.config);
+        static LevoyRenderer renderer(machine, s.volume, LevoySettings::from(s.config), s.image);
+        renderer.render(s.inputs);
+        return renderer.shaded_volume();
+    }();
+    const BinaryPyramid pyramid = BinaryPyramid::from_opacity(shaded);
+    Machine machine(s.config);
+    const VoxelPlacement placement(PlacementPolicy::Bricks, shaded.dims, PpArrayShape{4, 32, 32, 2048}, 64);
+    const VoxelBlocks blocks(placement, 4, 32);
+    RayCastSettings settings;
+    settings.width = s.image.width;
+    settings.height = s.image.height;
+    settings.early_termination = true;
+    std::vector<std::uint32_t> pixels(static_cast<std::size_t>(settings.width * settings.height));
+    std::iota(pixels.begin(), pixels.end(), 0u);
+    settings.pyramid_skipping = true;
+    const CastBatch skip = RayCaster(shaded, pyramid, blocks, s.camera, settings).cast(pixels);
+    settings.pyramid_skipping = false;
+    const CastBatch plain = RayCaster(shaded, pyramid, blocks, s.camera, settings).cast(pixels);
+    std::uint64_t touched_skip = 0;
+    for (std::size_t i = 0; i < pixels.size(); ++i) {
+        ASSERT_EQ(skip.colors[i], plain.colors[i]) << "pixel " << i;
+        // The samples that matter are the same ones; skipping only drops empty ones.
+        EXPECT_LE(skip.rays[i].samples, plain.rays[i].samples);
+        EXPECT_EQ(skip.rays[i].terminated, plain.rays[i].terminated);
+        touched_skip += skip.rays[i].touch_count;
+        // Every look-up's samples add up to the ray's.
+        std::uint64_t counted = skip.rays[i].tail_samples;
+        for (std::uint32_t t = 0; t < skip.rays[i].touch_count; ++t) counted += skip.touches[skip.rays[i].first_touch + t].samples;
+        EXPECT_EQ(counted, skip.rays[i].samples);
+    }
+    EXPECT_GT(touched_skip, 0u);
+    EXPECT_LT(skip.touches.size(), plain.touches.size());
+}
+
+TEST(LevoyRenderer, CachesStayWarmWhileVoxelsStayAndAreDroppedWhenTheyChange) {
+    Scene s;
+    s.inputs.lighting.light_follows_camera = false;  // view-independent shading: an orbit does not reshade
+    s.inputs.lighting.specular = 0.0f;
+    s.inputs.lighting.light_direction = glm::vec3(0.3f, -1.0f, 0.5f);
+    Machine machine(s.config);
+    LevoyRenderer renderer(machine, s.volume, LevoySettings::from(s.config), s.image);
+    const LevoyFrameReport first = renderer.render(s.inputs);
+    EXPECT_TRUE(first.pyramid_rebuilt);
+    EXPECT_GT(first.ray_cast.cache_misses, 0u);
+
+    LevoyFrameInputs still = s.inputs;
+    still.classification_changed = false;
+    still.lighting_changed = false;
+    const LevoyFrameReport again = renderer.render(still);
+    EXPECT_FALSE(again.pixel_processors.shading.ran);
+    EXPECT_FALSE(again.caches_invalidated);
+    EXPECT_TRUE(again.depth_buffer_used);
+    EXPECT_EQ(again.ray_cast.cache_misses, 0u) << "every block is still in a cache";
+    EXPECT_LT(again.duration_ps(), first.duration_ps());
+    EXPECT_EQ(again.final_image.pixels, first.final_image.pixels);
+
+    LevoyFrameInputs lit = still;
+    lit.lighting.light_direction = glm::vec3(-1.0f, 0.2f, 0.1f);
+    lit.lighting_changed = true;
+    const LevoyFrameReport relit = renderer.render(lit);
+    EXPECT_TRUE(relit.pixel_processors.shading.ran);
+    EXPECT_FALSE(relit.pixel_processors.classification.ran);
+    EXPECT_TRUE(relit.caches_invalidated);
+    EXPECT_FALSE(relit.pyramid_rebuilt);
+    EXPECT_TRUE(relit.depth_buffer_used);
+    EXPECT_GT(relit.ray_cast.cache_misses, 0u);
+
+    LevoyFrameInputs hidden = lit;
+    hidden.lighting_changed = false;
+    hidden.classification_changed = true;
+    hidden.classification.contours = {{160.0f, 0.9f, 1.5f}};
+    const LevoyFrameReport rebuilt = renderer.render(hidden);
+    EXPECT_TRUE(rebuilt.pyramid_rebuilt);
+    EXPECT_GT(rebuilt.pyramid_ps, 0);
+    EXPECT_FALSE(rebuilt.depth_buffer_used);
+}
+
+TEST(LevoyRenderer, SameImageAndStatisticsAtOneAndTwoThreads) {
+    const auto run = [](int threads) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+        Scene s;
+        Machine machine(s.config);
+        LevoyRenderer renderer(machine, s.volume, LevoySettings::from(s.config), s.image);
+        LevoyFrameReport report = renderer.render(s.inputs);
+        LevoyFrameInputs moved = s.inputs;
+        moved.camera.eye += glm::vec3(20.0f, -5.0f, 0.0f);
+        moved.classification_changed = false;
+        moved.lighting_changed = false;
+        report = renderer.render(moved);
+        return std::make_pair(std::move(report), machine.statistics().dump());
+    };
+    const auto [one, one_stats] = run(1);
+    const auto [two, two_stats] = run(2);
+    EXPECT_EQ(one.final_image.pixels, two.final_image.pixels);
+    EXPECT_EQ(one.end_ps, two.end_ps);
+    EXPECT_EQ(one.ray_cast.samples, two.ray_cast.samples);
+    EXPECT_EQ(one.ray_cast.cache_hits, two.ray_cast.cache_hits);
+    EXPECT_EQ(one_stats, two_stats);
+}
+
+TEST(LevoyRenderer, WorkQueueAssignmentGivesTheSameImage) {
+    Scene s;
+    Machine static_machine(s.config);
+    LevoyRenderer by_tiles(static_machine, s.volume, LevoySettings::from(s.config), s.image);
+    const LevoyFrameReport a = by_tiles.render(s.inputs);
+    s.config.apply_override("levoy.ray_assignment=work_queue");
+    Machine queue_machine(s.config);
+    LevoyRenderer by_queue(queue_machine, s.volume, LevoySettings::from(s.config), s.image);
+    const LevoyFrameReport b = by_queue.render(s.inputs);
+    EXPECT_EQ(a.final_image.pixels, b.final_image.pixels);
+    EXPECT_EQ(a.ray_cast.rays, b.ray_cast.rays);
+    EXPECT_NE(a.end_ps, b.end_ps);
+    nlohmann::json stats = queue_machine.statistics();
+    EXPECT_GT(stats["ring"]["messages"]["value"]["command"].get<std::uint64_t>(), 0u);
+}
+
+TEST(LevoyRenderer, WatchdogNamesTheGpThatIsStuck) {
+    Scene s;
+    s.config.apply_override("renderer.request_setup_cycles=10000000");  // a quarter second per request
+    Machine machine(s.config);
+    LevoySettings settings = LevoySettings::from(s.config);
+    LevoyRenderer renderer(machine, s.volume, settings, s.image);
+    // Run the timing layer alone with a tight limit.
+    RayCastJob job;
+    CastBatch batch;
+    batch.rays.push_back(RayWork{});
+    batch.rays[0].touch_count = 1;
+    batch.touches.push_back(BlockTouch{0, 1, 0});
+    batch.colors.push_back(glm::vec4(0.0f));
+    job.passes.push_back(batch);
+    job.tasks.push_back(TileTask{0, 0, 0, 1, 0, 0, 64});
+    job.tiles = 1;
+    RayCastTimingOptions options;
+    options.watchdog_limit = kTicksPerSecond / 1000;
+    VoxelBlocks blocks(renderer.pixel_processors().placement(), 4, 32);
+    try {
+        time_ray_casting(machine, blocks, job, options, machine.events().now());
+        FAIL() << "expected the watchdog to fire";
+    } catch (const std::runtime_error& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("watchdog"), std::string::npos) << what;
+        EXPECT_NE(what.find("gp[0]"), std::string::npos) << what;
+        EXPECT_NE(what.find("voxel block 0"), std::string::npos) << what;
+    }
+}
+
+}  // namespace
+}  // namespace pp5
