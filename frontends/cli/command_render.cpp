@@ -172,7 +172,11 @@ std::string describe_frame(const nlohmann::json& f) {
                             100.0 * m["cache"]["hit_rate"].get<double>(), m["crude_seconds"].get<double>() * 1e3,
                             m["refined_seconds"].get<double>() * 1e3);
     }
-    if (f.contains("fidelity")) line += fmt::format("; PSNR {} dB against the reference", f["fidelity"]["psnr_db"].dump());
+    if (f.contains("fidelity")) {
+        const auto& psnr = f["fidelity"]["psnr_db"];
+        line += psnr.is_number() ? fmt::format("; PSNR {:.1f} dB against the reference", psnr.get<double>())
+                                 : std::string("; identical to the reference");
+    }
     return line;
 }
 

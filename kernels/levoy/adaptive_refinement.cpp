@@ -65,6 +65,7 @@ void AdaptiveRefinement::record(std::span<const glm::vec4> colors) {
 
     pending_.clear();
     tested_.clear();
+    splitting_.clear();
     std::vector<Square> next;
     for (const Square& s : active_) {
         if (s.x1 - s.x0 < 2 && s.y1 - s.y0 < 2) {
@@ -76,6 +77,7 @@ void AdaptiveRefinement::record(std::span<const glm::vec4> colors) {
             leaves_.push_back(s);
             continue;
         }
+        splitting_.push_back(s);
         const int xm = s.x1 - s.x0 >= 2 ? (s.x0 + s.x1) / 2 : s.x0;
         const int ym = s.y1 - s.y0 >= 2 ? (s.y0 + s.y1) / 2 : s.y0;
         const std::pair<int, int> xr[2] = {{s.x0, xm == s.x0 ? s.x1 : xm}, {xm, s.x1}};
@@ -119,11 +121,8 @@ Image AdaptiveRefinement::image() const {
         }
     };
     for (const Square& s : leaves_) fill(s);
-    for (const Square& s : active_) {
-        // A square about to split still shows its corners' blend until its new corners are cast; its
-        // corners may themselves be pending (only before the first pass).
-        if (cast_[index(s.x0, s.y0)] && cast_[index(s.x1, s.y0)] && cast_[index(s.x0, s.y1)] && cast_[index(s.x1, s.y1)]) fill(s);
-    }
+    // A square chosen for splitting shows its corners' blend until its new corners are cast.
+    for (const Square& s : splitting_) fill(s);
     return out;
 }
 
