@@ -40,7 +40,33 @@ struct RenderOptions {
     std::string out;
     int threads = 0;  // 0 = every core
     std::string format = "png";
+    std::string trace;                  // Chrome trace-event JSON file; empty: none
+    std::string trace_window = "0:inf"; // simulated milliseconds
+    std::size_t trace_limit = 500000;   // events
 };
+
+// "START:END" in simulated milliseconds ("inf" for no end).
+std::pair<Tick, Tick> parse_trace_window(const std::string& text) {
+    const auto fail = [&](const std::string& why) { throw InputError("--trace-window", "--trace-window", why); };
+    const auto colon = text.find(':');
+    if (colon == std::string::npos) fail("expected START:END in simulated milliseconds, e.g. 0:50");
+    const auto parse_ms = [&](const std::string& part) -> Tick {
+        if (part == "inf") return kMaxTick;
+        std::size_t used = 0;
+        double ms = 0.0;
+        try {
+            ms = std::stod(part, &used);
+        } catch (const std::exception&) {
+            fail("'" + part + "' is not a number of milliseconds");
+        }
+        if (used != part.size() || !std::isfinite(ms) || ms < 0.0 || ms > 1e9) fail("'" + part + "' is not a number of milliseconds from 0");
+        return static_cast<Tick>(ms * 1e9);
+    };
+    const Tick start = parse_ms(text.substr(0, colon));
+    const Tick end = parse_ms(text.substr(colon + 1));
+    if (end <= start) fail("the window ends before it starts");
+    return {start, end};
+}
 
 using Seconds = std::chrono::duration<double>;
 
@@ -194,7 +220,13 @@ int run_render(const RenderOptions& o) {
                          "interpolate first");
     }
     const ImageFormat format = o.format == "png" ? ImageFormat::Png : ImageFormat::Exr;
+    std::optional<TraceRecorder> trace;
+    if (!o.trace.empty()) {
+        const auto [from, to] = parse_trace_window(o.trace_window);
+        trace.emplace(from, to, o.trace_limit);
+    }
     Machine machine(config);
+    if (trace) machine.attach_trace(&*trace);
     const Volume volume = load_dataset(scenario);
 
     const std::size_t threads = o.threads > 0 ? static_cast<std::size_t>(o.threads)
@@ -293,7 +325,15 @@ int run_render(const RenderOptions& o) {
     }
     output.add_text("stats.json", stats.dump(2) + "\n");
     output.add_text("config.json", config.to_json().dump(2) + "\n");
-    const auto written = output.commit();
+    auto written = output.commit();
+    if (trace) {
+        const std::filesystem::path trace_path(o.trace);
+        StagedOutput trace_output(trace_path.has_parent_path() ? trace_path.parent_path() : std::filesystem::path("."));
+        trace_output.add_text(trace_path.filename().string(), trace->to_text());
+        for (auto& p : trace_output.commit()) written.push_back(std::move(p));
+        fmt::print("  trace: {} events{} in {}\n", trace->events(),
+                   trace->dropped() > 0 ? fmt::format(" ({} more past --trace-limit)", trace->dropped()) : std::string(), o.trace);
+    }
 
     fmt::print("pp5sim render: scenario {} on machine {} ({} kernel)\n", scenario.name, config.machine_name(),
                on_machine ? "levoy" : "reference");
@@ -320,6 +360,11 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--threads", o->threads, "Host threads; 0 uses every core. Results do not depend on it")
         ->capture_default_str();
     cmd->add_option("--format", o->format, "Image format: png or exr")->capture_default_str();
+    cmd->add_option("--trace", o->trace,
+                   "Write a Chrome trace-event JSON file of the run (GPs, renderers, ring messages; open it in Perfetto)");
+    cmd->add_option("--trace-window", o->trace_window, "Simulated milliseconds to trace, START:END (END may be inf)")
+        ->capture_default_str();
+    cmd->add_option("--trace-limit", o->trace_limit, "Most events the trace keeps")->capture_default_str();
     cmd->callback([o, &run] { run = [o] { return run_render(*o); }; });
 }
 

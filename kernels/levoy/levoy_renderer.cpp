@@ -54,7 +54,10 @@ Tick LevoyRenderer::distribute_pyramid(Tick start) {
     const GpCostModel& costs = machine_.gps().front()->costs();
     const Tick receive = static_cast<Tick>(messages) * costs.message_receive + static_cast<Tick>(words) * costs.receive_per_word;
     const Tick build = static_cast<Tick>(pyramid_.total_cells()) * costs.pyramid_build_per_cell;
-    for (auto& gp : machine_.gps()) gp->busy_ps += static_cast<std::uint64_t>(receive + build);
+    for (auto& gp : machine_.gps()) {
+        gp->busy_ps += static_cast<std::uint64_t>(receive + build);
+        if (TraceRecorder* trace = machine_.trace()) trace->slice(trace->track("GPs", gp->name()), "building the pyramid", all_in, all_in + build);
+    }
     return all_in + build;
 }
 

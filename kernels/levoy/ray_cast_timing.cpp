@@ -82,6 +82,8 @@ private:
     bool scheduled_ = false;
     Tick idle_since_ = -1;
     bool finished_ = false;
+    TraceRecorder* trace_ = nullptr;
+    int trace_track_ = 0;
     int last_context_ = -1;
     friend class Engine;
 };
@@ -156,6 +158,8 @@ public:
 GpAgent::GpAgent(Engine& engine, GraphicsProcessor& gp, std::size_t station)
     : engine_(engine), gp_(gp), station_(station), contexts_(static_cast<std::size_t>(gp.ray_contexts())) {
     cache_ = &gp.cache(engine.blocks.block_bits());
+    trace_ = engine.machine.trace();
+    if (trace_ != nullptr) trace_track_ = trace_->track("GPs", gp.name());
 }
 
 void GpAgent::begin(Tick start) {
@@ -349,6 +353,7 @@ void GpAgent::run(Tick now) {
         const Tick waited = now - idle_since_;
         gp_.wait_ps += static_cast<std::uint64_t>(waited);
         engine_.report.gp_wait += waited;
+        if (trace_ != nullptr && waited > 0) trace_->slice(trace_track_, "waiting", idle_since_, now);
         idle_since_ = -1;
     }
     perform(now);
@@ -367,6 +372,7 @@ void GpAgent::run(Tick now) {
     }
     gp_.busy_ps += static_cast<std::uint64_t>(t - now);
     engine_.report.gp_busy += t - now;
+    if (trace_ != nullptr && t > now) trace_->slice(trace_track_, "computing", now, t);
     if (action_ != Action::None || t > now) {
         schedule_resume(t);
         return;

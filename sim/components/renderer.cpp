@@ -105,6 +105,7 @@ Tick Renderer::begin_pass(EventQueue& events, Tick start, const RendererPass& pa
     local_memory_bits_peak_ = std::max(local_memory_bits_peak_, static_cast<std::uint64_t>(pass.local_memory_bits_used));
     last_slot_cycles_ = pass.cost.compute_cycles();
 
+    if (trace_ != nullptr) trace_->slice(trace_track_, pass.program, begin, busy_until_);
     events.schedule(busy_until_, *this);
     return busy_until_;
 }
@@ -120,7 +121,13 @@ Tick Renderer::serve_request(Tick arrival, std::uint64_t voxels) {
     request_busy_ps += static_cast<std::uint64_t>(duration);
     request_wait_ps += static_cast<std::uint64_t>(begin - arrival);
     busy_ps += static_cast<std::uint64_t>(duration);
+    if (trace_ != nullptr) trace_->slice(trace_track_, "answering a voxel request", begin, busy_until_);
     return busy_until_;
+}
+
+void Renderer::set_trace(TraceRecorder* trace) {
+    trace_ = trace;
+    if (trace_ != nullptr) trace_track_ = trace_->track("renderers", name());
 }
 
 void Renderer::handle_event(Tick, std::uint64_t) {

@@ -11,6 +11,7 @@
 #include "sim/core/component.h"
 #include "sim/core/config.h"
 #include "sim/core/event_queue.h"
+#include "sim/core/trace_recorder.h"
 #include "sim/renderer/pp_array.h"
 #include "sim/renderer/pp_cost_model.h"
 
@@ -54,6 +55,8 @@ public:
     Tick serve_request(Tick arrival, std::uint64_t voxels);
     // Bits of each PP's backing store holding data, as the kernel that placed it reports.
     void set_backing_store_bits_used(std::uint64_t bits) { backing_store_bits_used_ = bits; }
+    // Records passes and requests as slices on this renderer's track (nullptr: no trace).
+    void set_trace(TraceRecorder* trace);
 
     Counter& busy_ps;
     Counter& voxel_requests;
@@ -74,6 +77,8 @@ private:
     std::uint64_t request_setup_cycles_;
     double request_cycles_per_voxel_;
     std::unique_ptr<PpArray> array_;
+    TraceRecorder* trace_ = nullptr;
+    int trace_track_ = 0;
     Tick busy_until_ = 0;
     std::uint64_t backing_store_bits_used_ = 0;
     std::uint64_t local_memory_bits_peak_ = 0;

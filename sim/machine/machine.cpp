@@ -28,6 +28,48 @@ Machine::Machine(const MachineConfig& config)
       renderers_(build_all<Renderer>(config_.integer("renderer.count"), config_)),
       ring_(config_, gps_.size(), renderers_.size()) {}
 
+namespace {
+// Draws each ring message as a slice on its channel's track and an arrow from sender to receiver.
+class RingTracer final : public RingObserver {
+public:
+    RingTracer(Machine& machine, TraceRecorder& trace) : machine_(machine), trace_(trace) {
+        for (int c = 0; c < machine.ring().channel_count(); ++c)
+            channels_.push_back(trace.track("ring", Component::indexed("channel", static_cast<std::size_t>(c))));
+    }
+    void on_message(const RingMessage& message, const RingTransit& transit) override {
+        const RingNetwork& ring = machine_.ring();
+        const Tick hold = ring.clock().cycles_to_ticks(transit.words);
+        trace_.slice(channels_[static_cast<std::size_t>(transit.channel)], to_string(message.kind), transit.start, transit.start + hold);
+        if (!message.broadcast)
+            trace_.flow(machine_.trace_track(message.from), transit.requested, machine_.trace_track(message.to), transit.arrival,
+                        to_string(message.kind));
+    }
+
+private:
+    Machine& machine_;
+    TraceRecorder& trace_;
+    std::vector<int> channels_;
+};
+}  // namespace
+
+void Machine::attach_trace(TraceRecorder* trace) {
+    trace_ = trace;
+    for (auto& r : renderers_) r->set_trace(trace);
+    ring_tracer_ = trace != nullptr ? std::make_unique<RingTracer>(*this, *trace) : nullptr;
+    ring_.set_observer(ring_tracer_.get());
+}
+
+int Machine::trace_track(std::size_t station) const {
+    const RingStation& s = ring_.stations().at(station);
+    switch (s.kind) {
+        case StationKind::GraphicsProcessor: return trace_->track("GPs", s.name);
+        case StationKind::Renderer: return trace_->track("renderers", s.name);
+        case StationKind::Host:
+        case StationKind::FrameBuffer: break;
+    }
+    return trace_->track("host and frame buffer", s.name);
+}
+
 std::vector<const Component*> Machine::components() const {
     std::vector<const Component*> all{&host_};
     for (const auto& gp : gps_) all.push_back(gp.get());

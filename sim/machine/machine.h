@@ -9,6 +9,7 @@
 #include "sim/components/renderer.h"
 #include "sim/core/config.h"
 #include "sim/core/event_queue.h"
+#include "sim/core/trace_recorder.h"
 
 #include <nlohmann/json_fwd.hpp>
 
@@ -34,6 +35,14 @@ public:
     std::vector<std::unique_ptr<GraphicsProcessor>>& gps() { return gps_; }
     std::vector<std::unique_ptr<Renderer>>& renderers() { return renderers_; }
 
+    // Records the run into `trace` from now on (nullptr stops): renderers' passes and requests, ring
+    // messages; the kernels' timing layers record the GPs through trace(). The recorder must outlive
+    // the recording.
+    void attach_trace(TraceRecorder* trace);
+    TraceRecorder* trace() const { return trace_; }
+    // The trace track of a ring station ("gp[3]", "renderer[1]", "host", "frame_buffer").
+    int trace_track(std::size_t station) const;
+
     // Every top-level component (children are reached through them).
     std::vector<const Component*> components() const;
     // {"gp[0]": {...}, "ring.channel[3]": {...}, ...}
@@ -49,6 +58,8 @@ private:
     std::vector<std::unique_ptr<GraphicsProcessor>> gps_;
     std::vector<std::unique_ptr<Renderer>> renderers_;
     RingNetwork ring_;
+    TraceRecorder* trace_ = nullptr;
+    std::unique_ptr<RingObserver> ring_tracer_;
 };
 
 }  // namespace pp5

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -116,6 +117,53 @@ TEST(Cli, RenderWritesImagesStatsAndConfig) {
     // No staging leftovers.
     for (const auto& e : fs::directory_iterator(dir / "out"))
         EXPECT_EQ(e.path().filename().string().rfind(".partial", 0), std::string::npos) << e.path();
+}
+
+// The GPs' side of each frame: refinement passes with their pictures and times, the cache, and a
+// Chrome trace of the run with GP, renderer and ring tracks.
+TEST(Cli, RenderReportsRefinementPassesAndWritesATrace) {
+    const fs::path dir = scratch("trace");
+    const fs::path trace = dir / "trace.json";
+    const RunResult r = run("render " + scenario("head-phantom.toml") + " --out " + (dir / "out").string() + " --trace " + trace.string(), dir);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const auto stats = nlohmann::json::parse(read_file(dir / "out/stats.json"));
+    for (const auto& frame : stats["frames"]) {
+        const auto& m = frame["machine"];
+        ASSERT_GE(m["passes"].size(), 2u);
+        EXPECT_LE(m["crude_seconds"].get<double>(), m["refined_seconds"].get<double>());
+        double previous = 0.0;
+        for (const auto& pass : m["passes"]) {
+            EXPECT_TRUE(fs::exists(dir / "out" / pass["image"].get<std::string>())) << pass["image"];
+            EXPECT_GE(pass["complete_seconds"].get<double>(), previous);
+            previous = pass["complete_seconds"].get<double>();
+        }
+        EXPECT_GT(m["rays"].get<long>(), 0);
+        EXPECT_GT(m["cache"]["hits"].get<long>() + m["cache"]["misses"].get<long>(), 0);
+    }
+    EXPECT_TRUE(stats["frames"][0]["machine"]["pyramid_rebuilt"].get<bool>());
+    long fills = 0;
+    for (int g = 0; g < 32; ++g) fills += stats["components"]["gp[" + std::to_string(g) + "].cache"]["fills"]["value"].get<long>();
+    EXPECT_GT(fills, 0);
+    const auto events = nlohmann::json::parse(read_file(trace))["traceEvents"];
+    std::set<std::string> tracks;
+    std::size_t slices = 0;
+    for (const auto& e : events) {
+        if (e["ph"] == "M" && e["name"] == "thread_name") tracks.insert(e["args"]["name"].get<std::string>());
+        if (e["ph"] == "X") ++slices;
+    }
+    EXPECT_TRUE(tracks.count("gp[0]") && tracks.count("renderer[0]") && tracks.count("channel[0]")) << r.output;
+    EXPECT_GT(slices, 100u);
+}
+
+TEST(Cli, BadTraceWindowIsRejectedBeforeAnyOutput) {
+    const fs::path dir = scratch("bad_trace");
+    const RunResult r = run("render " + scenario("sphere.toml") + " --out " + (dir / "out").string() + " --trace " +
+                                (dir / "t.json").string() + " --trace-window 9:3",
+                            dir);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("--trace-window"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir / "out"));
+    EXPECT_FALSE(fs::exists(dir / "t.json"));
 }
 
 TEST(Cli, SameResultsAtOneAndTwoThreads) {

@@ -1,0 +1,49 @@
+#pragma once
+// A window of the timing layer's activity as Chrome trace-event JSON, which Perfetto and
+// chrome://tracing open: one track per GP, renderer and ring channel, slices for what each did
+// (computing, waiting, PP passes, answering requests, messages on the wire), and arrows for messages
+// from sender to receiver. An observer only: recording changes nothing in the simulation. Off unless
+// asked for, limited to a window of simulated time and a number of events.
+
+#include "sim/core/time.h"
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace pp5 {
+
+class TraceRecorder {
+public:
+    TraceRecorder(Tick window_start, Tick window_end, std::size_t max_events);
+
+    // A track (a row in the viewer) by name, grouped under `group` ("GPs", "renderers", "ring").
+    int track(const std::string& group, const std::string& name);
+    void slice(int track, const std::string& name, Tick start, Tick end);
+    // An arrow from one track at `from` to another at `to`.
+    void flow(int from_track, Tick from, int to_track, Tick to, const std::string& name);
+
+    bool full() const { return events_ >= max_events_; }
+    std::size_t events() const { return events_; }
+    std::size_t dropped() const { return dropped_; }
+    // The whole document: {"traceEvents": [...], ...}.
+    std::string to_text() const;
+
+private:
+    bool in_window(Tick start, Tick end) const { return end >= window_start_ && start <= window_end_; }
+    bool take();
+
+    Tick window_start_;
+    Tick window_end_;
+    std::size_t max_events_;
+    std::size_t events_ = 0;
+    std::size_t dropped_ = 0;
+    std::uint64_t next_flow_ = 1;
+    std::map<std::string, int> groups_;
+    std::map<std::pair<int, std::string>, int> tracks_;
+    std::vector<std::string> records_;  // serialised events, in the order recorded
+};
+
+}  // namespace pp5
