@@ -90,13 +90,18 @@ void AdaptiveRefinement::record(std::span<const glm::vec4> colors) {
                 next.push_back(child);
                 for (const std::uint32_t p : {index(child.x0, child.y0), index(child.x1, child.y0), index(child.x0, child.y1),
                                               index(child.x1, child.y1)}) {
-                    if (cast_[p] == 0) pending_.push_back(p);
+                    if (cast_[p] == 0) cast_[p] = 2;  // chosen for the next pass
                 }
             }
         }
     }
-    std::sort(pending_.begin(), pending_.end());
-    pending_.erase(std::unique(pending_.begin(), pending_.end()), pending_.end());
+    // The chosen pixels in row-major order, without sorting.
+    for (std::uint32_t p = 0; p < cast_.size(); ++p) {
+        if (cast_[p] == 2) {
+            cast_[p] = 0;
+            pending_.push_back(p);
+        }
+    }
     active_ = std::move(next);
 }
 

@@ -16,11 +16,30 @@ std::size_t index_of(glm::ivec3 p, glm::ivec3 dims) {
 }
 }  // namespace
 
+BinaryPyramid::Level BinaryPyramid::pack(glm::ivec3 dims, const std::vector<std::uint8_t>& bytes) {
+    Level level;
+    level.dims = dims;
+    level.bricks = (dims + 3) / 4;
+    level.words.assign(static_cast<std::size_t>(level.bricks.x) * static_cast<std::size_t>(level.bricks.y) * static_cast<std::size_t>(level.bricks.z), 0);
+    for (int z = 0; z < dims.z; ++z)
+        for (int y = 0; y < dims.y; ++y)
+            for (int x = 0; x < dims.x; ++x) {
+                if (bytes[index_of({x, y, z}, dims)] == 0) continue;
+                const std::size_t word = index_of({x >> 2, y >> 2, z >> 2}, level.bricks);
+                level.words[word] |= std::uint64_t{1} << ((x & 3) | ((y & 3) << 2) | ((z & 3) << 4));
+                ++level.occupied;
+            }
+    return level;
+}
+
 BinaryPyramid BinaryPyramid::from_opacity(const ShadedVolume& volume) {
     const glm::ivec3 dims = volume.dims;
     if (dims.x < 2 || dims.y < 2 || dims.z < 2) throw std::invalid_argument("pyramid: a volume needs two voxels along each axis");
     BinaryPyramid pyramid;
-    Level base;
+    struct {
+        glm::ivec3 dims;
+        std::vector<std::uint8_t> bits;
+    } base;
     base.dims = dims - 1;
     base.bits.assign(static_cast<std::size_t>(base.dims.x) * static_cast<std::size_t>(base.dims.y) * static_cast<std::size_t>(base.dims.z), 0);
     // A voxel row's non-empty flags, ORed with the next voxel's: the x extent of each cell.
@@ -40,37 +59,38 @@ BinaryPyramid BinaryPyramid::from_opacity(const ShadedVolume& volume) {
             }
         }
     });
-    pyramid.levels_.push_back(std::move(base));
-    while (pyramid.levels_.back().dims != glm::ivec3(1)) {
-        const Level& below = pyramid.levels_.back();
-        Level up;
+    pyramid.levels_.push_back(pack(base.dims, base.bits));
+    auto below = std::move(base);
+    while (below.dims != glm::ivec3(1)) {
+        decltype(below) up;
         up.dims = (below.dims + 1) / 2;
         up.bits.assign(static_cast<std::size_t>(up.dims.x) * static_cast<std::size_t>(up.dims.y) * static_cast<std::size_t>(up.dims.z), 0);
         for (int z = 0; z < below.dims.z; ++z)
             for (int y = 0; y < below.dims.y; ++y)
                 for (int x = 0; x < below.dims.x; ++x)
                     if (below.bits[index_of({x, y, z}, below.dims)] != 0) up.bits[index_of({x / 2, y / 2, z / 2}, up.dims)] = 1;
-        pyramid.levels_.push_back(std::move(up));
+        pyramid.levels_.push_back(pack(up.dims, up.bits));
+        below = std::move(up);
     }
     return pyramid;
 }
 
-std::uint64_t BinaryPyramid::cells(int level) const { return levels_.at(static_cast<std::size_t>(level)).bits.size(); }
-
-std::uint64_t BinaryPyramid::occupied_cells(int level) const {
-    const auto& bits = levels_.at(static_cast<std::size_t>(level)).bits;
-    return static_cast<std::uint64_t>(std::count_if(bits.begin(), bits.end(), [](std::uint8_t b) { return b != 0; }));
+std::uint64_t BinaryPyramid::cells(int level) const {
+    const glm::ivec3 d = levels_.at(static_cast<std::size_t>(level)).dims;
+    return static_cast<std::uint64_t>(d.x) * static_cast<std::uint64_t>(d.y) * static_cast<std::uint64_t>(d.z);
 }
+
+std::uint64_t BinaryPyramid::occupied_cells(int level) const { return levels_.at(static_cast<std::size_t>(level)).occupied; }
 
 std::uint64_t BinaryPyramid::total_cells() const {
     std::uint64_t n = 0;
-    for (const Level& l : levels_) n += l.bits.size();
+    for (int l = 0; l < levels(); ++l) n += cells(l);
     return n;
 }
 
 bool BinaryPyramid::same_cells(const BinaryPyramid& other) const {
     return !levels_.empty() && !other.levels_.empty() && levels_.front().dims == other.levels_.front().dims &&
-           levels_.front().bits == other.levels_.front().bits;
+           levels_.front().words == other.levels_.front().words;
 }
 
 }  // namespace pp5

@@ -27,9 +27,11 @@ public:
     // `cell` must lie inside cell_dims(level).
     bool occupied(int level, glm::ivec3 cell) const {
         const Level& l = levels_[static_cast<std::size_t>(level)];
-        return l.bits[static_cast<std::size_t>(cell.x) +
-                      static_cast<std::size_t>(l.dims.x) * (static_cast<std::size_t>(cell.y) +
-                                                             static_cast<std::size_t>(l.dims.y) * static_cast<std::size_t>(cell.z))] != 0;
+        const glm::ivec3 b = cell >> 2;
+        const std::size_t word = static_cast<std::size_t>(b.x) +
+                                 static_cast<std::size_t>(l.bricks.x) * (static_cast<std::size_t>(b.y) + static_cast<std::size_t>(l.bricks.y) * static_cast<std::size_t>(b.z));
+        const int bit = (cell.x & 3) | ((cell.y & 3) << 2) | ((cell.z & 3) << 4);
+        return ((l.words[word] >> bit) & 1u) != 0;
     }
     std::uint64_t cells(int level) const;
     std::uint64_t occupied_cells(int level) const;
@@ -38,10 +40,15 @@ public:
     bool same_cells(const BinaryPyramid& other) const;
 
 private:
+    // A level's bits in bricks of 4x4x4 cells, one 64-bit word each: a ray's neighbouring cells share
+    // a cache line, so the test made at every sample rarely leaves the processor's caches.
     struct Level {
         glm::ivec3 dims{0};
-        std::vector<std::uint8_t> bits;  // one byte per cell, x fastest
+        glm::ivec3 bricks{0};
+        std::vector<std::uint64_t> words;
+        std::uint64_t occupied = 0;
     };
+    static Level pack(glm::ivec3 dims, const std::vector<std::uint8_t>& bytes);
     std::vector<Level> levels_;
 };
 

@@ -96,9 +96,16 @@ RayCastJob LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& rep
     while (!refinement.finished()) {
         const int pass = refinement.passes_recorded();
         const std::vector<std::uint32_t>& pending = refinement.pending();
-        // Rays grouped by tile, row by row within a tile: the order a GP casts them in.
-        std::vector<std::uint32_t> order = pending;
-        std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return tile_of(a) < tile_of(b); });
+        // Rays grouped by tile, row by row within a tile: the order a GP casts them in (a counting
+        // sort of the row-major pending list by tile keeps rows in order).
+        std::vector<std::uint32_t> tile_start(static_cast<std::size_t>(job.tiles) + 1, 0);
+        for (const std::uint32_t p : pending) ++tile_start[static_cast<std::size_t>(tile_of(p)) + 1];
+        std::partial_sum(tile_start.begin(), tile_start.end(), tile_start.begin());
+        std::vector<std::uint32_t> order(pending.size());
+        {
+            std::vector<std::uint32_t> next = tile_start;
+            for (const std::uint32_t p : pending) order[next[static_cast<std::size_t>(tile_of(p))]++] = p;
+        }
         CastBatch batch = caster.cast(order, settings_.depth_buffer ? std::span<const std::uint32_t>(depth_) : std::span<const std::uint32_t>());
         for (std::size_t i = 0; i < pending.size(); ++i) slot_of[pending[i]] = static_cast<std::uint32_t>(i);
         std::vector<glm::vec4> colors(pending.size());
@@ -119,14 +126,12 @@ RayCastJob LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& rep
         pass_report.image = refinement.image();
         report.passes.push_back(std::move(pass_report));
 
-        std::size_t i = 0;
         for (int t = 0; t < job.tiles; ++t) {
             TileTask task;
             task.pass = pass;
             task.tile = t;
-            task.first_ray = static_cast<std::uint32_t>(i);
-            while (i < order.size() && tile_of(order[i]) == t) ++i;
-            task.ray_count = static_cast<std::uint32_t>(i) - task.first_ray;
+            task.first_ray = tile_start[static_cast<std::size_t>(t)];
+            task.ray_count = tile_start[static_cast<std::size_t>(t) + 1] - task.first_ray;
             task.squares_tested = tests[static_cast<std::size_t>(t)];
             task.tile_pixels = pixels_in_tile(t);
             task.pixels_filled = task.tile_pixels - cast_in_tile[static_cast<std::size_t>(t)];

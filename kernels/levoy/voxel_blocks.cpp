@@ -20,6 +20,13 @@ VoxelBlocks::VoxelBlocks(const VoxelPlacement& placement, int block_cells, int v
     blocks_ = (glm::max(cells, glm::ivec3(1)) + block_cells - 1) / block_cells;
     const auto count = block_count();
     if (count >= kUnknown) throw std::invalid_argument("voxel blocks: too many blocks; use larger ones");
+    const glm::ivec3 stride{1, blocks_.x, blocks_.x * blocks_.y};
+    std::vector<std::uint32_t>* parts[3] = {&x_part_, &y_part_, &z_part_};
+    for (int a = 0; a < 3; ++a) {
+        parts[a]->resize(static_cast<std::size_t>(std::max(cells[a], 1)));
+        for (int c = 0; c < std::max(cells[a], 1); ++c)
+            (*parts[a])[static_cast<std::size_t>(c)] = static_cast<std::uint32_t>((c / block_cells) * stride[a]);
+    }
     first_part_.assign(count, kUnknown);
     part_count_.assign(count, 0);
 }
