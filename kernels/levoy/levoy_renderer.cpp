@@ -1,5 +1,6 @@
 #include "kernels/levoy/levoy_renderer.h"
 
+#include "kernels/levoy/geometry_programs.h"
 #include "kernels/levoy/ray_caster.h"
 #include "sim/core/input_error.h"
 
@@ -59,6 +60,37 @@ Tick LevoyRenderer::distribute_pyramid(Tick start) {
         if (TraceRecorder* trace = machine_.trace()) trace->slice(trace->track("GPs", gp->name()), "building the pyramid", all_in, all_in + build);
     }
     return all_in + build;
+}
+
+void LevoyRenderer::set_polygons(const std::vector<PolygonSpec>& polygons) {
+    polygons_.clear();
+    for (const PolygonSpec& p : polygons) polygons_.push_back(prepare_polygon(p));
+    polygons_changed_ = true;
+}
+
+GeometryReport LevoyRenderer::scan_convert(Tick start) {
+    GeometryReport report;
+    report.ran = true;
+    report.start_ps = start;
+    report.end_ps = start;
+    const std::vector<glm::dvec3> offsets = subvoxel_offsets(settings_.jitter_samples);
+    const PpProgramInputs inputs = pixel_processors_.program_inputs();
+    const VoxelPlacement& placement = pixel_processors_.placement();
+    RingNetwork& ring = machine_.ring();
+    for (const PreparedPolygon& polygon : polygons_) {
+        ++report.polygons;
+        if (polygon.degenerate) continue;
+        const PpProgram program = build_polygon_program(polygon, settings_.jitter_samples, dims_, inputs);
+        // The host broadcasts the polygon: D, E and F of every expression, a word each.
+        const auto words = static_cast<std::uint64_t>(program.expressions) * 3;
+        const RingTransit transit = ring.transmit(start, RingMessage{MessageKind::Command, 0, 0, words * 32, true});
+        const PpProgramPass pass = pixel_processors_.run_over_slots(
+            program, [&](const SlotFrame& frame) { return polygon_reaches_slot(polygon, frame, dims_, placement.shape()); },
+            [&](const SlotFrame& frame) { return polygon_expressions(polygon, offsets, frame, settings_.layout); }, transit.arrival);
+        for (const auto& r : machine_.renderers()) report.end_ps = std::max(report.end_ps, r->busy_until());
+        report.slots += pass.slots;
+    }
+    return report;
 }
 
 RayCastJob LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& report) {
@@ -149,11 +181,17 @@ LevoyFrameReport LevoyRenderer::render(const LevoyFrameInputs& frame) {
     // Shade only for a view the colours depend on; otherwise keep the view they were shaded for.
     ShadingView view = make_shading_view(frame.camera, dims_, spacing_);
     if (shaded_for_ && !shading_depends_on_view(frame.lighting)) view = *shaded_for_;
-    const bool classify = first_frame_ || frame.classification_changed;
-    const bool reshade = classify || frame.lighting_changed || shaded_for_ != view;
+    bool classify = first_frame_ || frame.classification_changed;
+    bool reshade = classify || frame.lighting_changed || shaded_for_ != view;
+    if (!polygons_.empty() && (classify || reshade || polygons_changed_)) classify = reshade = true;  // matte into fresh voxels
+    polygons_changed_ = false;
     report.pixel_processors = pixel_processors_.update(frame.classification, frame.colors, frame.lighting, view, classify, reshade);
     shaded_for_ = view;
     Tick t = report.pixel_processors.end_ps;
+    if (!polygons_.empty() && reshade) {
+        report.geometry = scan_convert(t);
+        t = report.geometry.end_ps;
+    }
 
     if (classify || reshade) {
         shaded_ = pixel_processors_.shaded_volume();

@@ -16,6 +16,7 @@
 #include "kernels/levoy/ray_cast_timing.h"
 #include "kernels/levoy/voxel_blocks.h"
 #include "kernels/render/camera.h"
+#include "kernels/render/polygon.h"
 #include "kernels/render/image.h"
 
 #include <optional>
@@ -32,6 +33,18 @@ struct LevoyFrameInputs {
     bool lighting_changed = true;  // lights or colours
 };
 
+// The polygons scan-converted into the volume after each reshading (Levoy's Figure 5).
+struct GeometryReport {
+    bool ran = false;
+    std::uint64_t polygons = 0;
+    std::uint64_t slots = 0;  // slot runs over all renderers
+    Tick start_ps = 0;
+    Tick end_ps = 0;
+    double polygons_per_second() const {
+        return end_ps > start_ps ? static_cast<double>(polygons) / ticks_to_seconds(end_ps - start_ps) : 0.0;
+    }
+};
+
 struct RefinementPassReport {
     Tick end_ps = 0;  // from the frame's start to the pass's last pixels at the frame buffer
     std::uint64_t rays = 0;
@@ -44,6 +57,7 @@ struct LevoyFrameReport {
     Tick start_ps = 0;
     Tick end_ps = 0;
     PpFrameReport pixel_processors;
+    GeometryReport geometry;
     bool pyramid_rebuilt = false;
     Tick pyramid_ps = 0;  // distributing the emptiness bits and building
     std::uint64_t pyramid_cells_occupied = 0;
@@ -68,6 +82,11 @@ public:
     // Places the volume in the PPs (InputError if it does not fit) and sizes the GP caches.
     LevoyRenderer(Machine& machine, const Volume& volume, const LevoySettings& settings, const LevoyImageSettings& image);
 
+    // Polygons to scan-convert into the volume (voxel coordinates), from the next frame on. With
+    // polygons, any change that reruns a PP pass reruns classification and shading too, so that the
+    // polygons are matted into fresh voxels exactly once.
+    void set_polygons(const std::vector<PolygonSpec>& polygons);
+
     LevoyFrameReport render(const LevoyFrameInputs& frame);
 
     const PpShading& pixel_processors() const { return pixel_processors_; }
@@ -77,6 +96,7 @@ public:
 
 private:
     Tick distribute_pyramid(Tick start);
+    GeometryReport scan_convert(Tick start);
     RayCastJob cast_frame(const Camera& camera, LevoyFrameReport& report);
 
     Machine& machine_;
@@ -88,6 +108,8 @@ private:
     VoxelBlocks blocks_;
     ShadedVolume shaded_;
     BinaryPyramid pyramid_;
+    std::vector<PreparedPolygon> polygons_;
+    bool polygons_changed_ = false;
     std::optional<ShadingView> shaded_for_;
     std::optional<Camera> depth_for_;
     std::vector<std::uint32_t> depth_;

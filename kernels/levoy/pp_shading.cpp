@@ -68,7 +68,10 @@ const ParamGroup& LevoySettings::params() {
             .boolean("depth_buffer", true,
                      "While the observer and the set of non-empty voxels stay, start rays at the first non-empty sample "
                      "found in an earlier frame",
-                     Provenance::Paper, "Levoy 1989: record the depth of the first non-empty voxel along each ray");
+                     Provenance::Paper, "Levoy 1989: record the depth of the first non-empty voxel along each ray")
+            .integer("jitter_samples", 16, "count", 1, 1024,
+                     "Subvoxel translations of each polygon in 3D scan-conversion (1: binary voxelisation)", Provenance::Default,
+                     "Levoy 1989: 'moved through a set of subvoxel-sized translations', count not given");
         return g;
     }();
     return group;
@@ -88,6 +91,7 @@ LevoySettings LevoySettings::from(const MachineConfig& config) {
     s.refinement.threshold = static_cast<float>(config.real("levoy.refinement_threshold"));
     s.pyramid_skipping = config.boolean("levoy.pyramid_skipping");
     s.depth_buffer = config.boolean("levoy.depth_buffer");
+    s.jitter_samples = static_cast<int>(config.integer("levoy.jitter_samples"));
     return s;
 }
 
@@ -131,6 +135,22 @@ void PpShading::load_volume(const Volume& volume) {
 }
 
 PpProgramPass PpShading::run_program(const PpProgram& program, const ShadingView* view, Tick start) {
+    SlotExpressions expressions;
+    if (view != nullptr) {
+        expressions = [&](const SlotFrame& frame) {
+            const auto e = slot_expressions(*view, frame, spacing_);
+            return std::vector<QeeCoefficients>(e.begin(), e.end());
+        };
+    }
+    return run_over_slots(program, [](const SlotFrame&) { return true; }, expressions, start);
+}
+
+PpProgramInputs PpShading::program_inputs() const {
+    return PpProgramInputs{settings_.layout, quantization_, spacing_, static_cast<int>(machine_.config().integer("renderer.local_memory_bits"))};
+}
+
+PpProgramPass PpShading::run_over_slots(const PpProgram& program, const SlotSelector& select, const SlotExpressions& expressions,
+                                        Tick start) {
     auto& renderers = machine_.renderers();
     const int record_bits = settings_.layout.bits();
     std::vector<PpRunCounts> counts(renderers.size());
@@ -141,12 +161,12 @@ PpProgramPass PpShading::run_program(const PpProgram& program, const ShadingView
         PpArray& array = renderers[r]->array();
         for (int slot = 0; slot < placement_.slots_needed(); ++slot) {
             const SlotFrame frame = placement_.frame(static_cast<int>(r), slot);
-            if (!frame.used) continue;
-            std::array<QeeCoefficients, 4> expressions{};
-            if (view != nullptr) expressions = slot_expressions(*view, frame, spacing_);
+            if (!frame.used || !select(frame)) continue;
+            std::vector<QeeCoefficients> coefficients;
+            if (expressions) coefficients = expressions(frame);
             PpSlotContext context;
             context.record_base_bit = slot * record_bits;
-            if (view != nullptr) context.expressions = expressions;
+            context.expressions = coefficients;
             counts[r] += array.run(program, context);
             ++slots[r];
         }
@@ -177,8 +197,7 @@ PpProgramPass PpShading::run_program(const PpProgram& program, const ShadingView
 PpFrameReport PpShading::update(const Classification& classification, const ColorMap& color_map,
                                 const PhongLighting& lighting, const ShadingView& view, bool classification_changed,
                                 bool shading_changed) {
-    PpProgramInputs inputs{settings_.layout, quantization_, spacing_,
-                           static_cast<int>(machine_.config().integer("renderer.local_memory_bits"))};
+    const PpProgramInputs inputs = program_inputs();
     PpFrameReport report;
     report.start_ps = machine_.events().now();
     report.end_ps = report.start_ps;

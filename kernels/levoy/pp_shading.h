@@ -29,7 +29,9 @@
 #include "sim/machine/machine.h"
 #include "sim/renderer/pp_cost_model.h"
 
+#include <functional>
 #include <optional>
+#include <vector>
 
 namespace pp5 {
 
@@ -43,6 +45,7 @@ struct LevoySettings {
     RefinementSettings refinement;
     bool pyramid_skipping = true;
     bool depth_buffer = true;
+    int jitter_samples = 16;
 
     static const ParamGroup& params();
     static LevoySettings from(const MachineConfig& config);
@@ -77,6 +80,15 @@ public:
     // Runs the passes this frame needs, from the machine's current time; returns what they did.
     PpFrameReport update(const Classification& classification, const ColorMap& color_map, const PhongLighting& lighting,
                          const ShadingView& view, bool classification_changed, bool shading_changed);
+
+    // Runs `program` on every renderer over the slots `select` accepts, each with the QEE expressions
+    // `expressions` gives for its frame (none when empty), starting at `start` or when each renderer
+    // is free: the functional run and its timing, as for the classification and shading passes.
+    using SlotSelector = std::function<bool(const SlotFrame&)>;
+    using SlotExpressions = std::function<std::vector<QeeCoefficients>(const SlotFrame&)>;
+    PpProgramPass run_over_slots(const PpProgram& program, const SlotSelector& select, const SlotExpressions& expressions,
+                                 Tick start);
+    PpProgramInputs program_inputs() const;
 
     // The colours and opacities the PPs hold, read back into a volume for the compositor.
     ShadedVolume shaded_volume() const;

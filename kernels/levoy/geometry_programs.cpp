@@ -1,0 +1,158 @@
+#include "kernels/levoy/geometry_programs.h"
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace pp5 {
+
+namespace {
+
+constexpr double kScale = static_cast<double>(std::int64_t{1} << kQeeShift);
+
+// f(p) = dot(g, p) + h at p = origin + (column, row, 0) + offset, times `scale`, as QEE coefficients.
+QeeCoefficients linear(glm::dvec3 g, double h, glm::dvec3 origin, double scale) {
+    QeeCoefficients q;
+    q.d = std::llround(g.x * scale);
+    q.e = std::llround(g.y * scale);
+    q.f = std::llround((glm::dot(g, origin) + h) * scale);
+    return q;
+}
+
+// The largest |f| over the volume's box (a linear function peaks at a corner), plus a voxel of margin.
+double bound(glm::dvec3 g, double h, glm::ivec3 dims) {
+    double most = 0.0;
+    for (int c = 0; c < 8; ++c) {
+        const glm::dvec3 corner((c & 1) ? dims.x : -1, (c & 2) ? dims.y : -1, (c & 4) ? dims.z : -1);
+        most = std::max(most, std::abs(glm::dot(g, corner) + h));
+    }
+    return most + glm::length(g) + 1.0;
+}
+
+int signed_bits(double magnitude) {
+    const auto m = static_cast<std::int64_t>(std::ceil(magnitude * kScale)) + 1;
+    return pp_bits_for_range(-m, m);
+}
+
+}  // namespace
+
+PpProgram build_polygon_program(const PreparedPolygon& polygon, int samples, glm::ivec3 dims, const PpProgramInputs& inputs) {
+    const VoxelRecordLayout& layout = inputs.layout;
+    const std::int64_t color_max = (std::int64_t{1} << layout.color_bits) - 1;
+    const std::int64_t opacity_max = (std::int64_t{1} << layout.opacity_bits) - 1;
+    const int edges = static_cast<int>(polygon.edge_normals.size());
+    const int per_sample = 1 + edges;
+
+    PpProgramBuilder b("scan-convert polygon", inputs.local_memory_bits);
+    // Coverage: how many of the translated sample points fall in the polygon's sheet.
+    const PpField count = b.set_const("coverage count", 0, pp_bits_for_range(0, samples), false);
+    const int distance_bits = signed_bits(bound(polygon.normal, polygon.plane_offset, dims));
+    for (int j = 0; j < samples; ++j) {
+        b.enable_all();
+        const PpField d = b.qee("plane distance", j * per_sample, distance_bits, true, 0);
+        const PpField ad = b.abs_diff_const("|plane distance|", d, 0);
+        b.release(d);
+        b.enable_if(ad, PpCompare::LessEqual, std::int64_t{1} << (kQeeShift - 1));  // within half a voxel
+        b.release(ad);
+        for (int i = 0; i < edges; ++i) {
+            const int bits = signed_bits(bound(polygon.edge_normals[static_cast<std::size_t>(i)], polygon.edge_offsets[static_cast<std::size_t>(i)], dims));
+            const PpField e = b.qee("edge function", j * per_sample + 1 + i, bits, true, 0);
+            b.enable_if(e, PpCompare::GreaterEqual, 0);
+            b.release(e);
+        }
+        const PpField more = b.add_const("coverage count + 1", count, 1);
+        b.assign(count, more);
+        b.release(more);
+    }
+    b.enable_all();
+    b.enable_if(count, PpCompare::Greater, 0);
+
+    // The polygon's opacity at this voxel, times coverage: a_p = alpha (count / J).
+    const int first_color_expression = samples * per_sample;
+    const auto code_at = [&](const char* name, int expression, std::int64_t max_code) {
+        const PpField raw = b.qee(name, expression, pp_bits_for_range(-2 * max_code, 2 * max_code), true, kQeeShift);
+        const PpField low = b.max_const(name, raw, 0);
+        b.release(raw);
+        const PpField clamped = b.min_const(name, low, max_code);
+        b.release(low);
+        return clamped;
+    };
+    const PpField alpha = code_at("polygon opacity", first_color_expression + 3, opacity_max);
+    const PpField weighted = b.mul("opacity x count", alpha, count);
+    b.release(alpha);
+    const PpField samples_field = b.set_const("J", samples);
+    const PpField a_p = b.div("polygon coverage opacity", weighted, samples_field, 0, layout.opacity_bits);
+    b.release(weighted);
+    b.release(samples_field);
+
+    // a = a_p + a_v (1 - a_p): the voxel seen through the polygon's coverage.
+    const PpField a_v = b.load("voxel opacity", layout.opacity_offset(), layout.opacity_bits, false);
+    const PpField rest = b.set_const("opacity max", opacity_max);
+    const PpField clear = b.sub("1 - a_p", rest, a_p);
+    const PpField behind = b.mul("a_v (1 - a_p)", a_v, clear);
+    b.release(a_v);
+    b.release(clear);
+    const PpField through = b.div("a_v (1 - a_p) scaled", behind, rest, 0, layout.opacity_bits);
+    b.release(behind);
+    b.release(rest);
+    const PpField a = b.add("matted opacity", a_p, through);
+    b.enable_if(a, PpCompare::Greater, 0);
+    for (int k = 0; k < 3; ++k) {
+        const PpField c_p = code_at("polygon colour", first_color_expression + k, color_max);
+        const PpField c_v = b.load("voxel colour", layout.color_offset(k), layout.color_bits, false);
+        const PpField front = b.mul("c_p a_p", c_p, a_p);
+        const PpField back = b.mul("c_v a_v (1 - a_p)", c_v, through);
+        b.release(c_p);
+        b.release(c_v);
+        const PpField sum = b.add("colour sum", front, back);
+        b.release(front);
+        b.release(back);
+        const PpField c = b.div("matted colour", sum, a, 0, layout.color_bits);
+        b.release(sum);
+        b.store(c, layout.color_offset(k));
+        b.release(c);
+    }
+    b.store(a, layout.opacity_offset());
+    b.release(a);
+    b.release(a_p);
+    b.release(through);
+    b.release(count);
+    b.enable_all();
+    return b.finish();
+}
+
+std::vector<QeeCoefficients> polygon_expressions(const PreparedPolygon& polygon, const std::vector<glm::dvec3>& offsets,
+                                                 const SlotFrame& frame, const VoxelRecordLayout& layout) {
+    std::vector<QeeCoefficients> out;
+    const glm::dvec3 origin(frame.origin);
+    for (const glm::dvec3& offset : offsets) {
+        // The sample point is the voxel centre moved by `offset`.
+        out.push_back(linear(polygon.normal, polygon.plane_offset, origin + offset, kScale));
+        for (std::size_t i = 0; i < polygon.edge_normals.size(); ++i)
+            out.push_back(linear(polygon.edge_normals[i], polygon.edge_offsets[i], origin + offset, kScale));
+    }
+    const double color_max = static_cast<double>((std::int64_t{1} << layout.color_bits) - 1);
+    const double opacity_max = static_cast<double>((std::int64_t{1} << layout.opacity_bits) - 1);
+    for (const LinearFunction* f : {&polygon.red, &polygon.green, &polygon.blue}) {
+        out.push_back(linear(glm::dvec3(f->gradient), f->offset, origin, kScale * color_max));
+    }
+    out.push_back(linear(glm::dvec3(polygon.opacity.gradient), polygon.opacity.offset, origin, kScale * opacity_max));
+    return out;
+}
+
+bool polygon_reaches_slot(const PreparedPolygon& polygon, const SlotFrame& frame, glm::ivec3 dims, const PpArrayShape& shape) {
+    if (!frame.used || polygon.degenerate) return false;
+    const glm::vec3 lo(frame.origin);
+    const glm::vec3 hi = glm::vec3(glm::min(frame.origin + glm::ivec3(shape.columns - 1, shape.rows - 1, 0), dims - 1));
+    return glm::all(glm::lessThanEqual(lo, polygon.upper + 1.0f)) && glm::all(glm::greaterThanEqual(hi, polygon.lower - 1.0f));
+}
+
+int host_coverage(const PreparedPolygon& polygon, const std::vector<glm::dvec3>& offsets, glm::ivec3 voxel) {
+    int count = 0;
+    for (const glm::dvec3& offset : offsets) count += polygon.in_sheet(glm::dvec3(voxel) + offset) ? 1 : 0;
+    return count;
+}
+
+}  // namespace pp5

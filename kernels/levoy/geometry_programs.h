@@ -1,0 +1,37 @@
+#pragma once
+// Levoy's 3D scan-conversion of polygons on the renderers, as PP programs. The host broadcasts a
+// polygon; for each of J subvoxel translations every PP evaluates, through the QEE, the polygon's
+// plane distance and edge functions at its voxel (linear in PP column and row within a slot, so one
+// expression each) and counts the translations for which its voxel's sample point lies in the
+// polygon's one-voxel sheet. The count over J is the voxel's coverage; the polygon's colour and
+// opacity, linear over its plane (Gouraud), also come from the QEE; and the PP mattes the polygon
+// over its voxel:
+//   a_p = coverage x polygon opacity,  a = a_p + a_v (1 - a_p),  c = (c_p a_p + c_v a_v (1 - a_p)) / a.
+// Full coverage of an opaque polygon gives the polygon's colour and opacity; no coverage changes nothing.
+
+#include "kernels/levoy/shading_programs.h"
+#include "kernels/levoy/voxel_placement.h"
+#include "kernels/render/polygon.h"
+#include "sim/renderer/pp_array.h"
+#include "sim/renderer/pp_program.h"
+
+#include <vector>
+
+namespace pp5 {
+
+// The program for one polygon with `samples` subvoxel translations over a volume of `dims` voxels.
+PpProgram build_polygon_program(const PreparedPolygon& polygon, int samples, glm::ivec3 dims, const PpProgramInputs& inputs);
+
+// The slot's QEE expressions, in the program's order: for each translation j the plane distance then
+// each edge function (kQeeShift fraction bits, in voxels), then red, green, blue and opacity as codes.
+std::vector<QeeCoefficients> polygon_expressions(const PreparedPolygon& polygon, const std::vector<glm::dvec3>& offsets,
+                                                 const SlotFrame& frame, const VoxelRecordLayout& layout);
+
+// Whether a slot may hold a voxel the polygon reaches: its voxels' box against the polygon's box grown
+// by one voxel. Slots that fail are not run (the controller skips them).
+bool polygon_reaches_slot(const PreparedPolygon& polygon, const SlotFrame& frame, glm::ivec3 dims, const PpArrayShape& shape);
+
+// Coverage counts as the PPs compute them, on the host in double precision: the oracle for tests.
+int host_coverage(const PreparedPolygon& polygon, const std::vector<glm::dvec3>& offsets, glm::ivec3 voxel);
+
+}  // namespace pp5

@@ -1,0 +1,179 @@
+// Levoy's 3D scan-conversion of polygons: coverage from subvoxel translations against the polygon's
+// area, binary voxelisation at J = 1, the PPs' fixed-point counts against the host's, volume matting
+// in closed form, and polygons that lie between voxel centres or have no area.
+
+#include "kernels/levoy/geometry_programs.h"
+#include "kernels/levoy/levoy_renderer.h"
+#include "kernels/render/polygon.h"
+#include "kernels/volume/phantoms.h"
+#include "sim/core/input_error.h"
+#include "sim/machine/machine.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace pp5 {
+namespace {
+
+PolygonSpec triangle(glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 color = glm::vec3(1.0f, 0.0f, 0.0f), float opacity = 1.0f) {
+    return PolygonSpec{{a, b, c}, {color}, {opacity}};
+}
+
+// Sum of host coverage fractions over every voxel of a box around the polygon.
+double host_coverage_sum(const PreparedPolygon& p, int samples) {
+    const auto offsets = subvoxel_offsets(samples);
+    double sum = 0.0;
+    const glm::ivec3 lo = glm::ivec3(glm::floor(p.lower)) - 2;
+    const glm::ivec3 hi = glm::ivec3(glm::ceil(p.upper)) + 2;
+    for (int z = lo.z; z <= hi.z; ++z)
+        for (int y = lo.y; y <= hi.y; ++y)
+            for (int x = lo.x; x <= hi.x; ++x) sum += host_coverage(p, offsets, {x, y, z});
+    return sum / samples;
+}
+
+TEST(ScanConversion, CoverageApproachesTheAreaAsTranslationsGrow) {
+    // A tilted triangle of area about 200 voxels^2.
+    const PreparedPolygon p = prepare_polygon(triangle({3.2f, 4.1f, 5.3f}, {24.7f, 6.2f, 11.9f}, {9.4f, 22.8f, 17.1f}));
+    double previous_error = 1e9;
+    for (const int samples : {1, 8, 64, 512}) {
+        const double error = std::abs(host_coverage_sum(p, samples) - p.area) / p.area;
+        if (samples >= 8) {
+            EXPECT_LT(error, previous_error + 0.002) << samples;
+        }
+        previous_error = error;
+        if (samples == 64) {
+            EXPECT_LT(error, 0.02);
+        }
+        if (samples == 512) {
+            EXPECT_LT(error, 0.005);
+        }
+        RecordProperty("relative_error_J" + std::to_string(samples), std::to_string(error));
+    }
+}
+
+TEST(ScanConversion, OneTranslationIsABinaryVoxelisationOfTheCentres) {
+    const PreparedPolygon p = prepare_polygon(triangle({2.0f, 2.0f, 3.4f}, {14.0f, 3.0f, 5.0f}, {5.0f, 13.0f, 8.0f}));
+    const auto offsets = subvoxel_offsets(1);
+    ASSERT_EQ(offsets[0], glm::dvec3(0.0));
+    for (int z = 0; z < 12; ++z)
+        for (int y = 0; y < 16; ++y)
+            for (int x = 0; x < 16; ++x) {
+                const int c = host_coverage(p, offsets, {x, y, z});
+                EXPECT_EQ(c, p.in_sheet(glm::dvec3(x, y, z)) ? 1 : 0);
+            }
+}
+
+TEST(ScanConversion, PolygonBetweenVoxelCentresSplitsItsCoverage) {
+    // Edge-on to the grid: the plane z = 10.5 lies exactly between two layers of voxel centres.
+    const PreparedPolygon p = prepare_polygon(PolygonSpec{{{4, 4, 10.5f}, {20, 4, 10.5f}, {20, 20, 10.5f}, {4, 20, 10.5f}}, {glm::vec3(1.0f)}, {1.0f}});
+    const auto offsets = subvoxel_offsets(64);
+    double lower = 0.0, upper = 0.0;
+    for (int y = 0; y < 25; ++y)
+        for (int x = 0; x < 25; ++x) {
+            lower += host_coverage(p, offsets, {x, y, 10});
+            upper += host_coverage(p, offsets, {x, y, 11});
+            EXPECT_EQ(host_coverage(p, offsets, {x, y, 9}), 0);
+        }
+    EXPECT_NEAR((lower + upper) / 64.0, p.area, 0.03 * p.area);
+    EXPECT_NEAR(lower / (lower + upper), 0.5, 0.1);
+}
+
+TEST(ScanConversion, BadPolygonsAreRejectedAndDegenerateOnesCoverNothing) {
+    const auto why = [](const PolygonSpec& p) {
+        try {
+            validate_polygon(p, "scene.toml", "polygons[0]");
+        } catch (const InputError& e) {
+            return e.field() + ": " + e.reason();
+        }
+        return std::string("accepted");
+    };
+    EXPECT_NE(why(PolygonSpec{{{0, 0, 0}, {1, 0, 0}}, {glm::vec3(1.0f)}, {1.0f}}).find("three vertices"), std::string::npos);
+    EXPECT_NE(why(triangle({0, 0, 0}, {NAN, 1, 0}, {0, 1, 0})).find("finite"), std::string::npos);
+    EXPECT_NE(why(PolygonSpec{{{0, 0, 0}, {4, 0, 0}, {1, 1, 0}, {0, 4, 0}}, {glm::vec3(1.0f)}, {1.0f}}).find("convex"), std::string::npos);
+    EXPECT_NE(why(PolygonSpec{{{0, 0, 0}, {4, 0, 0}, {4, 4, 1}, {0, 4, 0}}, {glm::vec3(1.0f)}, {1.0f}}).find("plane"), std::string::npos);
+    EXPECT_NE(why(triangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, glm::vec3(2.0f))).find("[0, 1]"), std::string::npos);
+    const PolygonSpec collinear = triangle({0, 0, 0}, {2, 2, 2}, {5, 5, 5});
+    EXPECT_EQ(why(collinear), "accepted");
+    const PreparedPolygon p = prepare_polygon(collinear);
+    EXPECT_TRUE(p.degenerate);
+    EXPECT_EQ(host_coverage(p, subvoxel_offsets(8), {2, 2, 2}), 0);
+}
+
+MachineConfig small_machine(std::initializer_list<std::string_view> overrides = {}) {
+    std::vector<const ParamGroup*> groups = Machine::param_groups();
+    groups.push_back(&LevoySettings::params());
+    MachineConfig config(groups);
+    for (const char* o : {"renderer.count=4", "renderer.pp_columns=32", "renderer.pp_rows=32", "gp.count=2"}) config.apply_override(o);
+    for (auto o : overrides) config.apply_override(o);
+    return config;
+}
+
+// A 32^3 volume that classifies to nothing (opacity 0), shaded grey, with `polygons` scan-converted in.
+ShadedVolume scan_converted(const std::vector<PolygonSpec>& polygons, int samples) {
+    const MachineConfig config = small_machine({"levoy.jitter_samples=" + std::to_string(samples)});
+    Machine machine(config);
+    const Volume volume = make_constant_volume(glm::ivec3(32), 50.0f);
+    LevoyRenderer renderer(machine, volume, LevoySettings::from(config), LevoyImageSettings{16, 16, 1.0f, 0.95f, glm::vec3(0.0f)});
+    renderer.set_polygons(polygons);
+    LevoyFrameInputs in;
+    in.camera.eye = glm::vec3(15.5f, -60.0f, 15.5f);
+    in.camera.target = glm::vec3(15.5f);
+    in.camera.up = glm::vec3(0.0f, 0.0f, 1.0f);
+    in.camera.view_height = 40.0f;
+    in.classification.contours = {{200.0f, 1.0f, 1.0f}};  // far from 50: every voxel transparent
+    in.colors = ColorMap{{{0.0f, {0.5f, 0.5f, 0.5f}}}};
+    in.lighting.light_follows_camera = false;
+    in.lighting.specular = 0.0f;
+    const LevoyFrameReport report = renderer.render(in);
+    EXPECT_EQ(report.geometry.ran, !polygons.empty());
+    EXPECT_EQ(report.geometry.polygons, polygons.size());
+    return renderer.shaded_volume();
+}
+
+TEST(ScanConversion, PixelProcessorsCountWhatTheHostCounts) {
+    const PolygonSpec spec = triangle({3.2f, 4.1f, 5.3f}, {27.7f, 6.2f, 11.9f}, {9.4f, 26.8f, 25.1f}, glm::vec3(1.0f), 1.0f);
+    const int samples = 16;
+    const ShadedVolume v = scan_converted({spec}, samples);
+    const PreparedPolygon p = prepare_polygon(spec);
+    const auto offsets = subvoxel_offsets(samples);
+    std::size_t differ = 0;
+    std::size_t covered = 0;
+    double coverage_sum = 0.0;
+    for (int z = 0; z < 32; ++z)
+        for (int y = 0; y < 32; ++y)
+            for (int x = 0; x < 32; ++x) {
+                const int count = host_coverage(p, offsets, {x, y, z});
+                const int expect = 255 * count / samples;  // the PPs' integer divide
+                const int got = static_cast<int>(std::lround(v.rgba[static_cast<std::size_t>(x + 32 * (y + 32 * z))].a * 255.0f));
+                covered += count > 0 ? 1 : 0;
+                differ += got != expect ? 1 : 0;
+                coverage_sum += got / 255.0;
+            }
+    EXPECT_GT(covered, 300u);
+    // Sample points that sit on the sheet's faces to within the QEE's 2^-16 fixed point may go either way.
+    EXPECT_LE(differ, covered / 100 + 2) << differ << " of " << covered;
+    EXPECT_NEAR(coverage_sum, p.area, 0.06 * p.area);
+}
+
+TEST(ScanConversion, MattingFullAndZeroCoverageMatchesTheClosedForm) {
+    // A square in the plane z = 10 through voxel centres: the voxels at z = 10 inside it are covered by
+    // every translation (|offset.z| < 1/2), those at z = 9 and 11 by none.
+    const glm::vec3 purple(0.6f, 0.2f, 0.8f);
+    const PolygonSpec square{{{4, 4, 10}, {20, 4, 10}, {20, 20, 10}, {4, 20, 10}}, {purple}, {1.0f}};
+    const ShadedVolume v = scan_converted({square}, 8);
+    const ShadedVolume plain = scan_converted({}, 8);
+    const auto at = [](const ShadedVolume& s, int x, int y, int z) { return s.rgba[static_cast<std::size_t>(x + 32 * (y + 32 * z))]; };
+    for (int y = 6; y <= 18; ++y)
+        for (int x = 6; x <= 18; ++x) {
+            const glm::vec4 full = at(v, x, y, 10);
+            EXPECT_FLOAT_EQ(full.a, 1.0f);
+            for (int k = 0; k < 3; ++k) EXPECT_NEAR(full[k], purple[k], 0.5f / 255.0f) << x << "," << y;
+            EXPECT_EQ(at(v, x, y, 9), at(plain, x, y, 9));
+            EXPECT_EQ(at(v, x, y, 11), at(plain, x, y, 11));
+        }
+    EXPECT_EQ(at(v, 25, 25, 10), at(plain, 25, 25, 10));
+}
+
+}  // namespace
+}  // namespace pp5
