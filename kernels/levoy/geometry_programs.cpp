@@ -149,6 +149,126 @@ bool polygon_reaches_slot(const PreparedPolygon& polygon, const SlotFrame& frame
     return glm::all(glm::lessThanEqual(lo, polygon.upper + 1.0f)) && glm::all(glm::greaterThanEqual(hi, polygon.lower - 1.0f));
 }
 
+namespace {
+constexpr int kDistanceShift = 8;   // distances in 1/256 voxel
+constexpr int kQuadraticShift = 32; // the ellipsoid's quadratic, before the QEE's shift back to 2^16
+}  // namespace
+
+PpProgram build_region_program(const RegionOfInterest& region, glm::ivec3 dims, const PpProgramInputs& inputs) {
+    const VoxelRecordLayout& layout = inputs.layout;
+    const std::int64_t opacity_max = (std::int64_t{1} << layout.opacity_bits) - 1;
+    const double reach = glm::length(glm::vec3(dims)) + glm::length(region.center) + glm::length(region.half_size) + 2.0;
+    const auto whole = [](double x) { return static_cast<std::int64_t>(std::ceil(x)); };
+    PpProgramBuilder b("region of interest", inputs.local_memory_bits);
+    PpField distance;
+    if (region.shape == RegionOfInterest::Shape::Box) {
+        for (int i = 0; i < 3; ++i) {
+            const PpField q = b.qee("region coordinate", i, pp_bits_for_range(-whole(reach * 256), whole(reach * 256)), true, kQeeShift - kDistanceShift);
+            const PpField aq = b.abs_diff_const("|region coordinate|", q, 0);
+            b.release(q);
+            const PpField out = b.add_const("face distance", aq, -std::llround(region.half_size[i] * 256.0));
+            b.release(aq);
+            if (!distance.valid()) {
+                distance = out;
+                continue;
+            }
+            // distance = max(distance, out): copy first (a copy under a partial mask would leave the
+            // disabled PPs' copies unset), then overwrite where the new face is farther.
+            const PpField widened = b.move("distance", distance);
+            const PpField larger = b.sub("face distance - distance", out, distance);
+            b.release(distance);
+            b.enable_if(larger, PpCompare::Greater, 0);
+            b.release(larger);
+            b.assign(widened, out);
+            b.enable_all();
+            b.release(out);
+            distance = widened;
+        }
+    } else {
+        const double r_min = std::min({region.half_size.x, region.half_size.y, region.half_size.z});
+        const double s_max = reach * reach / (r_min * r_min);
+        const PpField s = b.qee("ellipsoid quadratic", 0, pp_bits_for_range(-whole(s_max * 65536), whole(s_max * 65536)), true, kQuadraticShift - 16);
+        const PpField positive = b.max_const("ellipsoid quadratic", s, 0);
+        b.release(s);
+        const PpField root = b.sqrt("ellipsoid radius", positive);  // sqrt(s) x 256
+        b.release(positive);
+        const PpField offset = b.add_const("ellipsoid radius - 1", root, -256);
+        b.release(root);
+        distance = b.mul_const("distance", offset, std::llround(r_min * 256.0), 8);
+        b.release(offset);
+    }
+    // w: 0 inside, 256 outside, linear across the transition.
+    PpField w;
+    if (region.transition > 0.0f) {
+        const PpField u = b.add_const("distance + transition / 2", distance, std::llround(region.transition * 128.0));
+        const PpField ramp = b.mul_const("transition ramp", u, std::llround(65536.0 / region.transition), 16);
+        b.release(u);
+        const PpField low = b.max_const("transition ramp", ramp, 0);
+        b.release(ramp);
+        w = b.min_const("transition weight", low, 256);
+        b.release(low);
+    } else {
+        w = b.set_const("transition weight", 0, 9, false);
+        b.enable_if(distance, PpCompare::Greater, 0);
+        b.assign_const(w, 256);
+        b.enable_all();
+    }
+    b.release(distance);
+    const PpField change = b.mul_const("factor change", w, std::llround((region.scale_outside - region.scale_inside) * 256.0), 8);
+    b.release(w);
+    const PpField factor = b.add_const("opacity factor", change, std::llround(region.scale_inside * 256.0));
+    b.release(change);
+    const PpField a = b.load("opacity", layout.opacity_offset(), layout.opacity_bits, false);
+    const PpField scaled = b.mul("scaled opacity", a, factor, 8);
+    b.release(a);
+    b.release(factor);
+    const PpField low = b.max_const("scaled opacity", scaled, 0);
+    b.release(scaled);
+    const PpField clamped = b.min_const("scaled opacity", low, opacity_max);
+    b.release(low);
+    b.store(clamped, layout.opacity_offset());
+    b.release(clamped);
+    return b.finish();
+}
+
+std::vector<QeeCoefficients> region_expressions(const RegionOfInterest& region, const SlotFrame& frame) {
+    const glm::dvec3 origin(frame.origin);
+    const glm::dvec3 center(region.center);
+    std::vector<QeeCoefficients> out;
+    if (region.shape == RegionOfInterest::Shape::Box) {
+        for (int i = 0; i < 3; ++i) {
+            const glm::dvec3 a(region.axis(i));
+            out.push_back(linear(a, -glm::dot(a, center), origin, kScale));
+        }
+        return out;
+    }
+    // sum_i ((k_i + u_i x + v_i y) / r_i)^2 with q_i = a_i . (origin - c) + a_i.x x + a_i.y y.
+    QeeCoefficients q;
+    double A = 0, B = 0, C = 0, D = 0, E = 0, F = 0;
+    for (int i = 0; i < 3; ++i) {
+        const glm::dvec3 a(region.axis(i));
+        const double k = glm::dot(a, origin - center);
+        const double u = a.x;
+        const double v = a.y;
+        const double w = 1.0 / (static_cast<double>(region.half_size[i]) * static_cast<double>(region.half_size[i]));
+        A += u * u * w;
+        B += 2.0 * u * v * w;
+        C += v * v * w;
+        D += 2.0 * k * u * w;
+        E += 2.0 * k * v * w;
+        F += k * k * w;
+    }
+    const double scale = std::ldexp(1.0, kQuadraticShift);
+    q.a = std::llround(A * scale);
+    q.b = std::llround(B * scale);
+    q.c = std::llround(C * scale);
+    q.d = std::llround(D * scale);
+    q.e = std::llround(E * scale);
+    q.f = std::llround(F * scale);
+    out.push_back(q);
+    return out;
+}
+
 int host_coverage(const PreparedPolygon& polygon, const std::vector<glm::dvec3>& offsets, glm::ivec3 voxel) {
     int count = 0;
     for (const glm::dvec3& offset : offsets) count += polygon.in_sheet(glm::dvec3(voxel) + offset) ? 1 : 0;

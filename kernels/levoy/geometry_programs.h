@@ -12,6 +12,7 @@
 #include "kernels/levoy/shading_programs.h"
 #include "kernels/levoy/voxel_placement.h"
 #include "kernels/render/polygon.h"
+#include "kernels/render/region_of_interest.h"
 #include "sim/renderer/pp_array.h"
 #include "sim/renderer/pp_program.h"
 
@@ -30,6 +31,13 @@ std::vector<QeeCoefficients> polygon_expressions(const PreparedPolygon& polygon,
 // Whether a slot may hold a voxel the polygon reaches: its voxels' box against the polygon's box grown
 // by one voxel. Slots that fail are not run (the controller skips them).
 bool polygon_reaches_slot(const PreparedPolygon& polygon, const SlotFrame& frame, glm::ivec3 dims, const PpArrayShape& shape);
+
+// Levoy's volume-of-interest tool as a PP program run after classification: each PP finds its voxel's
+// distance to the region's surface (box: three linear QEE expressions; ellipsoid: one quadratic), the
+// factor across the transition, and scales its opacity, all in fixed point (distance in 1/256 voxel,
+// factor in 1/256). At scale 1 inside and out the factor is exactly 1 and no opacity changes.
+PpProgram build_region_program(const RegionOfInterest& region, glm::ivec3 dims, const PpProgramInputs& inputs);
+std::vector<QeeCoefficients> region_expressions(const RegionOfInterest& region, const SlotFrame& frame);
 
 // Coverage counts as the PPs compute them, on the host in double precision: the oracle for tests.
 int host_coverage(const PreparedPolygon& polygon, const std::vector<glm::dvec3>& offsets, glm::ivec3 voxel);

@@ -181,13 +181,23 @@ LevoyFrameReport LevoyRenderer::render(const LevoyFrameInputs& frame) {
     // Shade only for a view the colours depend on; otherwise keep the view they were shaded for.
     ShadingView view = make_shading_view(frame.camera, dims_, spacing_);
     if (shaded_for_ && !shading_depends_on_view(frame.lighting)) view = *shaded_for_;
-    bool classify = first_frame_ || frame.classification_changed;
-    bool reshade = classify || frame.lighting_changed || shaded_for_ != view;
+    // A moved region of interest needs fresh opacities (classification) but no new colours.
+    const bool region_changed = frame.region != region_;
+    bool classify = first_frame_ || frame.classification_changed || region_changed;
+    bool reshade = first_frame_ || frame.classification_changed || frame.lighting_changed || shaded_for_ != view;
     if (!polygons_.empty() && (classify || reshade || polygons_changed_)) classify = reshade = true;  // matte into fresh voxels
     polygons_changed_ = false;
     report.pixel_processors = pixel_processors_.update(frame.classification, frame.colors, frame.lighting, view, classify, reshade);
     shaded_for_ = view;
+    region_ = frame.region;
     Tick t = report.pixel_processors.end_ps;
+    if (classify && region_) {
+        const PpProgram program = build_region_program(*region_, dims_, pixel_processors_.program_inputs());
+        const RegionOfInterest& region = *region_;
+        report.region = pixel_processors_.run_over_slots(
+            program, [](const SlotFrame&) { return true; }, [&](const SlotFrame& f) { return region_expressions(region, f); }, t);
+        t = report.region.end_ps;
+    }
     if (!polygons_.empty() && reshade) {
         report.geometry = scan_convert(t);
         t = report.geometry.end_ps;

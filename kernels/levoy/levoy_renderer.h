@@ -17,6 +17,7 @@
 #include "kernels/levoy/voxel_blocks.h"
 #include "kernels/render/camera.h"
 #include "kernels/render/polygon.h"
+#include "kernels/render/region_of_interest.h"
 #include "kernels/render/image.h"
 
 #include <optional>
@@ -31,6 +32,7 @@ struct LevoyFrameInputs {
     PhongLighting lighting;
     bool classification_changed = true;
     bool lighting_changed = true;  // lights or colours
+    std::optional<RegionOfInterest> region;  // the volume-of-interest tool, when in use
 };
 
 // The polygons scan-converted into the volume after each reshading (Levoy's Figure 5).
@@ -57,6 +59,7 @@ struct LevoyFrameReport {
     Tick start_ps = 0;
     Tick end_ps = 0;
     PpFrameReport pixel_processors;
+    PpProgramPass region;  // the volume-of-interest pass, when it ran
     GeometryReport geometry;
     bool pyramid_rebuilt = false;
     Tick pyramid_ps = 0;  // distributing the emptiness bits and building
@@ -111,6 +114,7 @@ private:
     std::vector<PreparedPolygon> polygons_;
     bool polygons_changed_ = false;
     std::optional<ShadingView> shaded_for_;
+    std::optional<RegionOfInterest> region_;
     std::optional<Camera> depth_for_;
     std::vector<std::uint32_t> depth_;
     bool first_frame_ = true;

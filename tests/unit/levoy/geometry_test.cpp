@@ -177,3 +177,86 @@ TEST(ScanConversion, MattingFullAndZeroCoverageMatchesTheClosedForm) {
 
 }  // namespace
 }  // namespace pp5
+
+namespace pp5 {
+namespace {
+
+// A 32^3 volume whose every voxel classifies to opacity 0.5, with an optional region applied.
+struct RegionRun {
+    ShadedVolume volume;
+    LevoyFrameReport report;
+};
+
+RegionRun with_region(const std::optional<RegionOfInterest>& region) {
+    const MachineConfig config = small_machine();
+    Machine machine(config);
+    const Volume volume = make_constant_volume(glm::ivec3(32), 50.0f);
+    LevoyRenderer renderer(machine, volume, LevoySettings::from(config), LevoyImageSettings{16, 16, 1.0f, 0.95f, glm::vec3(0.0f)});
+    LevoyFrameInputs in;
+    in.camera.eye = glm::vec3(15.5f, -60.0f, 15.5f);
+    in.camera.target = glm::vec3(15.5f);
+    in.camera.up = glm::vec3(0.0f, 0.0f, 1.0f);
+    in.camera.view_height = 40.0f;
+    in.classification.kind = ClassificationKind::PiecewiseLinear;
+    in.classification.points = {{0.0f, 0.5f}, {255.0f, 0.5f}};
+    in.colors = ColorMap{{{0.0f, {0.5f, 0.5f, 0.5f}}}};
+    in.region = region;
+    RegionRun run;
+    run.report = renderer.render(in);
+    run.volume = renderer.shaded_volume();
+    return run;
+}
+
+TEST(RegionOfInterest, ScaleOneLeavesEveryVoxelAsItWas) {
+    RegionOfInterest unit;
+    unit.center = glm::vec3(12.0f, 15.0f, 17.0f);
+    unit.half_size = glm::vec3(6.0f, 4.0f, 8.0f);
+    unit.rotation_degrees = glm::vec3(10.0f, 20.0f, 30.0f);
+    for (const auto shape : {RegionOfInterest::Shape::Box, RegionOfInterest::Shape::Ellipsoid}) {
+        unit.shape = shape;
+        const RegionRun with = with_region(unit);
+        EXPECT_TRUE(with.report.region.ran);
+        EXPECT_EQ(with.volume.rgba, with_region(std::nullopt).volume.rgba);
+    }
+}
+
+TEST(RegionOfInterest, PixelProcessorsScaleOpacityAsTheHostModelSays) {
+    for (const auto shape : {RegionOfInterest::Shape::Box, RegionOfInterest::Shape::Ellipsoid}) {
+        RegionOfInterest cut;
+        cut.shape = shape;
+        cut.center = glm::vec3(15.0f, 14.0f, 16.0f);
+        cut.half_size = glm::vec3(8.0f, 6.0f, 7.0f);
+        cut.rotation_degrees = glm::vec3(0.0f, 0.0f, 25.0f);
+        cut.scale_inside = 0.02f;
+        cut.scale_outside = 1.0f;
+        cut.transition = 3.0f;
+        const RegionRun run = with_region(cut);
+        const float base = run.volume.rgba[0].a;  // a corner voxel, far outside
+        EXPECT_NEAR(base, 128.0f / 255.0f, 1.5f / 255.0f);
+        float worst = 0.0f;
+        for (int z = 0; z < 32; ++z)
+            for (int y = 0; y < 32; ++y)
+                for (int x = 0; x < 32; ++x) {
+                    const float expect = std::min(1.0f, base * cut.factor(glm::vec3(x, y, z)));
+                    worst = std::max(worst, std::abs(run.volume.rgba[static_cast<std::size_t>(x + 32 * (y + 32 * z))].a - expect));
+                }
+        EXPECT_LE(worst, 2.5f / 255.0f) << "shape " << static_cast<int>(shape);
+        const glm::ivec3 c(cut.center);
+        EXPECT_LE(run.volume.rgba[static_cast<std::size_t>(c.x + 32 * (c.y + 32 * c.z))].a, 3.0f / 255.0f);
+    }
+}
+
+TEST(RegionOfInterest, BadRegionsAreRejected) {
+    RegionOfInterest r;
+    r.half_size = glm::vec3(1.0f, 0.0f, 1.0f);
+    EXPECT_THROW(validate_region(r, "s.toml", "region"), InputError);
+    r.half_size = glm::vec3(1.0f);
+    r.scale_inside = -1.0f;
+    EXPECT_THROW(validate_region(r, "s.toml", "region"), InputError);
+    r.scale_inside = 0.0f;
+    r.transition = -2.0f;
+    EXPECT_THROW(validate_region(r, "s.toml", "region"), InputError);
+}
+
+}  // namespace
+}  // namespace pp5
