@@ -7,6 +7,7 @@ find_package(CLI11 CONFIG REQUIRED)
 find_package(TBB CONFIG REQUIRED)
 find_package(ZLIB REQUIRED)
 find_package(OpenImageIO CONFIG REQUIRED)
+find_package(tinyobjloader CONFIG REQUIRED)
 
 # Debian's OpenImageIO 2.4 exports /usr/include/opencv4 as an include directory even when OpenCV's
 # headers are absent, which makes every consumer fail to configure. Drop the path when it is missing.

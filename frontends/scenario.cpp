@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/constants.hpp>
 #include <glm/trigonometric.hpp>
+#include <tiny_obj_loader.h>
 #include <toml++/toml.h>
 
 #include <cmath>
@@ -330,6 +331,105 @@ std::filesystem::path resolve_scenario_file(const std::string& name_or_path) {
     return resolve_named_file(name_or_path, {"PP5SIM_SCENARIOS", builtin, "scenario", "traces/scenarios/*.toml"});
 }
 
+// A list of [x, y, z] points.
+std::vector<glm::vec3> read_points(TableReader& r, const std::string& key) {
+    std::vector<glm::vec3> points;
+    const toml::node* n = r.node(key);
+    if (!n) return points;
+    const auto* a = n->as_array();
+    if (!a) r.fail(key, "expected an array of [x, y, z] points");
+    for (std::size_t i = 0; i < a->size(); ++i) {
+        const auto* p = a->get(i)->as_array();
+        if (!p || p->size() != 3) r.fail(key, fmt::format("point {} is not [x, y, z]", i));
+        glm::vec3 v{};
+        for (int k = 0; k < 3; ++k) {
+            const auto x = (*p)[static_cast<std::size_t>(k)].value<double>();
+            if (!x) r.fail(key, fmt::format("point {} is not [x, y, z] numbers", i));
+            v[k] = static_cast<float>(*x);
+        }
+        points.push_back(v);
+    }
+    return points;
+}
+
+// One colour for all vertices (color) or one each (colors); likewise opacity / opacities.
+void read_vertex_attributes(TableReader& item, PolygonSpec& p) {
+    if (const auto c = item.vec3("color", 0, 1)) p.colors = {*c};
+    if (item.has("colors")) p.colors = read_points(item, "colors");
+    if (p.colors.empty()) p.colors = {glm::vec3(1.0f)};
+    if (const auto a = item.number("opacity", 0, 1)) p.opacities = {static_cast<float>(*a)};
+    if (const auto* n = item.node("opacities")) {
+        const auto* a = n->as_array();
+        if (!a) item.fail("opacities", "expected an array of numbers");
+        for (std::size_t i = 0; i < a->size(); ++i) {
+            const auto x = (*a)[i].value<double>();
+            if (!x) item.fail("opacities", "expected an array of numbers");
+            p.opacities.push_back(static_cast<float>(*x));
+        }
+    }
+    if (p.opacities.empty()) p.opacities = {1.0f};
+}
+
+// The triangles of an OBJ mesh, scaled then translated into voxel coordinates.
+std::vector<PolygonSpec> read_mesh(TableReader& item, const std::filesystem::path& scenario_file) {
+    const auto file = item.text("file");
+    if (!file) item.fail("file", "required: the mesh's .obj file, relative to the scenario");
+    std::filesystem::path path(*file);
+    if (path.is_relative()) path = scenario_file.parent_path() / path;
+    const glm::vec3 scale = item.vec3("scale", -kHuge, kHuge).value_or(glm::vec3(1.0f));
+    const glm::vec3 translate = item.vec3("translate", -kHuge, kHuge).value_or(glm::vec3(0.0f));
+    PolygonSpec attributes;
+    read_vertex_attributes(item, attributes);
+    if (attributes.colors.size() != 1 || attributes.opacities.size() != 1)
+        item.fail("colors", "a mesh takes one color and one opacity for all its triangles");
+    tinyobj::ObjReaderConfig config;
+    config.triangulate = true;
+    tinyobj::ObjReader reader;
+    if (!std::filesystem::is_regular_file(path) || !reader.ParseFromFile(path.string(), config)) {
+        std::string why = reader.Error().empty() ? "cannot be read" : reader.Error();
+        while (!why.empty() && (why.back() == '\n' || why.back() == ' ')) why.pop_back();
+        item.fail("file", path.string() + " is not a readable OBJ mesh: " + why);
+    }
+    const auto& vertices = reader.GetAttrib().vertices;
+    std::vector<PolygonSpec> triangles;
+    for (const auto& shape : reader.GetShapes()) {
+        const auto& indices = shape.mesh.indices;
+        for (std::size_t f = 0; f + 2 < indices.size(); f += 3) {
+            PolygonSpec t = attributes;
+            t.vertices.clear();
+            for (std::size_t k = 0; k < 3; ++k) {
+                const int v = indices[f + k].vertex_index;
+                if (v < 0 || static_cast<std::size_t>(3 * v + 2) >= vertices.size())
+                    item.fail("file", path.string() + ": a face refers to a vertex the file does not have");
+                const glm::vec3 p(vertices[static_cast<std::size_t>(3 * v)], vertices[static_cast<std::size_t>(3 * v + 1)],
+                                  vertices[static_cast<std::size_t>(3 * v + 2)]);
+                t.vertices.push_back(p * scale + translate);
+            }
+            triangles.push_back(std::move(t));
+        }
+    }
+    if (triangles.empty()) item.fail("file", path.string() + ": the mesh has no faces");
+    return triangles;
+}
+
+void read_region(TableReader r, std::optional<RegionOfInterest>& region) {
+    RegionOfInterest g = region.value_or(RegionOfInterest{});
+    if (const auto shape = r.text("shape")) {
+        if (*shape == "box") g.shape = RegionOfInterest::Shape::Box;
+        else if (*shape == "ellipsoid") g.shape = RegionOfInterest::Shape::Ellipsoid;
+        else r.fail("shape", "must be \"box\" or \"ellipsoid\"");
+    }
+    g.center = r.vec3("center", -kHuge, kHuge).value_or(g.center);
+    g.half_size = r.vec3("half_size", 1e-3, kHuge).value_or(g.half_size);
+    g.rotation_degrees = r.vec3("rotation", -3600, 3600).value_or(g.rotation_degrees);
+    g.scale_inside = static_cast<float>(r.number("scale_inside", 0, 16).value_or(g.scale_inside));
+    g.scale_outside = static_cast<float>(r.number("scale_outside", 0, 16).value_or(g.scale_outside));
+    g.transition = static_cast<float>(r.number("transition", 0, 1000).value_or(g.transition));
+    const bool off = !r.boolean("enabled").value_or(true);
+    r.finish();
+    region = off ? std::nullopt : std::optional<RegionOfInterest>(g);
+}
+
 Scenario load_scenario(const std::filesystem::path& path) {
     const std::string file = path.string();
     toml::table root;
@@ -366,6 +466,21 @@ Scenario load_scenario(const std::filesystem::path& path) {
     read_classification(top.sub("classification"), base.classification, base.colors);
     read_shading(top.sub("shading"), base.lighting);
     read_camera(top.sub("camera"), base.camera);
+    if (top.has("region")) read_region(top.sub("region"), base.region);
+
+    top.table_array("polygons", [&](TableReader& item) {
+        PolygonSpec p;
+        p.vertices = read_points(item, "vertices");
+        read_vertex_attributes(item, p);
+        validate_polygon(p, file, item.field(""));
+        s.polygons.push_back(std::move(p));
+    });
+    top.table_array("meshes", [&](TableReader& item) {
+        for (PolygonSpec& t : read_mesh(item, path)) {
+            validate_polygon(t, file, item.field(""));
+            s.polygons.push_back(std::move(t));
+        }
+    });
 
     // Each [[frames]] entry patches the state left by the frame before it.
     FrameSpec current = base;
@@ -375,6 +490,8 @@ Scenario load_scenario(const std::filesystem::path& path) {
         next.camera_changed = item.has("camera") || s.frames.empty();
         next.lighting_changed = item.has("shading") || s.frames.empty();
         next.classification_changed = item.has("classification") || s.frames.empty();
+        next.region_changed = item.has("region") || s.frames.empty();
+        if (item.has("region")) read_region(item.sub("region"), next.region);
         if (item.has("camera")) read_camera(item.sub("camera"), next.camera);
         if (item.has("shading")) read_shading(item.sub("shading"), next.lighting);
         if (item.has("classification")) read_classification(item.sub("classification"), next.classification, next.colors);

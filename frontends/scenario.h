@@ -7,6 +7,8 @@
 
 #include "kernels/render/camera.h"
 #include "kernels/render/classification.h"
+#include "kernels/render/polygon.h"
+#include "kernels/render/region_of_interest.h"
 #include "kernels/render/resampling_order.h"
 #include "kernels/render/shading.h"
 #include "kernels/volume/volume.h"
@@ -67,6 +69,8 @@ struct FrameSpec {
     bool camera_changed = true;
     bool lighting_changed = true;
     bool classification_changed = true;
+    std::optional<RegionOfInterest> region;  // the volume-of-interest tool, when in use
+    bool region_changed = false;
 };
 
 // Which algorithm renders the frames.
@@ -83,6 +87,9 @@ struct Scenario {
     DatasetSpec dataset;
     ImageSpec image;
     std::vector<FrameSpec> frames;  // at least one
+    // Polygons scan-converted into the volume (voxel coordinates): [[polygons]] and the triangles of
+    // [[meshes]] (OBJ files).
+    std::vector<PolygonSpec> polygons;
 };
 
 Scenario load_scenario(const std::filesystem::path& path);

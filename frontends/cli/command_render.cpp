@@ -152,13 +152,13 @@ nlohmann::json machine_record(const LevoyFrameReport& f, const std::vector<std::
 nlohmann::json frame_record(std::size_t index, const FrameSpec& frame, const std::string& image_name,
                             const RenderStats& stats, const std::optional<LevoyFrameReport>& machine_work,
                             const std::vector<std::string>& pass_images,
-                            const std::optional<ImageDifference>& fidelity, double host_seconds) {
+                            const std::optional<ImageDifference>& fidelity, double host_seconds, bool polygons) {
     nlohmann::json record = {
         {"index", index},
         {"label", frame.label},
         {"image", image_name},
         {"changed", {{"camera", frame.camera_changed}, {"lighting", frame.lighting_changed},
-                     {"classification", frame.classification_changed}}},
+                     {"classification", frame.classification_changed}, {"region", frame.region_changed}}},
         {"simulated_seconds", machine_work ? seconds(machine_work->duration_ps()) : 0.0},
         {"reference",
          {{"rays", stats.composite.rays},
@@ -168,11 +168,19 @@ nlohmann::json frame_record(std::size_t index, const FrameSpec& frame, const std
         {"host_seconds", host_seconds}};
     if (machine_work) {
         record["renderers"] = {{"classification", pass_record(machine_work->pixel_processors.classification)},
+                               {"region_of_interest", pass_record(machine_work->region)},
                                {"shading", pass_record(machine_work->pixel_processors.shading)}};
+        const GeometryReport& g = machine_work->geometry;
+        record["geometry"] = {{"ran", g.ran},
+                              {"polygons", g.polygons},
+                              {"slot_runs", g.slots},
+                              {"simulated_seconds", seconds(g.end_ps - g.start_ps)},
+                              {"polygons_per_second", g.polygons_per_second()}};
         record["machine"] = machine_record(*machine_work, pass_images);
     }
     if (fidelity) {
-        record["fidelity"] = {{"against", "reference renderer"},
+        record["fidelity"] = {{"against", polygons ? "reference renderer, which has no polygons: the difference includes them"
+                                                   : "reference renderer"},
                               {"psnr_db", std::isfinite(fidelity->psnr_db) ? nlohmann::json(fidelity->psnr_db) : nlohmann::json("inf")},
                               {"rms_error", fidelity->rms_error},
                               {"max_error", fidelity->max_error}};
@@ -185,12 +193,16 @@ std::string describe_frame(const nlohmann::json& f) {
                                    f["label"].get<std::string>(), f["reference"]["samples"].dump(),
                                    f["reference"]["samples_skipped"].dump());
     if (f.contains("renderers")) {
-        for (const char* pass : {"classification", "shading"}) {
+        for (const char* pass : {"classification", "region_of_interest", "shading"}) {
             const auto& p = f["renderers"][pass];
             if (!p["ran"].get<bool>()) continue;
             line += fmt::format("; PP {} {:.2f} ms ({} cycles a slot)", pass, p["simulated_seconds"].get<double>() * 1e3,
                                 p["slot_cycles"].dump());
         }
+        if (f["geometry"]["ran"].get<bool>())
+            line += fmt::format("; {} polygons scan-converted in {:.2f} ms ({:.0f} a second)", f["geometry"]["polygons"].dump(),
+                                f["geometry"]["simulated_seconds"].get<double>() * 1e3,
+                                f["geometry"]["polygons_per_second"].get<double>());
         const auto& m = f["machine"];
         line += fmt::format("\n    GPs: {} rays in {} passes, {} samples ({} skipped), cache hit rate {:.1f}%; crude {:.1f} ms, "
                             "refined {:.1f} ms simulated",
@@ -247,6 +259,7 @@ int run_render(const RenderOptions& o) {
         image.termination_opacity = scenario.image.termination_opacity;
         image.background = scenario.image.background;
         workstation.emplace(machine, volume, LevoySettings::from(config), image);
+        workstation->set_polygons(scenario.polygons);
     }
 
     StagedOutput output(o.out.empty() ? std::filesystem::path("out") / scenario.name : std::filesystem::path(o.out));
@@ -270,7 +283,7 @@ int run_render(const RenderOptions& o) {
         std::vector<std::string> pass_images;
         if (workstation) {
             LevoyFrameInputs inputs{camera, frame.classification, frame.colors, frame.lighting,
-                                    frame.classification_changed, frame.lighting_changed};
+                                    frame.classification_changed, frame.lighting_changed, frame.region};
             machine_work = workstation->render(inputs);
             for (std::size_t p = 0; p < machine_work->passes.size(); ++p) {
                 pass_images.push_back(fmt::format("frame_{:04}_pass_{}.{}", i, p, o.format));
@@ -283,7 +296,7 @@ int run_render(const RenderOptions& o) {
         const std::string image_name = fmt::format("frame_{:04}.{}", i, o.format);
         output.add_image(image_name, std::move(image), format);
         const double host = Seconds(std::chrono::steady_clock::now() - frame_start).count();
-        frames.push_back(frame_record(i, frame, image_name, stats, machine_work, pass_images, fidelity, host));
+        frames.push_back(frame_record(i, frame, image_name, stats, machine_work, pass_images, fidelity, host, !scenario.polygons.empty()));
         simulated.push_back(frames.back()["simulated_seconds"]);
         progress.update(i + 1);
     }

@@ -32,8 +32,10 @@ BinaryPyramid::Level BinaryPyramid::pack(glm::ivec3 dims, const std::vector<std:
     return level;
 }
 
-BinaryPyramid BinaryPyramid::from_opacity(const ShadedVolume& volume) {
+BinaryPyramid BinaryPyramid::from_opacity(const ShadedVolume& volume, const ShadedVolume* also) {
     const glm::ivec3 dims = volume.dims;
+    if (also != nullptr && (also->dims != dims || also->rgba.size() != volume.rgba.size()))
+        throw std::invalid_argument("pyramid: the second volume has another size");
     if (dims.x < 2 || dims.y < 2 || dims.z < 2) throw std::invalid_argument("pyramid: a volume needs two voxels along each axis");
     BinaryPyramid pyramid;
     struct {
@@ -51,7 +53,10 @@ BinaryPyramid BinaryPyramid::from_opacity(const ShadedVolume& volume) {
                 for (int dz = 0; dz < 2; ++dz) {
                     for (int dy = 0; dy < 2; ++dy) {
                         const std::size_t start = index_of({0, y + dy, z + dz}, dims);
-                        for (int x = 0; x < dims.x; ++x) if (volume.rgba[start + static_cast<std::size_t>(x)].a > 0.0f) row[static_cast<std::size_t>(x)] = 1;
+                        for (int x = 0; x < dims.x; ++x) {
+                            const std::size_t i = start + static_cast<std::size_t>(x);
+                            if (volume.rgba[i].a > 0.0f || (also != nullptr && also->rgba[i].a > 0.0f)) row[static_cast<std::size_t>(x)] = 1;
+                        }
                     }
                 }
                 std::uint8_t* out = &base.bits[index_of({0, y, z}, base.dims)];

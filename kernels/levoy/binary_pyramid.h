@@ -19,8 +19,9 @@ namespace pp5 {
 class BinaryPyramid {
 public:
     BinaryPyramid() = default;
-    // Built from the voxels' opacities (alpha > 0 is non-empty). Every dimension must be >= 2.
-    static BinaryPyramid from_opacity(const ShadedVolume& volume);
+    // Built from the voxels' opacities (alpha > 0 is non-empty). Every dimension must be >= 2. With
+    // `also` (a volume of the same size), a voxel non-empty in either counts.
+    static BinaryPyramid from_opacity(const ShadedVolume& volume, const ShadedVolume* also = nullptr);
 
     int levels() const { return static_cast<int>(levels_.size()); }
     glm::ivec3 cell_dims(int level) const { return levels_[static_cast<std::size_t>(level)].dims; }

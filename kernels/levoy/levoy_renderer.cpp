@@ -81,7 +81,8 @@ GeometryReport LevoyRenderer::scan_convert(Tick start) {
         ++report.polygons;
         if (polygon.degenerate) continue;
         const PpProgram program = build_polygon_program(polygon, settings_.jitter_samples, dims_, inputs);
-        // The host broadcasts the polygon: D, E and F of every expression, a word each.
+        // The host broadcasts the polygons one after another: D, E and F of every expression, a word
+        // each; each renderer takes them in the order they arrive.
         const auto words = static_cast<std::uint64_t>(program.expressions) * 3;
         const RingTransit transit = ring.transmit(start, RingMessage{MessageKind::Command, 0, 0, words * 32, true});
         const PpProgramPass pass = pixel_processors_.run_over_slots(
@@ -90,6 +91,7 @@ GeometryReport LevoyRenderer::scan_convert(Tick start) {
         for (const auto& r : machine_.renderers()) report.end_ps = std::max(report.end_ps, r->busy_until());
         report.slots += pass.slots;
     }
+    machine_.events().run_until();
     return report;
 }
 
@@ -191,11 +193,17 @@ LevoyFrameReport LevoyRenderer::render(const LevoyFrameInputs& frame) {
     shaded_for_ = view;
     region_ = frame.region;
     Tick t = report.pixel_processors.end_ps;
+    // The pyramid marks what the classification leaves non-empty before the region scales it: a
+    // superset of what is non-empty after (so skipping stays exact), which a moving region does not
+    // change even where its scaling rounds small opacities to zero.
+    std::optional<ShadedVolume> unscaled;
+    if (classify && region_) unscaled = pixel_processors_.shaded_volume();
     if (classify && region_) {
         const PpProgram program = build_region_program(*region_, dims_, pixel_processors_.program_inputs());
         const RegionOfInterest& region = *region_;
         report.region = pixel_processors_.run_over_slots(
             program, [](const SlotFrame&) { return true; }, [&](const SlotFrame& f) { return region_expressions(region, f); }, t);
+        machine_.events().run_until();
         t = report.region.end_ps;
     }
     if (!polygons_.empty() && reshade) {
@@ -211,7 +219,7 @@ LevoyFrameReport LevoyRenderer::render(const LevoyFrameInputs& frame) {
         }
     }
     if (classify) {
-        BinaryPyramid fresh = BinaryPyramid::from_opacity(shaded_);
+        BinaryPyramid fresh = BinaryPyramid::from_opacity(shaded_, unscaled ? &*unscaled : nullptr);
         if (first_frame_ || !fresh.same_cells(pyramid_)) {
             pyramid_ = std::move(fresh);
             const Tick before = t;

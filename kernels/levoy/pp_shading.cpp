@@ -142,7 +142,9 @@ PpProgramPass PpShading::run_program(const PpProgram& program, const ShadingView
             return std::vector<QeeCoefficients>(e.begin(), e.end());
         };
     }
-    return run_over_slots(program, [](const SlotFrame&) { return true; }, expressions, start);
+    const PpProgramPass pass = run_over_slots(program, [](const SlotFrame&) { return true; }, expressions, start);
+    machine_.events().run_until();
+    return pass;
 }
 
 PpProgramInputs PpShading::program_inputs() const {
@@ -190,7 +192,6 @@ PpProgramPass PpShading::run_over_slots(const PpProgram& program, const SlotSele
             pass.slots = work.slots;
         }
     }
-    events.run_until();
     return pass;
 }
 

@@ -83,7 +83,8 @@ public:
 
     // Runs `program` on every renderer over the slots `select` accepts, each with the QEE expressions
     // `expressions` gives for its frame (none when empty), starting at `start` or when each renderer
-    // is free: the functional run and its timing, as for the classification and shading passes.
+    // is free: the functional run and its timing, as for the classification and shading passes. The
+    // passes' end events are left in the queue (so that several can be queued back to back); run it.
     using SlotSelector = std::function<bool(const SlotFrame&)>;
     using SlotExpressions = std::function<std::vector<QeeCoefficients>(const SlotFrame&)>;
     PpProgramPass run_over_slots(const PpProgram& program, const SlotSelector& select, const SlotExpressions& expressions,

@@ -108,5 +108,33 @@ TEST(Scenario, MalformedFilesNameTheField) {
     expect_bad("depth_cue", ok + "[shading]\ndepth_cue = [0, 1]\n", "shading.depth_cue");
 }
 
+TEST(Scenario, GeometryAndRegionAreRead) {
+    const Scenario s = load_scenario(shipped("ct-head-region.toml"));
+    EXPECT_EQ(s.polygons.size(), 20u + 24u);  // the icosahedron's and the beam's triangles
+    ASSERT_TRUE(s.frames[0].region.has_value());
+    EXPECT_EQ(s.frames[0].region->shape, RegionOfInterest::Shape::Box);
+    EXPECT_FLOAT_EQ(s.frames[0].region->scale_inside, 0.02f);
+    EXPECT_FLOAT_EQ(s.frames[1].region->center.x, 155.0f);
+    EXPECT_FLOAT_EQ(s.frames[1].region->half_size.x, 22.0f);  // kept from the frame before
+    EXPECT_TRUE(s.frames[1].region_changed);
+    const Scenario f5 = load_scenario(shipped("ct-head-polygons.toml"));
+    ASSERT_EQ(f5.polygons.size(), 3u);
+    EXPECT_EQ(f5.polygons[0].vertices.size(), 4u);
+    EXPECT_FALSE(f5.frames[0].region.has_value());
+}
+
+TEST(Scenario, BadGeometryNamesTheFieldOrFile) {
+    const std::string ok = "[dataset]\nphantom = \"sphere\"\n[classification]\ncontours = [{ value = 100 }]\n";
+    expect_bad("nan_vertex", ok + "[[polygons]]\nvertices = [[0, 0, 0], [1, nan, 0], [0, 1, 0]]\n", "polygons[0].vertices");
+    expect_bad("two_vertices", ok + "[[polygons]]\nvertices = [[0, 0, 0], [1, 0, 0]]\n", "polygons[0].vertices");
+    expect_bad("bad_colour", ok + "[[polygons]]\nvertices = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]\ncolor = [2, 0, 0]\n", "polygons[0].color");
+    expect_bad("missing_obj", ok + "[[meshes]]\nfile = \"no-such-mesh.obj\"\n", "meshes[0].file");
+    const fs::path empty = fs::temp_directory_path() / "pp5_empty_mesh.obj";
+    std::ofstream(empty) << "# nothing here\nv 0 0 0\n";
+    expect_bad("empty_mesh", ok + "[[meshes]]\nfile = \"" + empty.string() + "\"\n", "meshes[0].file");
+    expect_bad("bad_region", ok + "[region]\nhalf_size = [0, 1, 1]\n", "region.half_size");
+    expect_bad("bad_region_shape", ok + "[region]\nshape = \"torus\"\n", "region.shape");
+}
+
 }  // namespace
 }  // namespace pp5
