@@ -260,3 +260,38 @@ TEST(RegionOfInterest, BadRegionsAreRejected) {
 
 }  // namespace
 }  // namespace pp5
+
+namespace pp5 {
+namespace {
+
+// Matting writes exactly the colour and opacity bits of its own voxel's record: scan-converting the
+// same polygons again after a light change gives the same opacities and the same pyramid (a store one
+// bit too wide once spilled into the next slot's value).
+TEST(ScanConversion, RepeatingAFrameReproducesTheSameVoxels) {
+    const MachineConfig config = small_machine();
+    Machine machine(config);
+    const Volume volume = make_head_phantom(32);
+    LevoyRenderer renderer(machine, volume, LevoySettings::from(config), LevoyImageSettings{16, 16, 1.0f, 0.95f, glm::vec3(0.0f)});
+    renderer.set_polygons({triangle({3.2f, 4.1f, 5.3f}, {27.7f, 6.2f, 11.9f}, {9.4f, 26.8f, 25.1f}, glm::vec3(0.2f, 0.3f, 1.0f), 0.7f),
+                           PolygonSpec{{{4, 4, 10}, {20, 4, 10}, {20, 20, 10}, {4, 20, 10}}, {glm::vec3(1.0f)}, {1.0f}}});
+    LevoyFrameInputs in;
+    in.camera.eye = glm::vec3(15.5f, -60.0f, 15.5f);
+    in.camera.target = glm::vec3(15.5f);
+    in.camera.up = glm::vec3(0.0f, 0.0f, 1.0f);
+    in.camera.view_height = 40.0f;
+    in.classification.contours = {{40.0f, 0.3f, 1.5f}, {160.0f, 0.9f, 1.5f}};
+    in.lighting.light_follows_camera = false;
+    const LevoyFrameReport first = renderer.render(in);
+    const ShadedVolume before = renderer.shaded_volume();
+    in.classification_changed = false;
+    in.lighting_changed = true;
+    in.lighting.ambient = 0.25f;
+    const LevoyFrameReport second = renderer.render(in);
+    EXPECT_TRUE(first.pyramid_rebuilt);
+    EXPECT_FALSE(second.pyramid_rebuilt);
+    ASSERT_EQ(before.rgba.size(), renderer.shaded_volume().rgba.size());
+    for (std::size_t i = 0; i < before.rgba.size(); ++i) ASSERT_EQ(before.rgba[i].a, renderer.shaded_volume().rgba[i].a) << "voxel " << i;
+}
+
+}  // namespace
+}  // namespace pp5
