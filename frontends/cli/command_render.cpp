@@ -189,7 +189,7 @@ nlohmann::json frame_record(std::size_t index, const FrameSpec& frame, const std
 }
 
 std::string describe_frame(const nlohmann::json& f) {
-    std::string line = fmt::format("  frame {} ({}): {} samples ({} skipped as empty)", f["index"].get<std::size_t>(),
+    std::string line = fmt::format("  frame {} ({}): host reference {} samples ({} skipped as empty)", f["index"].get<std::size_t>(),
                                    f["label"].get<std::string>(), f["reference"]["samples"].dump(),
                                    f["reference"]["samples_skipped"].dump());
     if (f.contains("renderers")) {
