@@ -7,6 +7,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "sim/core/input_error.h"
+
 namespace pp5 {
 
 namespace {
@@ -72,15 +74,24 @@ PpProgram build_polygon_program(const PreparedPolygon& polygon, int samples, glm
 
     // The polygon's opacity at this voxel, times coverage: a_p = alpha (count / J).
     const int first_color_expression = samples * per_sample;
-    const auto code_at = [&](const char* name, int expression, std::int64_t max_code) {
-        const PpField raw = b.qee(name, expression, pp_bits_for_range(-2 * max_code, 2 * max_code), true, kQeeShift);
+    // A covered voxel's centre may lie up to a voxel outside the polygon, where its linear colour and
+    // opacity run past [0, 1]: size the QEE's field for the polygon's box grown by a voxel, then clamp.
+    const auto code_at = [&](const char* name, int expression, std::int64_t max_code, const LinearFunction& f) {
+        double most = 1.0;
+        for (int c = 0; c < 8; ++c) {
+            const glm::vec3 corner((c & 1) ? polygon.upper.x + 1.0f : polygon.lower.x - 1.0f, (c & 2) ? polygon.upper.y + 1.0f : polygon.lower.y - 1.0f,
+                                   (c & 4) ? polygon.upper.z + 1.0f : polygon.lower.z - 1.0f);
+            most = std::max(most, std::abs(static_cast<double>(f(corner))));
+        }
+        const auto limit = static_cast<std::int64_t>(std::ceil(most * static_cast<double>(max_code))) + 2;
+        const PpField raw = b.qee(name, expression, pp_bits_for_range(-limit, limit), true, kQeeShift);
         const PpField low = b.max_const(name, raw, 0);
         b.release(raw);
         const PpField clamped = b.min_const(name, low, max_code);
         b.release(low);
         return clamped;
     };
-    const PpField alpha = code_at("polygon opacity", first_color_expression + 3, opacity_max);
+    const PpField alpha = code_at("polygon opacity", first_color_expression + 3, opacity_max, polygon.opacity);
     const PpField weighted = b.mul("opacity x count", alpha, count);
     b.release(alpha);
     const PpField samples_field = b.set_const("J", samples);
@@ -104,8 +115,9 @@ PpProgram build_polygon_program(const PreparedPolygon& polygon, int samples, glm
     const PpField a = b.min_const("matted opacity", sum_a, opacity_max);
     b.release(sum_a);
     b.enable_if(a, PpCompare::Greater, 0);
+    const LinearFunction* channels[3] = {&polygon.red, &polygon.green, &polygon.blue};
     for (int k = 0; k < 3; ++k) {
-        const PpField c_p = code_at("polygon colour", first_color_expression + k, color_max);
+        const PpField c_p = code_at("polygon colour", first_color_expression + k, color_max, *channels[k]);
         const PpField c_v = b.load("voxel colour", layout.color_offset(k), layout.color_bits, false);
         const PpField front = b.mul("c_p a_p", c_p, a_p);
         const PpField back = b.mul("c_v a_v (1 - a_p)", c_v, through);
@@ -164,7 +176,13 @@ constexpr int kQuadraticShift = 32; // the ellipsoid's quadratic, before the QEE
 PpProgram build_region_program(const RegionOfInterest& region, glm::ivec3 dims, const PpProgramInputs& inputs) {
     const VoxelRecordLayout& layout = inputs.layout;
     const std::int64_t opacity_max = (std::int64_t{1} << layout.opacity_bits) - 1;
-    const double reach = glm::length(glm::vec3(dims)) + glm::length(region.center) + glm::length(region.half_size) + 2.0;
+    // The farthest any voxel lies from the region's centre.
+    double reach = 0.0;
+    for (int c = 0; c < 8; ++c) {
+        const glm::dvec3 corner((c & 1) ? dims.x : -1, (c & 2) ? dims.y : -1, (c & 4) ? dims.z : -1);
+        reach = std::max(reach, glm::length(corner - glm::dvec3(region.center)));
+    }
+    reach += 2.0;
     const auto whole = [](double x) { return static_cast<std::int64_t>(std::ceil(x)); };
     PpProgramBuilder b("region of interest", inputs.local_memory_bits);
     PpField distance;
@@ -194,6 +212,11 @@ PpProgram build_region_program(const RegionOfInterest& region, glm::ivec3 dims, 
     } else {
         const double r_min = std::min({region.half_size.x, region.half_size.y, region.half_size.z});
         const double s_max = reach * reach / (r_min * r_min);
+        if (s_max * 65536.0 >= std::ldexp(1.0, kMaxPpFieldBits - 2)) {
+            throw InputError("scenario", "region.half_size",
+                             "an ellipsoid this thin (smallest radius " + std::to_string(r_min) +
+                                 " voxels) this far from the volume's voxels is past the PPs' 48-bit fixed point; use a box or thicken it");
+        }
         const PpField s = b.qee("ellipsoid quadratic", 0, pp_bits_for_range(-whole(s_max * 65536), whole(s_max * 65536)), true, kQuadraticShift - 16);
         const PpField positive = b.max_const("ellipsoid quadratic", s, 0);
         b.release(s);

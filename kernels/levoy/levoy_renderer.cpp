@@ -40,26 +40,29 @@ Tick LevoyRenderer::distribute_pyramid(Tick start) {
     for (auto& r : machine_.renderers()) ready.emplace_back(std::max(start, r->busy_until()), r->index());
     std::sort(ready.begin(), ready.end());
     const std::uint64_t bits_per_slot = static_cast<std::uint64_t>(placement.shape().columns) * static_cast<std::uint64_t>(placement.shape().rows);
-    Tick all_in = start;
-    std::uint64_t messages = 0;
-    std::uint64_t words = 0;
+    // Each GP takes every message in as it arrives, after the one before (taking a message in is
+    // slower than the ring delivers it), then builds.
+    const GpCostModel& costs = machine_.gps().front()->costs();
+    std::vector<RingTransit> transits;
     for (const auto& [at, r] : ready) {
         const std::size_t station = ring.position(StationKind::Renderer, r);
-        for (int slot = 0; slot < placement.slots_used(static_cast<int>(r)); ++slot) {
-            const RingTransit transit = ring.transmit(at, RingMessage{MessageKind::Pyramid, station, 0, bits_per_slot, true});
-            all_in = std::max(all_in, transit.arrival);
-            ++messages;
-            words += transit.words;
-        }
+        for (int slot = 0; slot < placement.slots_used(static_cast<int>(r)); ++slot)
+            transits.push_back(ring.transmit(at, RingMessage{MessageKind::Pyramid, station, 0, bits_per_slot, true}));
     }
-    const GpCostModel& costs = machine_.gps().front()->costs();
-    const Tick receive = static_cast<Tick>(messages) * costs.message_receive + static_cast<Tick>(words) * costs.receive_per_word;
+    std::sort(transits.begin(), transits.end(), [](const RingTransit& a, const RingTransit& b) { return a.arrival < b.arrival; });
+    Tick taken_in = start;
+    Tick receiving = 0;
+    for (const RingTransit& transit : transits) {
+        const Tick receive = costs.message_receive + static_cast<Tick>(transit.words) * costs.receive_per_word;
+        taken_in = std::max(taken_in, transit.arrival) + receive;
+        receiving += receive;
+    }
     const Tick build = static_cast<Tick>(pyramid_.total_cells()) * costs.pyramid_build_per_cell;
     for (auto& gp : machine_.gps()) {
-        gp->busy_ps += static_cast<std::uint64_t>(receive + build);
-        if (TraceRecorder* trace = machine_.trace()) trace->slice(trace->track("GPs", gp->name()), "building the pyramid", all_in, all_in + build);
+        gp->busy_ps += static_cast<std::uint64_t>(receiving + build);
+        if (TraceRecorder* trace = machine_.trace()) trace->slice(trace->track("GPs", gp->name()), "building the pyramid", taken_in, taken_in + build);
     }
-    return all_in + build;
+    return taken_in + build;
 }
 
 void LevoyRenderer::set_polygons(const std::vector<PolygonSpec>& polygons) {
@@ -172,6 +175,20 @@ RayCastJob LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& rep
             if (task.ray_count > 0 || task.squares_tested > 0) job.tasks.push_back(task);
         }
         job.passes.push_back(std::move(batch));
+    }
+    // The last decision, that nothing more splits, was made too: charge its tests to the last pass.
+    if (!job.passes.empty() && !refinement.tested_squares().empty()) {
+        std::vector<std::uint32_t> tests(static_cast<std::size_t>(job.tiles), 0);
+        for (const std::uint32_t corner : refinement.tested_squares()) ++tests[static_cast<std::size_t>(tile_of(corner))];
+        for (int t = 0; t < job.tiles; ++t) {
+            if (tests[static_cast<std::size_t>(t)] == 0) continue;
+            TileTask task;
+            task.pass = static_cast<int>(job.passes.size()) - 1;
+            task.tile = t;
+            task.squares_tested = tests[static_cast<std::size_t>(t)];
+            task.tile_pixels = pixels_in_tile(t);
+            job.tasks.push_back(task);
+        }
     }
     return job;
 }

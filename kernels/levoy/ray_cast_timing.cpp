@@ -36,6 +36,10 @@ public:
     void handle_event(Tick now, std::uint64_t payload) override;
     bool finished() const { return finished_; }
     void give_task(std::uint32_t task) { tasks_.push_back(task); }
+    // A refinement pass has finished: an idle GP waiting for it goes on at `t`.
+    void wake(Tick t) {
+        if (!scheduled_ && !finished_ && idle_since_ >= 0) schedule_resume(t);
+    }
     std::string describe_stall() const;
 
 private:
@@ -128,7 +132,12 @@ public:
     Engine(Machine& machine_in, VoxelBlocks& blocks_in, const RayCastJob& job_in, const RayCastTimingOptions& options_in)
         : machine(machine_in), blocks(blocks_in), job(job_in), options(options_in), frame_buffer(job_in.passes.size()), host(*this) {
         remaining.resize(job.tasks.size());
-        for (std::size_t i = 0; i < job.tasks.size(); ++i) remaining[i] = job.tasks[i].ray_count;
+        open_tasks.assign(job.passes.size(), 0);
+        for (std::size_t i = 0; i < job.tasks.size(); ++i) {
+            remaining[i] = job.tasks[i].ray_count;
+            ++open_tasks.at(static_cast<std::size_t>(job.tasks[i].pass));
+        }
+        while (passes_done < open_tasks.size() && open_tasks[passes_done] == 0) ++passes_done;
         RingNetwork& ring = machine.ring();
         for (auto& gp : machine.gps())
             gps.push_back(std::make_unique<GpAgent>(*this, *gp, ring.position(StationKind::GraphicsProcessor, gp->index())));
@@ -145,7 +154,20 @@ public:
     VoxelBlocks& blocks;
     const RayCastJob& job;
     const RayCastTimingOptions& options;
+    // A pass's rays are chosen from the colours of the pass before, all over the image: no task of a
+    // pass starts before every task of the passes before it has finished.
+    bool pass_open(int pass) const { return static_cast<std::size_t>(pass) <= passes_done; }
+    void task_done(std::uint32_t task, Tick t) {
+        --open_tasks[static_cast<std::size_t>(job.tasks[task].pass)];
+        const std::size_t before = passes_done;
+        while (passes_done < open_tasks.size() && open_tasks[passes_done] == 0) ++passes_done;
+        if (passes_done != before)
+            for (auto& gp : gps) gp->wake(t);
+    }
+
     std::vector<std::uint32_t> remaining;  // rays not finished, per task
+    std::vector<std::uint32_t> open_tasks; // tasks not finished, per pass
+    std::size_t passes_done = 0;           // passes whose every task has finished
     std::vector<std::unique_ptr<GpAgent>> gps;
     std::vector<std::unique_ptr<RendererAgent>> renderers;
     FrameBufferAgent frame_buffer;
@@ -274,12 +296,14 @@ int GpAgent::start_ray(Tick& t) {
             if (engine_.options.assignment == RayAssignment::WorkQueue && !asked_for_task_ && !no_more_tasks_) action_ = Action::AskTask;
             return -1;
         }
+        if (!engine_.pass_open(engine_.job.tasks[tasks_.front()].pass)) return -1;  // wait for the pass before
         task_ = tasks_.front();
         tasks_.pop_front();
         have_task_ = true;
         next_ray_ = 0;
         const TileTask& task = engine_.job.tasks[task_];
         t += static_cast<Tick>(task.squares_tested) * gp_.costs().refinement_test;
+        if (task.ray_count == 0) engine_.task_done(task_, t);  // only refinement tests
     }
     Context& c = *free;
     c = Context{};
@@ -337,6 +361,7 @@ bool GpAgent::advance(int index, Tick& t) {
     }
     if (--engine_.remaining[c.task] == 0) {
         const TileTask& task = engine_.job.tasks[c.task];
+        engine_.task_done(c.task, t);
         t += static_cast<Tick>(task.pixels_filled) * costs.pixel_fill + costs.message_send;
         gp_.pixels_filled += task.pixels_filled;
         report.pixels_filled += task.pixels_filled;
@@ -359,6 +384,9 @@ void GpAgent::run(Tick now) {
     perform(now);
     Tick t = now + take_in_replies();
     for (;;) {
+        // At a switch, replies or a task that arrived meanwhile are taken in: stop here and let the
+        // events before t run first.
+        if (t > now && (!outstanding_.empty() || asked_for_task_) && engine_.machine.events().next_time() <= t) break;
         int c = pick_ready_context();
         if (c < 0) c = start_ray(t);
         if (c < 0) break;
@@ -395,6 +423,8 @@ std::string GpAgent::describe_stall() const {
     }
     for (const Outstanding& o : outstanding_) why += fmt::format(" block {} has {} part(s) outstanding;", o.block, o.parts_left);
     if (asked_for_task_) why += " it waits for a task from the host;";
+    if (!tasks_.empty() && !engine_.pass_open(engine_.job.tasks[tasks_.front()].pass))
+        why += fmt::format(" it waits for refinement pass {} to finish;", engine_.job.tasks[tasks_.front()].pass - 1);
     if (!arrived_.empty()) why += " replies arrived but were not taken in;";
     return why;
 }
@@ -460,6 +490,7 @@ RayCastReport time_ray_casting(Machine& machine, VoxelBlocks& blocks, const RayC
         if (!gp->finished()) stalled += fmt::format(" {}", gp->describe_stall());
     if (!stalled.empty()) {
         const bool timed_out = !events.empty();
+        events.clear();  // the agents handling them are about to go
         throw std::runtime_error(fmt::format("watchdog: {} at {:.6f} s simulated:{}",
                                              timed_out ? "the frame ran past the watchdog limit" : "the machine stalled with work left",
                                              ticks_to_seconds(events.now()), stalled));

@@ -10,6 +10,9 @@
 // i860 polls its ring interface), stores the block in its cache and readies the rays that wait for it.
 // When a tile's rays are done the GP fills the tile's other pixels by interpolation and sends the
 // tile's pixels to the frame buffer; a refinement pass is complete when its last tile has arrived.
+// A pass's rays depend on the colours of the pass before, across tiles, so no GP starts a task of a
+// pass until every task of the passes before has finished (the colours themselves are not charged as
+// messages). A GP with replies or a task on the way stops at its next switch to take them in.
 //
 // Renderers answer requests one at a time, after the PP passes of the frame, at
 // renderer.request_* cost. Tiles go to GPs either statically (tile t to GP t mod G, every pass) or from
@@ -79,7 +82,8 @@ struct RayCastReport {
 };
 
 // Runs `job` on `machine` from `start` (after whatever the renderers are already doing) and returns
-// what it did. GP caches are used and left as they are. Throws std::runtime_error from the watchdog.
+// what it did. GP caches are used and left as they are. Throws std::runtime_error from the watchdog,
+// after dropping the machine's pending events.
 RayCastReport time_ray_casting(Machine& machine, VoxelBlocks& blocks, const RayCastJob& job,
                                const RayCastTimingOptions& options, Tick start);
 

@@ -134,7 +134,13 @@ PreparedPolygon prepare_polygon(const PolygonSpec& polygon) {
         p.edge_normals.push_back(inward);
         p.edge_offsets.push_back(-glm::dot(inward, a));
     }
-    const glm::dvec3 u = glm::normalize(glm::dvec3(v[1]) - glm::dvec3(v[0]));
+    // The in-plane axes for the colour fit, from the longest edge (a repeated vertex gives a zero one).
+    glm::dvec3 longest(0.0);
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        const glm::dvec3 e = glm::dvec3(v[(i + 1) % v.size()]) - glm::dvec3(v[i]);
+        if (glm::length(e) > glm::length(longest)) longest = e;
+    }
+    const glm::dvec3 u = glm::normalize(longest);
     const glm::dvec3 w = glm::cross(p.normal, u);
     std::vector<double> values(v.size());
     LinearFunction* channels[3] = {&p.red, &p.green, &p.blue};

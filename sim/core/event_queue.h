@@ -31,6 +31,8 @@ public:
     std::uint64_t run_until(Tick limit = kMaxTick);
     // Run exactly one event if there is one; false when the queue is empty.
     bool step();
+    // Drops every pending event (their handlers may be going away); time stays where it is.
+    void clear() { heap_.clear(); }
 
     Tick now() const { return now_; }
     bool empty() const { return heap_.empty(); }

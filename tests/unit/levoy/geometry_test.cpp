@@ -327,3 +327,35 @@ TEST(ScanConversion, MoreTranslationsAntialiasTheEdges) {
 
 }  // namespace
 }  // namespace pp5
+
+namespace pp5 {
+namespace {
+
+TEST(ScanConversion, RepeatedVertexGivesFiniteColours) {
+    const PolygonSpec square{{{4, 4, 10}, {4, 4, 10}, {20, 4, 10}, {20, 20, 10}, {4, 20, 10}},
+                             {glm::vec3(1, 0, 0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, 0, 1), glm::vec3(1, 1, 1)},
+                             {1.0f}};
+    EXPECT_NO_THROW(validate_polygon(square, "s.toml", "polygons[0]"));
+    const PreparedPolygon p = prepare_polygon(square);
+    for (const LinearFunction* f : {&p.red, &p.green, &p.blue, &p.opacity}) {
+        EXPECT_TRUE(std::isfinite(f->offset));
+        EXPECT_TRUE(std::isfinite(f->gradient.x) && std::isfinite(f->gradient.y) && std::isfinite(f->gradient.z));
+    }
+}
+
+TEST(ScanConversion, ColourBeyondASmallPolygonClampsInsteadOfWrapping) {
+    // A sub-voxel triangle, red at one corner only: voxels its sheet reaches lie up to a voxel
+    // outside it, where the linear red runs far below 0; the PPs clamp it to 0.
+    const PolygonSpec tiny{{{10.45f, 10.45f, 10.0f}, {10.75f, 10.45f, 10.0f}, {10.45f, 10.75f, 10.0f}},
+                           {glm::vec3(1, 0, 0), glm::vec3(0, 0, 0), glm::vec3(0, 0, 0)},
+                           {1.0f}};
+    const PreparedPolygon p = prepare_polygon(tiny);
+    const auto offsets = subvoxel_offsets(64);
+    ASSERT_GT(host_coverage(p, offsets, {11, 11, 10}), 0);
+    ASSERT_LT(p.red(glm::vec3(11, 11, 10)), 0.0f);
+    const ShadedVolume v = scan_converted({tiny}, 64);
+    EXPECT_LT(v.rgba[static_cast<std::size_t>(11 + 32 * (11 + 32 * 10))].r, 0.5f / 255.0f);
+}
+
+}  // namespace
+}  // namespace pp5

@@ -124,3 +124,65 @@ TEST(RayCastTiming, ContextsWaitingForTheSameBlockShareOneRequest) {
 
 }  // namespace
 }  // namespace pp5
+
+namespace pp5 {
+namespace {
+
+// A job of hand-made passes: each inner vector is one pass's rays, each ray the blocks it needs in
+// turn (with `samples` samples before each) and `tail` samples after.
+struct HandRay {
+    std::vector<std::uint32_t> blocks;
+    std::uint32_t samples = 1;
+    std::uint32_t tail = 0;
+};
+
+RayCastJob hand_job(const std::vector<std::vector<HandRay>>& passes) {
+    RayCastJob job;
+    job.tiles = 1;
+    for (std::size_t p = 0; p < passes.size(); ++p) {
+        CastBatch batch;
+        for (const HandRay& h : passes[p]) {
+            RayWork ray;
+            ray.first_touch = static_cast<std::uint32_t>(batch.touches.size());
+            ray.touch_count = static_cast<std::uint32_t>(h.blocks.size());
+            ray.tail_samples = h.tail;
+            for (const std::uint32_t b : h.blocks) batch.touches.push_back(BlockTouch{b, h.samples, 0});
+            batch.rays.push_back(ray);
+            batch.colors.emplace_back(0.0f);
+        }
+        job.tasks.push_back(TileTask{static_cast<int>(p), 0, 0, static_cast<std::uint32_t>(passes[p].size()), 0, 0, 64});
+        job.passes.push_back(std::move(batch));
+    }
+    return job;
+}
+
+RayCastReport run_hand(const RayCastJob& job, int contexts) {
+    const MachineConfig config = latency_machine(contexts);
+    Machine machine(config);
+    const VoxelPlacement placement(PlacementPolicy::Bricks, glm::ivec3(9), PpArrayShape{1, 16, 16, 4096}, 64);
+    VoxelBlocks blocks(placement, 1, 32);
+    return time_ray_casting(machine, blocks, job, RayCastTimingOptions{}, 0);
+}
+
+TEST(RayCastTiming, APassWaitsForThePassBeforeIt) {
+    // Pass 1's only ray needs nothing fetched, but its pixels were chosen from pass 0's colours.
+    const RayCastReport r = run_hand(hand_job({{HandRay{{0}}}, {HandRay{{}, 1, 5}}}), 2);
+    ASSERT_EQ(r.pass_end.size(), 2u);
+    EXPECT_GT(r.pass_end[1], r.pass_end[0]);
+}
+
+TEST(RayCastTiming, RepliesAreTakenInAtTheNextSwitch) {
+    // One ray needs four blocks in turn; 63 others only compute. With several contexts the GP takes
+    // each reply in while the others run, so the slow ray's waits hide behind their work.
+    std::vector<HandRay> rays{HandRay{{0, 1, 2, 3}}};
+    for (int i = 0; i < 63; ++i) rays.push_back(HandRay{{}, 1, 200});
+    const RayCastJob job = hand_job({rays});
+    const RayCastReport one = run_hand(job, 1);
+    const RayCastReport eight = run_hand(job, 8);
+    EXPECT_GT(one.gp_wait, 0);
+    EXPECT_LT(eight.gp_wait, one.gp_wait / 4) << "waits not hidden: " << eight.gp_wait << " ps";
+    EXPECT_LT(eight.end, one.end);
+}
+
+}  // namespace
+}  // namespace pp5
