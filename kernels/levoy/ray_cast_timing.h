@@ -75,7 +75,7 @@ struct RayCastReport {
     std::uint64_t requests = 0;            // messages to renderers
     std::uint64_t context_switches = 0;
     Tick gp_busy = 0;                       // summed over GPs
-    Tick gp_wait = 0;                       // summed over GPs: work left, every ray waiting
+    Tick gp_wait = 0;                       // summed over GPs: work left, nothing to run (voxels or the next pass)
     Tick renderer_busy = 0;                 // answering requests, summed over renderers
     Tick ring_busy = 0;                     // summed over channels
     std::uint64_t events = 0;

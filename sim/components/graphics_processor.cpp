@@ -42,7 +42,7 @@ GraphicsProcessor::GraphicsProcessor(std::size_t index, const MachineConfig& con
       replies(stats().counter("replies", "count", "Voxel replies received")),
       context_switches(stats().counter("context_switches", "count", "Switches from a waiting ray to a ready one")),
       busy_ps(stats().counter("busy_time", "ps", "Simulated time spent computing")),
-      wait_ps(stats().counter("wait_time", "ps", "Simulated time with work left and every ray context waiting for voxels")),
+      wait_ps(stats().counter("wait_time", "ps", "Simulated time with work left but nothing to run: every ray waiting for voxels, or the next refinement pass not yet open")),
       index_(index),
       clock_(ClockDomain::from_megahertz(name() + ".clock", config.real("gp.clock_mhz"))),
       cache_bits_(static_cast<std::uint64_t>(config.integer("gp.cache_bits"))),
