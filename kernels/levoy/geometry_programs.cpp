@@ -109,8 +109,7 @@ PpProgram build_polygon_program(const PreparedPolygon& polygon, int samples, glm
     const PpField through = b.div("a_v (1 - a_p) scaled", behind, rest, 0, layout.opacity_bits);
     b.release(behind);
     b.release(rest);
-    // a <= the maximum code, but the sum's field is a bit wider: narrow it so that the store writes
-    // exactly the opacity's bits (a wider store would spill into the next slot's record).
+    // a <= the maximum code, but the sum's field is a bit wider: narrow it to the opacity's width.
     const PpField sum_a = b.add("matted opacity", a_p, through);
     const PpField a = b.min_const("matted opacity", sum_a, opacity_max);
     b.release(sum_a);
@@ -128,12 +127,10 @@ PpProgram build_polygon_program(const PreparedPolygon& polygon, int samples, glm
         b.release(back);
         const PpField c = b.div("matted colour", sum, a, 0, layout.color_bits);
         b.release(sum);
-        if (c.bits != layout.color_bits) throw std::logic_error("polygon program: a matted colour is not a colour's width");
-        b.store(c, layout.color_offset(k));
+        b.store(c, layout.color_offset(k), layout.color_bits);
         b.release(c);
     }
-    if (a.bits != layout.opacity_bits) throw std::logic_error("polygon program: the matted opacity is not an opacity's width");
-    b.store(a, layout.opacity_offset());
+    b.store(a, layout.opacity_offset(), layout.opacity_bits);
     b.release(a);
     b.release(a_p);
     b.release(through);
@@ -256,8 +253,7 @@ PpProgram build_region_program(const RegionOfInterest& region, glm::ivec3 dims, 
     b.release(scaled);
     const PpField clamped = b.min_const("scaled opacity", low, opacity_max);
     b.release(low);
-    if (clamped.bits != layout.opacity_bits) throw std::logic_error("region program: the scaled opacity is not an opacity's width");
-    b.store(clamped, layout.opacity_offset());
+    b.store(clamped, layout.opacity_offset(), layout.opacity_bits);
     b.release(clamped);
     return b.finish();
 }

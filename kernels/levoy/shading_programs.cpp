@@ -285,7 +285,7 @@ PpProgram build_classification_program(const Classification& classification, con
     const std::int64_t max_code = (std::int64_t{1} << inputs.layout.opacity_bits) - 1;
     const PpField code = to_code(b, "opacity", opacity, max_code);
     b.release(opacity);
-    b.store(code, inputs.layout.opacity_offset());
+    b.store(code, inputs.layout.opacity_offset(), inputs.layout.opacity_bits);
     return b.finish();
 }
 
@@ -385,7 +385,7 @@ PpProgram build_shading_program(const ColorMap& color_map, const PhongLighting& 
         const PpField code = rounded_shift(b, "color", product, kOneShift);
         const PpField clamped = b.min_const("color_clamped", code, color_max);
         b.release(code);
-        b.store(clamped, layout.color_offset(c));
+        b.store(clamped, layout.color_offset(c), layout.color_bits);
         b.release(clamped);
     }
     b.release(factor);

@@ -455,6 +455,28 @@ void PpProgramBuilder::store(PpField a, int record_offset) {
     program_.instructions.push_back(i);
 }
 
+void PpProgramBuilder::store(PpField a, int record_offset, int record_bits) {
+    check_live(a);
+    const std::string& name = program_.field_names[static_cast<std::size_t>(a.id)];
+    if (a.bits > record_bits) {
+        throw std::invalid_argument(fmt::format("PP program {}: {} is {} bits wide, the record field at {} only {}", program_.name,
+                                                name, a.bits, record_offset, record_bits));
+    }
+    if (a.bits == record_bits) {
+        store(a, record_offset);
+        return;
+    }
+    // Narrower: widen with zeros first, so that no bit of an earlier value stays behind.
+    if (lo(a) < 0) {
+        throw std::invalid_argument(fmt::format("PP program {}: {} may be negative; it cannot fill the {}-bit record field at {}",
+                                                program_.name, name, record_bits, record_offset));
+    }
+    const PpField wide = alloc(name + " widened", record_bits, false);
+    assign(wide, a);
+    store(wide, record_offset);
+    release(wide);
+}
+
 void PpProgramBuilder::assign(PpField dst, PpField value) {
     check_live(dst);
     check_live(value);

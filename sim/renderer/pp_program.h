@@ -122,6 +122,10 @@ public:
     void enable_if(PpField a, PpCompare compare, std::int64_t imm);
     PpField load(const std::string& name, int record_offset, int bits, bool is_signed);
     void store(PpField a, int record_offset);
+    // The same into a record field of `record_bits` bits, filling all of them: a narrower non-negative
+    // field is widened with zeros first (else an earlier value's high bits would stay), and a wider
+    // one, which would spill into the next record field, is refused (std::invalid_argument).
+    void store(PpField a, int record_offset, int record_bits);
 
     // Writes `value` into an existing field under the current enable mask (a conditional update).
     void assign(PpField dst, PpField value);

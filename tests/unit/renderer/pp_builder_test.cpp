@@ -3,6 +3,7 @@
 // local memory allocated first-fit with a clear error when a program does not fit.
 
 #include "sim/core/input_error.h"
+#include "sim/renderer/pp_array.h"
 #include "sim/renderer/pp_program.h"
 
 #include <gmock/gmock.h>
@@ -349,6 +350,34 @@ TEST(PpLocalMemory, FreeBitsInPiecesSayWhyTheyDoNotFit) {
         EXPECT_EQ(e.field(), "renderer.local_memory_bits");
         EXPECT_EQ(e.reason(), "PP program pieces needs 12 contiguous bits of local memory for field wide; each PP has 64, "
                               "24 of them free but the longest free run is 8 bits (4 bits short)");
+    }
+}
+
+}  // namespace
+}  // namespace pp5
+
+namespace pp5 {
+namespace {
+
+// A value stored into a wider record field fills all of it: an earlier value's high bits do not
+// stay behind (they once did, when a narrow colour replaced a brighter one).
+TEST(PpBuilder, StoreIntoARecordFieldFillsEveryBit) {
+    PpProgramBuilder b("store", 208);
+    const PpField three = b.set_const("three", 3);  // 2 bits
+    b.store(three, 8, 8);
+    const PpField wide = b.set_const("wide", 300);  // 9 bits
+    EXPECT_THROW(b.store(wide, 16, 8), std::invalid_argument);
+    const PpField negative = b.set_const("negative", -1);
+    EXPECT_THROW(b.store(negative, 16, 8), std::invalid_argument);
+    const PpProgram program = b.finish();
+
+    PpArray array(4, 1, 208, 64);
+    for (int pp = 0; pp < 4; ++pp) array.write_backing(pp, 0, 24, 0xFFFFFF);
+    array.run(program, PpSlotContext{});
+    for (int pp = 0; pp < 4; ++pp) {
+        EXPECT_EQ(array.read_backing(pp, 8, 8), 3u);
+        EXPECT_EQ(array.read_backing(pp, 0, 8), 0xFFu);   // its neighbours untouched
+        EXPECT_EQ(array.read_backing(pp, 16, 8), 0xFFu);
     }
 }
 
