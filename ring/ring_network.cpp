@@ -159,6 +159,12 @@ RingTransit RingNetwork::send(EventQueue& events, Tick now, const RingMessage& m
     return transit;
 }
 
+std::uint64_t RingNetwork::busy_ps() const {
+    std::uint64_t total = 0;
+    for (const auto& channel : channels_) total += channel->busy_ps.value();
+    return total;
+}
+
 double RingNetwork::bandwidth_bits_per_second() const {
     return static_cast<double>(channels_.size()) * channel_width_bits_ * clock_.frequency_hz();
 }

@@ -100,6 +100,8 @@ public:
                      std::uint64_t payload, int priority = 0);
 
     void set_observer(RingObserver* observer) { observer_ = observer; }
+    // Time the channels have been held, summed over channels.
+    std::uint64_t busy_ps() const;
     // The last time any channel is held (utilisation is measured up to here).
     Tick horizon() const { return horizon_; }
 

@@ -24,13 +24,19 @@ QeeCoefficients linear(glm::dvec3 g, double h, glm::dvec3 origin, double scale) 
     return q;
 }
 
+// Corner c (0 to 7) of the box [lo, hi].
+glm::dvec3 box_corner(int c, glm::dvec3 lo, glm::dvec3 hi) {
+    return {(c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z};
+}
+
+// The volume's voxels with a voxel of margin on every side.
+glm::dvec3 volume_lower() { return glm::dvec3(-1.0); }
+glm::dvec3 volume_upper(glm::ivec3 dims) { return glm::dvec3(dims); }
+
 // The largest |f| over the volume's box (a linear function peaks at a corner), plus a voxel of margin.
 double bound(glm::dvec3 g, double h, glm::ivec3 dims) {
     double most = 0.0;
-    for (int c = 0; c < 8; ++c) {
-        const glm::dvec3 corner((c & 1) ? dims.x : -1, (c & 2) ? dims.y : -1, (c & 4) ? dims.z : -1);
-        most = std::max(most, std::abs(glm::dot(g, corner) + h));
-    }
+    for (int c = 0; c < 8; ++c) most = std::max(most, std::abs(glm::dot(g, box_corner(c, volume_lower(), volume_upper(dims))) + h));
     return most + glm::length(g) + 1.0;
 }
 
@@ -79,9 +85,8 @@ PpProgram build_polygon_program(const PreparedPolygon& polygon, int samples, glm
     const auto code_at = [&](const char* name, int expression, std::int64_t max_code, const LinearFunction& f) {
         double most = 1.0;
         for (int c = 0; c < 8; ++c) {
-            const glm::vec3 corner((c & 1) ? polygon.upper.x + 1.0f : polygon.lower.x - 1.0f, (c & 2) ? polygon.upper.y + 1.0f : polygon.lower.y - 1.0f,
-                                   (c & 4) ? polygon.upper.z + 1.0f : polygon.lower.z - 1.0f);
-            most = std::max(most, std::abs(static_cast<double>(f(corner))));
+            const glm::dvec3 corner = box_corner(c, glm::dvec3(polygon.lower) - 1.0, glm::dvec3(polygon.upper) + 1.0);
+            most = std::max(most, std::abs(static_cast<double>(f(glm::vec3(corner)))));
         }
         const auto limit = static_cast<std::int64_t>(std::ceil(most * static_cast<double>(max_code))) + 2;
         const PpField raw = b.qee(name, expression, pp_bits_for_range(-limit, limit), true, kQeeShift);
@@ -175,10 +180,8 @@ PpProgram build_region_program(const RegionOfInterest& region, glm::ivec3 dims, 
     const std::int64_t opacity_max = (std::int64_t{1} << layout.opacity_bits) - 1;
     // The farthest any voxel lies from the region's centre.
     double reach = 0.0;
-    for (int c = 0; c < 8; ++c) {
-        const glm::dvec3 corner((c & 1) ? dims.x : -1, (c & 2) ? dims.y : -1, (c & 4) ? dims.z : -1);
-        reach = std::max(reach, glm::length(corner - glm::dvec3(region.center)));
-    }
+    for (int c = 0; c < 8; ++c)
+        reach = std::max(reach, glm::length(box_corner(c, volume_lower(), volume_upper(dims)) - glm::dvec3(region.center)));
     reach += 2.0;
     const auto whole = [](double x) { return static_cast<std::int64_t>(std::ceil(x)); };
     PpProgramBuilder b("region of interest", inputs.local_memory_bits);

@@ -129,6 +129,12 @@ RayCastJob LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& rep
     RayCastJob job;
     job.tiles = tiles_x * tiles_y;
     std::vector<std::uint32_t> cast_in_tile(static_cast<std::size_t>(job.tiles), 0);
+    // The refinement decision's square tests, by the tile of each square's top-left corner.
+    const auto tests_per_tile = [&] {
+        std::vector<std::uint32_t> tests(static_cast<std::size_t>(job.tiles), 0);
+        for (const std::uint32_t corner : refinement.tested_squares()) ++tests[static_cast<std::size_t>(tile_of(corner))];
+        return tests;
+    };
     std::vector<std::uint32_t> slot_of(static_cast<std::size_t>(width) * static_cast<std::size_t>(height), 0);
     while (!refinement.finished()) {
         const int pass = refinement.passes_recorded();
@@ -156,8 +162,7 @@ RayCastJob LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& rep
         }
         pass_report.rays = order.size();
 
-        std::vector<std::uint32_t> tests(static_cast<std::size_t>(job.tiles), 0);
-        for (const std::uint32_t corner : refinement.tested_squares()) ++tests[static_cast<std::size_t>(tile_of(corner))];
+        const std::vector<std::uint32_t> tests = tests_per_tile();
         refinement.record(colors);
         pass_report.pixels_cast = refinement.pixels_cast();
         pass_report.image = refinement.image();
@@ -178,8 +183,7 @@ RayCastJob LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& rep
     }
     // The last decision, that nothing more splits, was made too: charge its tests to the last pass.
     if (!job.passes.empty() && !refinement.tested_squares().empty()) {
-        std::vector<std::uint32_t> tests(static_cast<std::size_t>(job.tiles), 0);
-        for (const std::uint32_t corner : refinement.tested_squares()) ++tests[static_cast<std::size_t>(tile_of(corner))];
+        const std::vector<std::uint32_t> tests = tests_per_tile();
         for (int t = 0; t < job.tiles; ++t) {
             if (tests[static_cast<std::size_t>(t)] == 0) continue;
             TileTask task;

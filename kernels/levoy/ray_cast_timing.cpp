@@ -467,11 +467,13 @@ RayCastReport time_ray_casting(Machine& machine, VoxelBlocks& blocks, const RayC
     if (machine.gps().size() >= (1u << 22)) throw std::invalid_argument("ray cast timing: too many GPs");
     Engine engine(machine, blocks, job, options);
     engine.report.start = start;
-    Tick renderer_busy_before = 0;
-    for (const auto& r : machine.renderers()) renderer_busy_before += static_cast<Tick>(r->request_busy_ps.value());
-    Tick ring_busy_before = 0;
-    for (const Component* c : machine.ring().children())
-        if (const auto* ch = dynamic_cast<const RingChannel*>(c)) ring_busy_before += static_cast<Tick>(ch->busy_ps.value());
+    const auto requests_busy = [&machine] {
+        Tick total = 0;
+        for (const auto& r : machine.renderers()) total += static_cast<Tick>(r->request_busy_ps.value());
+        return total;
+    };
+    const Tick renderer_busy_before = requests_busy();
+    const auto ring_busy_before = static_cast<Tick>(machine.ring().busy_ps());
 
     if (options.assignment == RayAssignment::StaticTiles) {
         const std::size_t g = engine.gps.size();
@@ -498,13 +500,8 @@ RayCastReport time_ray_casting(Machine& machine, VoxelBlocks& blocks, const RayC
     engine.report.pass_end = engine.frame_buffer.pass_end;
     engine.report.end = start;
     for (const Tick t : engine.report.pass_end) engine.report.end = std::max(engine.report.end, t);
-    Tick renderer_busy_after = 0;
-    for (const auto& r : machine.renderers()) renderer_busy_after += static_cast<Tick>(r->request_busy_ps.value());
-    engine.report.renderer_busy = renderer_busy_after - renderer_busy_before;
-    Tick ring_busy_after = 0;
-    for (const Component* c : machine.ring().children())
-        if (const auto* ch = dynamic_cast<const RingChannel*>(c)) ring_busy_after += static_cast<Tick>(ch->busy_ps.value());
-    engine.report.ring_busy = ring_busy_after - ring_busy_before;
+    engine.report.renderer_busy = requests_busy() - renderer_busy_before;
+    engine.report.ring_busy = static_cast<Tick>(machine.ring().busy_ps()) - ring_busy_before;
     return engine.report;
 }
 

@@ -8,6 +8,7 @@
 #include "kernels/volume/phantoms.h"
 #include "sim/core/input_error.h"
 #include "sim/machine/machine.h"
+#include "tests/unit/levoy/levoy_test_support.h"
 
 #include <gtest/gtest.h>
 
@@ -101,12 +102,17 @@ TEST(ScanConversion, BadPolygonsAreRejectedAndDegenerateOnesCoverNothing) {
 }
 
 MachineConfig small_machine(std::initializer_list<std::string_view> overrides = {}) {
-    std::vector<const ParamGroup*> groups = Machine::param_groups();
-    groups.push_back(&LevoySettings::params());
-    MachineConfig config(groups);
-    for (const char* o : {"renderer.count=4", "renderer.pp_columns=32", "renderer.pp_rows=32", "gp.count=2"}) config.apply_override(o);
-    for (auto o : overrides) config.apply_override(o);
-    return config;
+    return test::levoy_config({"renderer.count=4", "renderer.pp_columns=32", "renderer.pp_rows=32", "gp.count=2"}, overrides);
+}
+
+// The 32^3 test volumes seen from the front, parallel.
+Camera front_view() {
+    Camera camera;
+    camera.eye = glm::vec3(15.5f, -60.0f, 15.5f);
+    camera.target = glm::vec3(15.5f);
+    camera.up = glm::vec3(0.0f, 0.0f, 1.0f);
+    camera.view_height = 40.0f;
+    return camera;
 }
 
 // A 32^3 volume that classifies to nothing (opacity 0), shaded grey, with `polygons` scan-converted in.
@@ -117,10 +123,7 @@ ShadedVolume scan_converted(const std::vector<PolygonSpec>& polygons, int sample
     LevoyRenderer renderer(machine, volume, LevoySettings::from(config), LevoyImageSettings{16, 16, 1.0f, 0.95f, glm::vec3(0.0f)});
     renderer.set_polygons(polygons);
     LevoyFrameInputs in;
-    in.camera.eye = glm::vec3(15.5f, -60.0f, 15.5f);
-    in.camera.target = glm::vec3(15.5f);
-    in.camera.up = glm::vec3(0.0f, 0.0f, 1.0f);
-    in.camera.view_height = 40.0f;
+    in.camera = front_view();
     in.classification.contours = {{200.0f, 1.0f, 1.0f}};  // far from 50: every voxel transparent
     in.colors = ColorMap{{{0.0f, {0.5f, 0.5f, 0.5f}}}};
     in.lighting.light_follows_camera = false;
@@ -193,10 +196,7 @@ RegionRun with_region(const std::optional<RegionOfInterest>& region) {
     const Volume volume = make_constant_volume(glm::ivec3(32), 50.0f);
     LevoyRenderer renderer(machine, volume, LevoySettings::from(config), LevoyImageSettings{16, 16, 1.0f, 0.95f, glm::vec3(0.0f)});
     LevoyFrameInputs in;
-    in.camera.eye = glm::vec3(15.5f, -60.0f, 15.5f);
-    in.camera.target = glm::vec3(15.5f);
-    in.camera.up = glm::vec3(0.0f, 0.0f, 1.0f);
-    in.camera.view_height = 40.0f;
+    in.camera = front_view();
     in.classification.kind = ClassificationKind::PiecewiseLinear;
     in.classification.points = {{0.0f, 0.5f}, {255.0f, 0.5f}};
     in.colors = ColorMap{{{0.0f, {0.5f, 0.5f, 0.5f}}}};
@@ -275,10 +275,7 @@ TEST(ScanConversion, RepeatingAFrameReproducesTheSameVoxels) {
     renderer.set_polygons({triangle({3.2f, 4.1f, 5.3f}, {27.7f, 6.2f, 11.9f}, {9.4f, 26.8f, 25.1f}, glm::vec3(0.2f, 0.3f, 1.0f), 0.7f),
                            PolygonSpec{{{4, 4, 10}, {20, 4, 10}, {20, 20, 10}, {4, 20, 10}}, {glm::vec3(1.0f)}, {1.0f}}});
     LevoyFrameInputs in;
-    in.camera.eye = glm::vec3(15.5f, -60.0f, 15.5f);
-    in.camera.target = glm::vec3(15.5f);
-    in.camera.up = glm::vec3(0.0f, 0.0f, 1.0f);
-    in.camera.view_height = 40.0f;
+    in.camera = front_view();
     in.classification.contours = {{40.0f, 0.3f, 1.5f}, {160.0f, 0.9f, 1.5f}};
     in.lighting.light_follows_camera = false;
     const LevoyFrameReport first = renderer.render(in);

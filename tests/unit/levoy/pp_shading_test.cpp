@@ -10,6 +10,7 @@
 #include "kernels/volume/phantoms.h"
 #include "sim/core/input_error.h"
 #include "sim/machine/machine.h"
+#include "tests/unit/levoy/levoy_test_support.h"
 #include "tests/unit/render/test_scenes.h"
 
 #include <gtest/gtest.h>
@@ -22,13 +23,8 @@ namespace {
 
 // A small machine so tests run in milliseconds: 4 renderers of 32x32 PPs, 2048 bits of backing store.
 MachineConfig small_machine(std::initializer_list<std::string_view> overrides = {}) {
-    std::vector<const ParamGroup*> groups = Machine::param_groups();
-    groups.push_back(&LevoySettings::params());
-    MachineConfig config(groups);
-    for (const char* o : {"renderer.count=4", "renderer.pp_columns=32", "renderer.pp_rows=32", "renderer.backing_store_bits=2048"})
-        config.apply_override(o);
-    for (auto o : overrides) config.apply_override(o);
-    return config;
+    return test::levoy_config({"renderer.count=4", "renderer.pp_columns=32", "renderer.pp_rows=32", "renderer.backing_store_bits=2048"},
+                              overrides);
 }
 
 Classification skin_contour() {

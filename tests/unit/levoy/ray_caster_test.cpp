@@ -9,6 +9,7 @@
 #include "kernels/reference/composite.h"
 #include "kernels/volume/phantoms.h"
 #include "sim/machine/machine.h"
+#include "tests/unit/levoy/levoy_test_support.h"
 #include "tests/unit/render/test_scenes.h"
 
 #include <gtest/gtest.h>
@@ -22,14 +23,9 @@ namespace pp5 {
 namespace {
 
 MachineConfig small_machine(std::initializer_list<std::string_view> overrides = {}) {
-    std::vector<const ParamGroup*> groups = Machine::param_groups();
-    groups.push_back(&LevoySettings::params());
-    MachineConfig config(groups);
-    for (const char* o : {"renderer.count=4", "renderer.pp_columns=32", "renderer.pp_rows=32", "renderer.backing_store_bits=2048",
-                          "gp.count=4", "levoy.tile_pixels=8"})
-        config.apply_override(o);
-    for (auto o : overrides) config.apply_override(o);
-    return config;
+    return test::levoy_config({"renderer.count=4", "renderer.pp_columns=32", "renderer.pp_rows=32", "renderer.backing_store_bits=2048",
+                               "gp.count=4", "levoy.tile_pixels=8"},
+                              overrides);
 }
 
 ShadedVolume empty_volume(glm::ivec3 dims) {
