@@ -244,19 +244,26 @@ struct Inv3Layout {
     glm::vec3 spacing{1.0f};
 };
 
+// The three items of the <array> under `key`; `what` (and `unit`) say what they should be, for the errors.
+std::vector<PlistItem> three_items(std::string_view xml, const char* key, const std::string& file, const std::string& field,
+                                   const char* what, const char* unit = "") {
+    const auto body = value_after_key(xml, key, "array");
+    if (!body) throw InputError(file, field, fmt::format("missing (an <array> of three {}{})", what, unit));
+    auto items = array_items(*body);
+    if (!items || items->size() != 3) throw InputError(file, field, fmt::format("must be an <array> of three {}", what));
+    return std::move(*items);
+}
+
 // The shape is numpy's (slices, rows, columns), so it is (z, y, x) reversed.
 glm::ivec3 read_shape(std::string_view matrix, const std::string& file) {
     const std::string field = "main.plist: matrix.shape";
-    const auto body = value_after_key(matrix, "shape", "array");
-    if (!body) throw InputError(file, field, "missing (an <array> of three integers)");
-    const auto items = array_items(*body);
-    if (!items || items->size() != 3) throw InputError(file, field, "must be an <array> of three integers");
+    const auto items = three_items(matrix, "shape", file, field, "integers");
     glm::ivec3 dims{0};
     for (std::size_t i = 0; i < 3; ++i) {
         const std::string item_field = fmt::format("{}[{}]", field, i);
-        const auto value = parse_number<long long>((*items)[i].text);
-        if ((*items)[i].tag != "integer" || !value)
-            throw InputError(file, item_field, fmt::format("'{}' is not an integer", (*items)[i].text));
+        const auto value = parse_number<long long>(items[i].text);
+        if (items[i].tag != "integer" || !value)
+            throw InputError(file, item_field, fmt::format("'{}' is not an integer", items[i].text));
         volume_detail::check_axis_size(file, item_field, *value);
         dims[static_cast<int>(2 - i)] = static_cast<int>(*value);
     }
@@ -267,14 +274,11 @@ glm::ivec3 read_shape(std::string_view matrix, const std::string& file) {
 // distance is last while the 108 slices are first in the shape.
 glm::vec3 read_spacing(std::string_view xml, const std::string& file) {
     const std::string field = "main.plist: spacing";
-    const auto body = value_after_key(xml, "spacing", "array");
-    if (!body) throw InputError(file, field, "missing (an <array> of three reals, in mm)");
-    const auto items = array_items(*body);
-    if (!items || items->size() != 3) throw InputError(file, field, "must be an <array> of three reals");
+    const auto items = three_items(xml, "spacing", file, field, "reals", ", in mm");
     glm::vec3 spacing{1.0f};
     for (std::size_t i = 0; i < 3; ++i) {
         const std::string item_field = fmt::format("{}[{}]", field, i);
-        const auto& item = (*items)[i];
+        const auto& item = items[i];
         const auto value = parse_number<double>(item.text);
         if ((item.tag != "real" && item.tag != "integer") || !value)
             throw InputError(file, item_field, fmt::format("'{}' is not a number", item.text));
