@@ -31,23 +31,23 @@ LevoyRenderer::LevoyRenderer(Machine& machine, const Volume& volume, const Levoy
     depth_.assign(static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height), 0);
 }
 
-Tick LevoyRenderer::distribute_pyramid(Tick start) {
-    // Every renderer broadcasts one bit per voxel it holds, a slot at a time, once its PPs are free;
-    // every GP takes every message in and, with all of them, builds the whole pyramid.
-    RingNetwork& ring = machine_.ring();
-    const VoxelPlacement& placement = pixel_processors_.placement();
+namespace {
+
+// Every renderer broadcasts one bit per voxel it holds, a slot at a time, once its PPs are free; every
+// GP takes every message in and, with all of them, builds the whole pyramid. Returns when it is built.
+Tick distribute_pyramid(Machine& machine, const PyramidWork& work, Tick start) {
+    RingNetwork& ring = machine.ring();
     std::vector<std::pair<Tick, std::size_t>> ready;
-    for (auto& r : machine_.renderers()) ready.emplace_back(std::max(start, r->busy_until()), r->index());
+    for (auto& r : machine.renderers()) ready.emplace_back(std::max(start, r->busy_until()), r->index());
     std::sort(ready.begin(), ready.end());
-    const std::uint64_t bits_per_slot = static_cast<std::uint64_t>(placement.shape().columns) * static_cast<std::uint64_t>(placement.shape().rows);
     // Each GP takes every message in as it arrives, after the one before (taking a message in is
     // slower than the ring delivers it), then builds.
-    const GpCostModel& costs = machine_.gps().front()->costs();
+    const GpCostModel& costs = machine.gps().front()->costs();
     std::vector<RingTransit> transits;
     for (const auto& [at, r] : ready) {
         const std::size_t station = ring.position(StationKind::Renderer, r);
-        for (int slot = 0; slot < placement.slots_used(static_cast<int>(r)); ++slot)
-            transits.push_back(ring.transmit(at, RingMessage{MessageKind::Pyramid, station, 0, bits_per_slot, true}));
+        for (int slot = 0; slot < work.slots_per_renderer[r]; ++slot)
+            transits.push_back(ring.transmit(at, RingMessage{MessageKind::Pyramid, station, 0, work.bits_per_slot, true}));
     }
     std::sort(transits.begin(), transits.end(), [](const RingTransit& a, const RingTransit& b) { return a.arrival < b.arrival; });
     Tick taken_in = start;
@@ -57,12 +57,69 @@ Tick LevoyRenderer::distribute_pyramid(Tick start) {
         taken_in = std::max(taken_in, transit.arrival) + receive;
         receiving += receive;
     }
-    const Tick build = static_cast<Tick>(pyramid_.total_cells()) * costs.pyramid_build_per_cell;
-    for (auto& gp : machine_.gps()) {
+    const Tick build = static_cast<Tick>(work.cells) * costs.pyramid_build_per_cell;
+    for (auto& gp : machine.gps()) {
         gp->busy_ps += static_cast<std::uint64_t>(receiving + build);
-        if (TraceRecorder* trace = machine_.trace()) trace->slice(trace->track("GPs", gp->name()), "building the pyramid", taken_in, taken_in + build);
+        if (TraceRecorder* trace = machine.trace()) trace->slice(trace->track("GPs", gp->name()), "building the pyramid", taken_in, taken_in + build);
     }
     return taken_in + build;
+}
+
+// The host broadcasts the polygons one after another; each renderer runs them in the order they arrive.
+GeometryReport time_scan_conversion(Machine& machine, const LevoyFrameWork& work, Tick start) {
+    GeometryReport report;
+    report.ran = true;
+    report.polygons = work.polygons;
+    report.start_ps = start;
+    report.end_ps = start;
+    for (const PolygonWork& polygon : work.polygon_passes) {
+        const RingTransit transit = machine.ring().transmit(start, RingMessage{MessageKind::Command, 0, 0, polygon.command_bits, true});
+        const PpProgramPass pass = PpShading::schedule(machine, polygon.pass, transit.arrival);
+        for (const auto& r : machine.renderers()) report.end_ps = std::max(report.end_ps, r->busy_until());
+        report.slots += pass.slots;
+    }
+    machine.events().run_until();
+    return report;
+}
+
+}  // namespace
+
+LevoyFrameTiming time_levoy_frame(Machine& machine, VoxelBlocks& blocks, const LevoyFrameWork& work) {
+    LevoyFrameTiming timing;
+    timing.start_ps = machine.events().now();
+    timing.pixel_processors = PpShading::time(machine, work.pixel_processors, timing.start_ps);
+    Tick t = timing.pixel_processors.end_ps;
+    if (work.region) {
+        timing.region = PpShading::schedule(machine, *work.region, t);
+        machine.events().run_until();
+        t = timing.region.end_ps;
+    }
+    if (work.scan_converted) {
+        timing.geometry = time_scan_conversion(machine, work, t);
+        t = timing.geometry.end_ps;
+    }
+    if (work.invalidate_caches) {
+        for (auto& gp : machine.gps()) gp->cache(blocks.block_bits()).invalidate();
+    }
+    if (work.pyramid) {
+        const Tick before = t;
+        t = distribute_pyramid(machine, *work.pyramid, t);
+        timing.pyramid_ps = t - before;
+    }
+    RayCastTimingOptions options;
+    options.assignment = work.assignment;
+    timing.ray_cast = time_ray_casting(machine, blocks, work.ray_cast, options, t);
+    timing.end_ps = timing.ray_cast.end;
+    return timing;
+}
+
+PyramidWork LevoyRenderer::pyramid_work() const {
+    const VoxelPlacement& placement = pixel_processors_.placement();
+    PyramidWork work;
+    for (std::size_t r = 0; r < machine_.renderers().size(); ++r) work.slots_per_renderer.push_back(placement.slots_used(static_cast<int>(r)));
+    work.bits_per_slot = static_cast<std::uint64_t>(placement.shape().columns) * static_cast<std::uint64_t>(placement.shape().rows);
+    work.cells = pyramid_.total_cells();
+    return work;
 }
 
 void LevoyRenderer::set_polygons(const std::vector<PolygonSpec>& polygons) {
@@ -71,31 +128,23 @@ void LevoyRenderer::set_polygons(const std::vector<PolygonSpec>& polygons) {
     polygons_changed_ = true;
 }
 
-GeometryReport LevoyRenderer::scan_convert(Tick start) {
-    GeometryReport report;
-    report.ran = true;
-    report.start_ps = start;
-    report.end_ps = start;
+std::vector<PolygonWork> LevoyRenderer::scan_convert() {
     const std::vector<glm::dvec3> offsets = subvoxel_offsets(settings_.jitter_samples);
     const PpProgramInputs inputs = pixel_processors_.program_inputs();
     const VoxelPlacement& placement = pixel_processors_.placement();
-    RingNetwork& ring = machine_.ring();
+    std::vector<PolygonWork> passes;
     for (const PreparedPolygon& polygon : polygons_) {
-        ++report.polygons;
         if (polygon.degenerate) continue;
-        const PpProgram program = build_polygon_program(polygon, settings_.jitter_samples, dims_, inputs);
-        // The host broadcasts the polygons one after another: D, E and F of every expression, a word
-        // each; each renderer takes them in the order they arrive.
-        const auto words = static_cast<std::uint64_t>(program.expressions) * 3;
-        const RingTransit transit = ring.transmit(start, RingMessage{MessageKind::Command, 0, 0, words * 32, true});
-        const PpProgramPass pass = pixel_processors_.run_over_slots(
-            program, [&](const SlotFrame& frame) { return polygon_reaches_slot(polygon, frame, dims_, placement.shape()); },
-            [&](const SlotFrame& frame) { return polygon_expressions(polygon, offsets, frame, settings_.layout); }, transit.arrival);
-        for (const auto& r : machine_.renderers()) report.end_ps = std::max(report.end_ps, r->busy_until());
-        report.slots += pass.slots;
+        PpProgram program = build_polygon_program(polygon, settings_.jitter_samples, dims_, inputs);
+        // D, E and F of every expression, a word each.
+        const auto bits = static_cast<std::uint64_t>(program.expressions) * 3 * 32;
+        passes.push_back(PolygonWork{
+            pixel_processors_.execute(
+                program, [&](const SlotFrame& frame) { return polygon_reaches_slot(polygon, frame, dims_, placement.shape()); },
+                [&](const SlotFrame& frame) { return polygon_expressions(polygon, offsets, frame, settings_.layout); }),
+            bits});
     }
-    machine_.events().run_until();
-    return report;
+    return passes;
 }
 
 RayCastJob LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& report) {
@@ -199,8 +248,9 @@ RayCastJob LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& rep
 
 LevoyFrameReport LevoyRenderer::render(const LevoyFrameInputs& frame) {
     LevoyFrameReport report;
-    report.start_ps = machine_.events().now();
+    LevoyFrameWork& work = report.work;
 
+    // Function first: what this frame changes, and the work that follows from it.
     // Shade only for a view the colours depend on; otherwise keep the view they were shaded for.
     ShadingView view = make_shading_view(frame.camera, dims_, spacing_);
     if (shaded_for_ && !shading_depends_on_view(frame.lighting)) view = *shaded_for_;
@@ -210,43 +260,34 @@ LevoyFrameReport LevoyRenderer::render(const LevoyFrameInputs& frame) {
     bool reshade = first_frame_ || frame.classification_changed || frame.lighting_changed || shaded_for_ != view;
     if (!polygons_.empty() && (classify || reshade || polygons_changed_)) classify = reshade = true;  // matte into fresh voxels
     polygons_changed_ = false;
-    report.pixel_processors = pixel_processors_.update(frame.classification, frame.colors, frame.lighting, view, classify, reshade);
+    work.pixel_processors = pixel_processors_.compute(frame.classification, frame.colors, frame.lighting, view, classify, reshade);
     shaded_for_ = view;
     region_ = frame.region;
-    Tick t = report.pixel_processors.end_ps;
     // The pyramid marks what the classification leaves non-empty before the region scales it: a
     // superset of what is non-empty after (so skipping stays exact), which a moving region does not
     // change even where its scaling rounds small opacities to zero.
     std::optional<ShadedVolume> unscaled;
-    if (classify && region_) unscaled = pixel_processors_.shaded_volume();
     if (classify && region_) {
+        unscaled = pixel_processors_.shaded_volume();
         const PpProgram program = build_region_program(*region_, dims_, pixel_processors_.program_inputs());
         const RegionOfInterest& region = *region_;
-        report.region = pixel_processors_.run_over_slots(
-            program, [](const SlotFrame&) { return true; }, [&](const SlotFrame& f) { return region_expressions(region, f); }, t);
-        machine_.events().run_until();
-        t = report.region.end_ps;
+        work.region = pixel_processors_.execute(
+            program, [](const SlotFrame&) { return true; }, [&](const SlotFrame& f) { return region_expressions(region, f); });
     }
     if (!polygons_.empty() && reshade) {
-        report.geometry = scan_convert(t);
-        t = report.geometry.end_ps;
+        work.scan_converted = true;
+        work.polygons = polygons_.size();
+        work.polygon_passes = scan_convert();
     }
-
     if (classify || reshade) {
         shaded_ = pixel_processors_.shaded_volume();
-        if (!first_frame_) {
-            for (auto& gp : machine_.gps()) gp->cache(blocks_.block_bits()).invalidate();
-            report.caches_invalidated = true;
-        }
+        work.invalidate_caches = !first_frame_;
     }
     if (classify) {
         BinaryPyramid fresh = BinaryPyramid::from_opacity(shaded_, unscaled ? &*unscaled : nullptr);
         if (first_frame_ || !fresh.same_cells(pyramid_)) {
             pyramid_ = std::move(fresh);
-            const Tick before = t;
-            t = distribute_pyramid(t);
-            report.pyramid_rebuilt = true;
-            report.pyramid_ps = t - before;
+            work.pyramid = pyramid_work();
             depth_for_.reset();
         }
     }
@@ -254,15 +295,23 @@ LevoyFrameReport LevoyRenderer::render(const LevoyFrameInputs& frame) {
     report.depth_buffer_used = settings_.depth_buffer && depth_for_ == frame.camera;
     if (!report.depth_buffer_used) std::fill(depth_.begin(), depth_.end(), 0);
     depth_for_ = frame.camera;
-
-    const RayCastJob job = cast_frame(frame.camera, report);
-    RayCastTimingOptions options;
-    options.assignment = settings_.ray_assignment;
-    report.ray_cast = time_ray_casting(machine_, blocks_, job, options, t);
-    for (std::size_t p = 0; p < report.passes.size(); ++p) report.passes[p].end_ps = report.ray_cast.pass_end[p] - report.start_ps;
-    report.end_ps = report.ray_cast.end;
-    report.final_image = report.passes.back().image;
+    work.ray_cast = cast_frame(frame.camera, report);
+    work.assignment = settings_.ray_assignment;
     first_frame_ = false;
+
+    // Then time it on this machine.
+    const LevoyFrameTiming timing = time_levoy_frame(machine_, blocks_, work);
+    report.start_ps = timing.start_ps;
+    report.end_ps = timing.end_ps;
+    report.pixel_processors = timing.pixel_processors;
+    report.region = timing.region;
+    report.geometry = timing.geometry;
+    report.pyramid_rebuilt = work.pyramid.has_value();
+    report.pyramid_ps = timing.pyramid_ps;
+    report.caches_invalidated = work.invalidate_caches;
+    report.ray_cast = timing.ray_cast;
+    for (std::size_t p = 0; p < report.passes.size(); ++p) report.passes[p].end_ps = report.ray_cast.pass_end[p] - report.start_ps;
+    report.final_image = report.passes.back().image;
     return report;
 }
 

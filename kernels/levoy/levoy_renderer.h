@@ -55,6 +55,47 @@ struct RefinementPassReport {
     Image image;                    // the picture after this pass
 };
 
+// What a frame asks of the machine, recorded by the functional layer. None of it depends on a timing
+// parameter (costs, clocks, GP count, ring, caches), so the same work can be timed again on machines
+// that differ only in those: calibration fits and GP-count sweeps do that instead of re-rendering.
+struct PolygonWork {
+    PpPassWork pass;
+    std::uint64_t command_bits = 0;  // the host's broadcast of the polygon's QEE coefficients
+};
+struct PyramidWork {
+    std::vector<int> slots_per_renderer;  // each renderer broadcasts one message a slot
+    std::uint64_t bits_per_slot = 0;      // one emptiness bit per PP
+    std::uint64_t cells = 0;              // every GP builds every cell
+};
+struct LevoyFrameWork {
+    PpFrameWork pixel_processors;
+    std::optional<PpPassWork> region;
+    bool scan_converted = false;
+    std::uint64_t polygons = 0;           // including degenerate ones, which need no pass
+    std::vector<PolygonWork> polygon_passes;
+    bool invalidate_caches = false;
+    std::optional<PyramidWork> pyramid;  // when the non-empty set changed
+    RayCastJob ray_cast;
+    RayAssignment assignment = RayAssignment::StaticTiles;
+};
+
+// When a frame's work happened on one machine.
+struct LevoyFrameTiming {
+    Tick start_ps = 0;
+    Tick end_ps = 0;
+    PpFrameReport pixel_processors;
+    PpProgramPass region;
+    GeometryReport geometry;
+    Tick pyramid_ps = 0;
+    RayCastReport ray_cast;
+    Tick crude_ps() const { return ray_cast.pass_end.empty() ? end_ps - start_ps : ray_cast.pass_end.front() - start_ps; }
+    Tick refined_ps() const { return end_ps - start_ps; }
+};
+
+// Times `work` on `machine` from its current time, with `blocks` for the GPs' voxel requests: the PP
+// passes, the polygons, the pyramid, then the ray casting. GP caches carry over from earlier frames.
+LevoyFrameTiming time_levoy_frame(Machine& machine, VoxelBlocks& blocks, const LevoyFrameWork& work);
+
 struct LevoyFrameReport {
     Tick start_ps = 0;
     Tick end_ps = 0;
@@ -69,6 +110,7 @@ struct LevoyFrameReport {
     RayCastReport ray_cast;
     std::vector<RefinementPassReport> passes;
     Image final_image;  // the last pass's picture
+    LevoyFrameWork work;  // what the frame asked of the machine, to time again elsewhere
     Tick duration_ps() const { return end_ps - start_ps; }
 };
 
@@ -98,8 +140,8 @@ public:
     const VoxelBlocks& blocks() const { return blocks_; }
 
 private:
-    Tick distribute_pyramid(Tick start);
-    GeometryReport scan_convert(Tick start);
+    std::vector<PolygonWork> scan_convert();
+    PyramidWork pyramid_work() const;
     RayCastJob cast_frame(const Camera& camera, LevoyFrameReport& report);
 
     Machine& machine_;

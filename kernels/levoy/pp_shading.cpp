@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <stdexcept>
 #include <vector>
 
 namespace pp5 {
@@ -134,7 +135,7 @@ void PpShading::load_volume(const Volume& volume) {
     });
 }
 
-PpProgramPass PpShading::run_program(const PpProgram& program, const ShadingView* view, Tick start) {
+PpPassWork PpShading::execute_program(const PpProgram& program, const ShadingView* view) {
     SlotExpressions expressions;
     if (view != nullptr) {
         expressions = [&](const SlotFrame& frame) {
@@ -142,9 +143,7 @@ PpProgramPass PpShading::run_program(const PpProgram& program, const ShadingView
             return std::vector<QeeCoefficients>(e.begin(), e.end());
         };
     }
-    const PpProgramPass pass = run_over_slots(program, [](const SlotFrame&) { return true; }, expressions, start);
-    machine_.events().run_until();
-    return pass;
+    return execute(program, [](const SlotFrame&) { return true; }, expressions);
 }
 
 PpProgramInputs PpShading::program_inputs() const {
@@ -153,12 +152,15 @@ PpProgramInputs PpShading::program_inputs() const {
 
 PpProgramPass PpShading::run_over_slots(const PpProgram& program, const SlotSelector& select, const SlotExpressions& expressions,
                                         Tick start) {
+    return schedule(machine_, execute(program, select, expressions), start);
+}
+
+PpPassWork PpShading::execute(const PpProgram& program, const SlotSelector& select, const SlotExpressions& expressions) {
     auto& renderers = machine_.renderers();
     const int record_bits = settings_.layout.bits();
-    std::vector<PpRunCounts> counts(renderers.size());
-    std::vector<std::uint64_t> slots(renderers.size(), 0);
-    // Function first: every renderer's PPs run the program over their slots (renderers in parallel;
-    // each renderer's result depends on its own data only, so the thread count changes nothing).
+    PpPassWork work{program, std::vector<std::uint64_t>(renderers.size(), 0), std::vector<PpRunCounts>(renderers.size())};
+    // Every renderer's PPs run the program over their slots (renderers in parallel; each renderer's
+    // result depends on its own data only, so the thread count changes nothing).
     tbb::parallel_for(std::size_t{0}, renderers.size(), [&](std::size_t r) {
         PpArray& array = renderers[r]->array();
         for (int slot = 0; slot < placement_.slots_needed(); ++slot) {
@@ -169,27 +171,34 @@ PpProgramPass PpShading::run_over_slots(const PpProgram& program, const SlotSele
             PpSlotContext context;
             context.record_base_bit = slot * record_bits;
             context.expressions = coefficients;
-            counts[r] += array.run(program, context);
-            ++slots[r];
+            work.counts[r] += array.run(program, context);
+            ++work.slots[r];
         }
     });
-    // Then time: each renderer spends its pass on its own clock, in the shared event queue.
+    return work;
+}
+
+PpProgramPass PpShading::schedule(Machine& machine, const PpPassWork& work, Tick start) {
+    // Each renderer spends its pass on its own clock, in the shared event queue.
+    auto& renderers = machine.renderers();
+    if (renderers.size() != work.slots.size()) throw std::logic_error("PpShading::schedule: work recorded for another renderer count");
     PpProgramPass pass;
     pass.ran = true;
     pass.start_ps = start;
     pass.end_ps = start;
-    pass.instructions = program.instructions.size();
-    pass.local_memory_bits_used = program.local_memory_bits_used;
-    EventQueue& events = machine_.events();
+    pass.instructions = work.program.instructions.size();
+    pass.local_memory_bits_used = work.program.local_memory_bits_used;
+    EventQueue& events = machine.events();
     for (std::size_t r = 0; r < renderers.size(); ++r) {
         Renderer& renderer = *renderers[r];
-        RendererPass work{program.name, renderer.cost_model().cost(program), slots[r], counts[r], program.local_memory_bits_used};
-        const Tick end = renderer.begin_pass(events, start, work);
+        RendererPass pass_work{work.program.name, renderer.cost_model().cost(work.program), work.slots[r], work.counts[r],
+                               work.program.local_memory_bits_used};
+        const Tick end = renderer.begin_pass(events, start, pass_work);
         if (end > pass.end_ps || r == 0) {
             pass.end_ps = end;
-            pass.slot_cost = work.cost;
-            pass.busiest = renderer.cost_model().pass(work.cost, work.slots);
-            pass.slots = work.slots;
+            pass.slot_cost = pass_work.cost;
+            pass.busiest = renderer.cost_model().pass(pass_work.cost, pass_work.slots);
+            pass.slots = pass_work.slots;
         }
     }
     return pass;
@@ -198,19 +207,31 @@ PpProgramPass PpShading::run_over_slots(const PpProgram& program, const SlotSele
 PpFrameReport PpShading::update(const Classification& classification, const ColorMap& color_map,
                                 const PhongLighting& lighting, const ShadingView& view, bool classification_changed,
                                 bool shading_changed) {
+    const PpFrameWork work = compute(classification, color_map, lighting, view, classification_changed, shading_changed);
+    return time(machine_, work, machine_.events().now());
+}
+
+PpFrameWork PpShading::compute(const Classification& classification, const ColorMap& color_map, const PhongLighting& lighting,
+                               const ShadingView& view, bool classification_changed, bool shading_changed) {
     const PpProgramInputs inputs = program_inputs();
-    PpFrameReport report;
-    report.start_ps = machine_.events().now();
-    report.end_ps = report.start_ps;
-    if (classification_changed) {
-        const PpProgram program = build_classification_program(classification, inputs);
-        report.classification = run_program(program, nullptr, report.end_ps);
-        report.end_ps = report.classification.end_ps;
-    }
+    PpFrameWork work;
+    if (classification_changed) work.classification = execute_program(build_classification_program(classification, inputs), nullptr);
     if (shading_changed) {
         const PpProgram program = build_shading_program(color_map, lighting, view, inputs);
-        report.shading = run_program(program, program.expressions > 0 ? &view : nullptr, report.end_ps);
-        report.end_ps = report.shading.end_ps;
+        work.shading = execute_program(program, program.expressions > 0 ? &view : nullptr);
+    }
+    return work;
+}
+
+PpFrameReport PpShading::time(Machine& machine, const PpFrameWork& work, Tick start) {
+    PpFrameReport report;
+    report.start_ps = start;
+    report.end_ps = start;
+    for (auto [pass, report_pass] : {std::pair{&work.classification, &report.classification}, std::pair{&work.shading, &report.shading}}) {
+        if (!*pass) continue;
+        *report_pass = schedule(machine, **pass, report.end_ps);
+        machine.events().run_until();
+        report.end_ps = report_pass->end_ps;
     }
     return report;
 }

@@ -63,6 +63,20 @@ struct PpProgramPass {
     std::uint64_t slots = 0;            // on that renderer
 };
 
+// The functional half of one program's pass: what each renderer's PPs ran. It does not depend on any
+// timing parameter, so the same work can be timed again on a machine with other costs (calibration).
+struct PpPassWork {
+    PpProgram program;
+    std::vector<std::uint64_t> slots;   // per renderer
+    std::vector<PpRunCounts> counts;    // per renderer
+};
+
+// The passes a frame's classification and shading ran, in order.
+struct PpFrameWork {
+    std::optional<PpPassWork> classification;
+    std::optional<PpPassWork> shading;
+};
+
 struct PpFrameReport {
     PpProgramPass classification;
     PpProgramPass shading;
@@ -80,6 +94,11 @@ public:
     // Runs the passes this frame needs, from the machine's current time; returns what they did.
     PpFrameReport update(const Classification& classification, const ColorMap& color_map, const PhongLighting& lighting,
                          const ShadingView& view, bool classification_changed, bool shading_changed);
+    // The two halves of update(): the programs' functional runs, then their timing from `start`
+    // (classification first, each pass after the one before; events drained).
+    PpFrameWork compute(const Classification& classification, const ColorMap& color_map, const PhongLighting& lighting,
+                        const ShadingView& view, bool classification_changed, bool shading_changed);
+    static PpFrameReport time(Machine& machine, const PpFrameWork& work, Tick start);
 
     // Runs `program` on every renderer over the slots `select` accepts, each with the QEE expressions
     // `expressions` gives for its frame (none when empty), starting at `start` or when each renderer
@@ -89,6 +108,10 @@ public:
     using SlotExpressions = std::function<std::vector<QeeCoefficients>(const SlotFrame&)>;
     PpProgramPass run_over_slots(const PpProgram& program, const SlotSelector& select, const SlotExpressions& expressions,
                                  Tick start);
+    // run_over_slots in two halves: the functional run, and its timing on `machine` from `start`
+    // (events left queued).
+    PpPassWork execute(const PpProgram& program, const SlotSelector& select, const SlotExpressions& expressions);
+    static PpProgramPass schedule(Machine& machine, const PpPassWork& work, Tick start);
     PpProgramInputs program_inputs() const;
 
     // The colours and opacities the PPs hold, read back into a volume for the compositor.
@@ -99,7 +122,7 @@ public:
     const GradientField& gradients() const { return gradients_; }
 
 private:
-    PpProgramPass run_program(const PpProgram& program, const ShadingView* view, Tick start);
+    PpPassWork execute_program(const PpProgram& program, const ShadingView* view);
     void load_volume(const Volume& volume);
 
     Machine& machine_;
