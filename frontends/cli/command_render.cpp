@@ -10,7 +10,7 @@
 #include "frontends/cli/commands.h"
 #include "frontends/cli/output_dir.h"
 #include "frontends/cli/progress.h"
-#include "frontends/cli/run_config.h"
+#include "frontends/run_config.h"
 #include "frontends/image_io.h"
 #include "frontends/scenario.h"
 #include "kernels/levoy/levoy_renderer.h"
@@ -245,20 +245,10 @@ int run_render(const RenderOptions& o) {
                                               : std::max(1u, std::thread::hardware_concurrency());
     tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, threads);
 
-    const glm::vec3 extent = glm::vec3(volume.dims() - 1) * volume.spacing();
-    const glm::vec3 center = 0.5f * extent;
-    const float radius = std::max(0.5f * glm::length(extent), 1e-3f);
-
     // The machine's kernel places the volume in the PPs first: a volume that does not fit stops here.
     std::optional<LevoyRenderer> workstation;
     if (on_machine) {
-        LevoyImageSettings image;
-        image.width = scenario.image.width;
-        image.height = scenario.image.height;
-        image.sample_step = scenario.image.sample_step;
-        image.termination_opacity = scenario.image.termination_opacity;
-        image.background = scenario.image.background;
-        workstation.emplace(machine, volume, LevoySettings::from(config), image);
+        workstation.emplace(machine, volume, LevoySettings::from(config), levoy_image_settings(scenario.image));
         workstation->set_polygons(scenario.polygons);
     }
 
@@ -271,7 +261,7 @@ int run_render(const RenderOptions& o) {
     for (std::size_t i = 0; i < scenario.frames.size(); ++i) {
         const FrameSpec& frame = scenario.frames[i];
         const auto frame_start = std::chrono::steady_clock::now();
-        const Camera camera = frame.camera.camera_for(center, radius);
+        const Camera camera = frame_camera(frame, volume);
         if (frame.classification_changed) reference.set_classification(frame.classification, frame.colors);
         if (frame.lighting_changed) reference.set_lighting(frame.lighting);
         RenderStats stats;
@@ -282,9 +272,7 @@ int run_render(const RenderOptions& o) {
         std::optional<ImageDifference> fidelity;
         std::vector<std::string> pass_images;
         if (workstation) {
-            LevoyFrameInputs inputs{camera, frame.classification, frame.colors, frame.lighting,
-                                    frame.classification_changed, frame.lighting_changed, frame.region};
-            machine_work = workstation->render(inputs);
+            machine_work = workstation->render(levoy_frame_inputs(frame, volume));
             for (std::size_t p = 0; p < machine_work->passes.size(); ++p) {
                 pass_images.push_back(fmt::format("frame_{:04}_pass_{}.{}", i, p, o.format));
                 output.add_image(pass_images.back(), std::move(machine_work->passes[p].image), format);

@@ -142,7 +142,7 @@ std::vector<PolygonWork> LevoyRenderer::scan_convert() {
             pixel_processors_.execute(
                 program, [&](const SlotFrame& frame) { return polygon_reaches_slot(polygon, frame, dims_, placement.shape()); },
                 [&](const SlotFrame& frame) { return polygon_expressions(polygon, offsets, frame, settings_.layout); }),
-            bits});
+            bits, polygon.area, static_cast<int>(polygon.edge_normals.size())});
     }
     return passes;
 }
@@ -249,6 +249,8 @@ RayCastJob LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& rep
 LevoyFrameReport LevoyRenderer::render(const LevoyFrameInputs& frame) {
     LevoyFrameReport report;
     LevoyFrameWork& work = report.work;
+    work.voxels = static_cast<std::uint64_t>(dims_.x) * static_cast<std::uint64_t>(dims_.y) * static_cast<std::uint64_t>(dims_.z);
+    work.jitter_samples = settings_.jitter_samples;
 
     // Function first: what this frame changes, and the work that follows from it.
     // Shade only for a view the colours depend on; otherwise keep the view they were shaded for.

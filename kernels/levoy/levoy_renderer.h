@@ -61,6 +61,8 @@ struct RefinementPassReport {
 struct PolygonWork {
     PpPassWork pass;
     std::uint64_t command_bits = 0;  // the host's broadcast of the polygon's QEE coefficients
+    double area = 0.0;               // voxels^2: what a sequential scan-converter's work grows with
+    int edges = 0;
 };
 struct PyramidWork {
     std::vector<int> slots_per_renderer;  // each renderer broadcasts one message a slot
@@ -68,6 +70,8 @@ struct PyramidWork {
     std::uint64_t cells = 0;              // every GP builds every cell
 };
 struct LevoyFrameWork {
+    std::uint64_t voxels = 0;  // in the volume
+    int jitter_samples = 1;    // subvoxel translations per voxel in scan-conversion
     PpFrameWork pixel_processors;
     std::optional<PpPassWork> region;
     bool scan_converted = false;

@@ -21,6 +21,12 @@ struct GpCostModel {
     Tick compositing = 0;       // front-to-back compositing of one sample, with the termination test
     Tick pixel_fill = 0;        // a pixel not cast, interpolated from its square's corners
     Tick refinement_test = 0;   // comparing a square's corner colours
+    // What the PPs do on Pixel-planes 5, when one processor does it instead (a uniprocessor machine).
+    Tick voxel_classification = 0;
+    Tick voxel_shading = 0;
+    Tick voxel_region = 0;
+    Tick polygon_point_test = 0;  // one sample point against one plane
+    Tick voxel_matte = 0;
     // Control work, per operation.
     Tick pyramid_step = 0;      // one visit to a cell of the pyramid of binary volumes
     Tick cache_lookup = 0;

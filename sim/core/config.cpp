@@ -139,8 +139,14 @@ void MachineConfig::load_file(const std::filesystem::path& path) {
             for (const auto& [k, v] : *table) {
                 const std::string key(k.str());
                 const auto* s = v.as_string();
-                if ((key != "name" && key != "description") || !s)
-                    throw InputError(file, "machine." + key, "the [machine] table holds only name and description strings");
+                if ((key != "name" && key != "description" && key != "kind") || !s)
+                    throw InputError(file, "machine." + key, "the [machine] table holds only name, description and kind strings");
+                if (key == "kind") {
+                    if (s->get() != "multicomputer" && s->get() != "uniprocessor")
+                        throw InputError(file, "machine.kind", "must be \"multicomputer\" (Pixel-planes 5) or \"uniprocessor\", not \"" + s->get() + "\"");
+                    machine_kind_ = s->get() == "uniprocessor" ? MachineKind::Uniprocessor : MachineKind::Multicomputer;
+                    continue;
+                }
                 (key == "name" ? machine_name_ : machine_description_) = s->get();
             }
             continue;
@@ -182,8 +188,10 @@ nlohmann::json MachineConfig::to_json() const {
         std::visit([&](const auto& v) { value = v; }, e.value);
         params[key] = {{"value", value}, {"unit", e.spec->unit}, {"origin", e.origin}};
     }
-    return {{"machine", {{"name", machine_name_}, {"description", machine_description_}}}, {"parameters", params}};
+    return {{"machine", {{"name", machine_name_}, {"description", machine_description_}, {"kind", to_string(machine_kind_)}}}, {"parameters", params}};
 }
+
+std::string to_string(MachineKind kind) { return kind == MachineKind::Uniprocessor ? "uniprocessor" : "multicomputer"; }
 
 std::filesystem::path resolve_machine_file(const std::string& name_or_path) {
 #ifdef PP5_MACHINES_DIR

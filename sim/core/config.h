@@ -14,12 +14,17 @@
 
 namespace pp5 {
 
+// What the machine file describes: Pixel-planes 5 (GPs, renderers, ring), or one processor that runs
+// the same algorithms one step after another (Levoy's Sun 4/280), timed from the same recorded work.
+enum class MachineKind { Multicomputer, Uniprocessor };
+std::string to_string(MachineKind kind);
+
 class MachineConfig {
 public:
     // Starts from every group's defaults. Groups must outlive the configuration.
     explicit MachineConfig(std::vector<const ParamGroup*> groups);
 
-    // Reads a TOML machine file: an optional [machine] table (name, description) and one table per
+    // Reads a TOML machine file: an optional [machine] table (name, description, kind) and one table per
     // parameter group. Unknown keys, wrong types and out-of-range values throw InputError naming the
     // file and the key.
     void load_file(const std::filesystem::path& path);
@@ -35,6 +40,7 @@ public:
 
     const std::string& machine_name() const { return machine_name_; }
     const std::string& machine_description() const { return machine_description_; }
+    MachineKind machine_kind() const { return machine_kind_; }
     const std::vector<const ParamGroup*>& groups() const { return groups_; }
     const ParamSpec* find_spec(std::string_view key) const;
 
@@ -53,6 +59,7 @@ private:
     std::map<std::string, Entry> entries_;  // ordered, so config.json is stable
     std::string machine_name_ = "default";
     std::string machine_description_;
+    MachineKind machine_kind_ = MachineKind::Multicomputer;
 };
 
 // Finds a machine file: an existing path as given, else a preset name ("pxpl5") looked up in the

@@ -1,5 +1,7 @@
 #include "sim/machine/machine.h"
 
+#include "sim/core/calibration.h"
+
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
@@ -7,7 +9,7 @@ namespace pp5 {
 
 std::vector<const ParamGroup*> Machine::param_groups() {
     return {&GraphicsProcessor::params(), &GpCostModel::params(), &Renderer::params(), &PpCostModel::params(), &FrameBuffer::params(),
-            &RingNetwork::params()};
+            &RingNetwork::params(), &CalibrationScales::params()};
 }
 
 MachineConfig Machine::default_config() { return MachineConfig(param_groups()); }

@@ -1,5 +1,7 @@
 #include "sim/renderer/pp_cost_model.h"
 
+#include "sim/core/calibration.h"
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -69,7 +71,8 @@ PpCostModel::PpCostModel(const MachineConfig& config)
       controller_cycles_per_instruction_(static_cast<std::uint64_t>(config.integer("pp.controller_cycles_per_instruction"))),
       backing_store_block_bits_(static_cast<std::uint64_t>(config.integer("renderer.backing_store_block_bits"))),
       backing_store_cycles_per_block_(static_cast<std::uint64_t>(config.integer("pp.backing_store_cycles_per_block"))),
-      backing_store_setup_cycles_(static_cast<std::uint64_t>(config.integer("pp.backing_store_setup_cycles"))) {}
+      backing_store_setup_cycles_(static_cast<std::uint64_t>(config.integer("pp.backing_store_setup_cycles"))),
+      scale_(CalibrationScales::from(config).pp_cycles) {}
 
 std::uint64_t PpCostModel::alu_cycles(const PpProgram& program, const PpInstruction& in) const {
     const std::uint64_t n = in.dst >= 0 ? bits_of(program, in.dst) : 0;
@@ -129,6 +132,9 @@ PpProgramCost PpCostModel::cost(const PpProgram& program) const {
     }
     c.load_cycles = c.load_blocks * backing_store_cycles_per_block_ + (c.load_blocks > 0 ? backing_store_setup_cycles_ : 0);
     c.store_cycles = c.store_blocks * backing_store_cycles_per_block_ + (c.store_blocks > 0 ? backing_store_setup_cycles_ : 0);
+    if (scale_ != 1.0) {  // the calibration's factor over every documented PP cost
+        for (std::uint64_t* part : {&c.alu_cycles, &c.controller_cycles, &c.load_cycles, &c.store_cycles}) *part = cycles(scale_, *part);
+    }
     return c;
 }
 

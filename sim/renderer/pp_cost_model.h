@@ -58,6 +58,7 @@ private:
     std::uint64_t backing_store_block_bits_;
     std::uint64_t backing_store_cycles_per_block_;
     std::uint64_t backing_store_setup_cycles_;
+    double scale_;  // calibration.pp_cycles_scale
 };
 
 }  // namespace pp5

@@ -1,0 +1,21 @@
+#pragma once
+// The calibration's free parameters ("calibration.*"): a few scale factors, each over a whole family of
+// documented per-operation costs, so that a fit moves the model as a whole and never one cost per
+// target. 1 leaves the documented costs as they are; `pp5sim fit` writes the fitted values into a
+// machine file with their standard errors.
+
+#include "sim/core/config.h"
+#include "sim/core/param.h"
+
+namespace pp5 {
+
+struct CalibrationScales {
+    double gp_flops = 1.0;   // every gp_cost.*_flops
+    double gp_cycles = 1.0;  // every gp_cost.*_cycles
+    double pp_cycles = 1.0;  // every PP program's cycles: ALU, controller and backing store
+
+    static const ParamGroup& params();
+    static CalibrationScales from(const MachineConfig& config);
+};
+
+}  // namespace pp5
