@@ -29,4 +29,4 @@ endif()
 if(PP5_BUILD_BENCHMARKS)
   find_package(benchmark CONFIG REQUIRED)
 endif()
-# Ceres is installed from the start but linked by the calibration work.
+find_package(Ceres CONFIG REQUIRED)

@@ -11,5 +11,7 @@ namespace pp5::cli {
 void add_render_command(CLI::App& app, std::function<int()>& run);
 void add_params_command(CLI::App& app, std::function<int()>& run);
 void add_volume_info_command(CLI::App& app, std::function<int()>& run);
+void add_fit_command(CLI::App& app, std::function<int()>& run);
+void add_reproduce_command(CLI::App& app, std::function<int()>& run);
 
 }  // namespace pp5::cli

@@ -15,6 +15,8 @@ int main(int argc, char** argv) {
     pp5::cli::add_render_command(app, run);
     pp5::cli::add_params_command(app, run);
     pp5::cli::add_volume_info_command(app, run);
+    pp5::cli::add_fit_command(app, run);
+    pp5::cli::add_reproduce_command(app, run);
 
     try {
         app.parse(argc, argv);

@@ -25,8 +25,11 @@ std::vector<fs::path> StagedOutput::commit() {
     };
     try {
         for (const Entry& e : entries_) {
-            // The partial keeps the real extension last, so OpenImageIO picks the right format.
-            const fs::path partial = directory_ / (".partial-" + e.name);
+            // The partial keeps the real extension last, so OpenImageIO picks the right format. A name
+            // may hold a subdirectory ("images/a.png").
+            const fs::path target = directory_ / e.name;
+            fs::create_directories(target.parent_path());
+            const fs::path partial = target.parent_path() / (".partial-" + target.filename().string());
             partials.push_back(partial);
             if (e.is_image) {
                 write_image(e.image, partial, e.format);

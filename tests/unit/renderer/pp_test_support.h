@@ -5,6 +5,7 @@
 #include "sim/components/renderer.h"
 #include "sim/core/config.h"
 #include "sim/renderer/pp_array.h"
+#include "sim/core/calibration.h"
 #include "sim/renderer/pp_cost_model.h"
 #include "sim/renderer/pp_program.h"
 
@@ -13,7 +14,7 @@
 
 namespace pp5::test {
 
-inline MachineConfig pp_config() { return MachineConfig({&Renderer::params(), &PpCostModel::params()}); }
+inline MachineConfig pp_config() { return MachineConfig({&Renderer::params(), &PpCostModel::params(), &CalibrationScales::params()}); }
 
 // Operands for each PP, loaded from its backing store (a at bit 0, b at bit 32).
 struct Operands {

@@ -1,0 +1,517 @@
+#include "calibration/fit.h"
+
+#include "sim/core/input_error.h"
+
+#include <ceres/ceres.h>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <regex>
+#include <sstream>
+
+namespace pp5 {
+
+namespace {
+
+struct ScaleSpec {
+    const char* key;
+    double CalibrationScales::*member;
+    double lower;
+    double upper;
+};
+// Bounds from what the hardware could do: no scale below 1/4 (the documented operation counts at the
+// rated speed are already lean; four times fewer operations, or a processor at four times its rated
+// sustained speed, is beyond any of these machines' peaks: the i860's 80 MFLOPS is 4x Levoy's 20) and
+// none above 10 (an order of magnitude slower than the counts suggest would be a different machine).
+constexpr ScaleSpec kScales[] = {
+    {"calibration.gp_flops_scale", &CalibrationScales::gp_flops, 0.25, 10.0},
+    {"calibration.gp_cycles_scale", &CalibrationScales::gp_cycles, 0.25, 10.0},
+    {"calibration.pp_cycles_scale", &CalibrationScales::pp_cycles, 0.25, 10.0},
+};
+constexpr int kScaleCount = static_cast<int>(std::size(kScales));
+constexpr const char* kBoundsProvenance =
+    "bounds [1/4, 10]: below 1/4 a processor would beat its peak rate (the i860's 80 MFLOPS is 4x Levoy's sustained 20); "
+    "above 10 it would be an order of magnitude slower than the operation counts";
+constexpr double kIdentifiableElasticity = 0.2;  // a 10% change of the scale moves some target by 2%
+constexpr double kCollinearCosine = 0.98;
+// Residuals are in units of their source's uncertainty; beyond about two of those the Cauchy loss
+// discounts a target (an estimate 65% off, a measurement 22% off).
+constexpr double kLossScale = 2.0;
+
+double residual(const Target& t, double simulated) {
+    return std::log(simulated / t.reported) / relative_uncertainty(t.exactness);
+}
+
+CalibrationScales scales_from(const std::map<std::string, double>& values, const std::string& machine) {
+    CalibrationScales s;
+    for (const ScaleSpec& spec : kScales) {
+        const auto it = values.find(machine + "/" + spec.key);
+        if (it != values.end()) s.*spec.member = it->second;
+    }
+    return s;
+}
+
+// One machine's fit: its fitted targets and which scales are free.
+class MachineFit {
+public:
+    MachineFit(const CalibrationModel& model, std::string machine, std::vector<const Target*> targets, CalibrationScales start,
+               std::vector<int> free)
+        : model_(model), machine_(std::move(machine)), targets_(std::move(targets)), start_(start), free_(std::move(free)) {}
+
+    CalibrationScales scales(const double* x) const {
+        CalibrationScales s = start_;
+        for (std::size_t i = 0; i < free_.size(); ++i) s.*kScales[free_[i]].member = x[i];
+        return s;
+    }
+    std::vector<double> residuals(const CalibrationScales& s) const {
+        const std::vector<double> simulated = model_.simulate(machine_, s, targets_);
+        std::vector<double> r;
+        for (std::size_t i = 0; i < targets_.size(); ++i) r.push_back(residual(*targets_[i], simulated[i]));
+        return r;
+    }
+    bool operator()(double const* const* parameters, double* out) const {
+        const std::vector<double> r = residuals(scales(parameters[0]));
+        std::copy(r.begin(), r.end(), out);
+        return std::all_of(r.begin(), r.end(), [](double v) { return std::isfinite(v); });
+    }
+
+    // The least-squares problem over `x`: robust for fitting, plain for the covariance at the solution
+    // (a robust loss's down-weighting would otherwise inflate the standard errors of a poor fit twice).
+    std::unique_ptr<ceres::Problem> problem(std::vector<double>& x, bool robust) const {
+        auto problem = std::make_unique<ceres::Problem>();
+        ceres::NumericDiffOptions diff;
+        diff.relative_step_size = 0.01;  // costs are whole picoseconds and events discrete: a visible step
+        auto* cost = new ceres::DynamicNumericDiffCostFunction<MachineFit, ceres::CENTRAL>(this, ceres::DO_NOT_TAKE_OWNERSHIP, diff);
+        cost->AddParameterBlock(static_cast<int>(x.size()));
+        cost->SetNumResiduals(static_cast<int>(targets_.size()));
+        problem->AddResidualBlock(cost, robust ? new ceres::CauchyLoss(kLossScale) : nullptr, x.data());
+        for (std::size_t i = 0; i < x.size(); ++i) {
+            problem->SetParameterLowerBound(x.data(), static_cast<int>(i), kScales[free_[i]].lower);
+            problem->SetParameterUpperBound(x.data(), static_cast<int>(i), kScales[free_[i]].upper);
+        }
+        return problem;
+    }
+
+    // Solves from `x` (updated in place).
+    ceres::Solver::Summary solve(std::vector<double>& x, int max_iterations) const {
+        const std::unique_ptr<ceres::Problem> robust = problem(x, true);
+        ceres::Solver::Options options;
+        options.linear_solver_type = ceres::DENSE_QR;
+        options.max_num_iterations = max_iterations;
+        options.function_tolerance = 1e-8;
+        options.parameter_tolerance = 1e-6;
+        options.logging_type = ceres::SILENT;
+        options.minimizer_progress_to_stdout = false;
+        options.num_threads = 1;  // each evaluation is already a whole simulation; determinism first
+        ceres::Solver::Summary summary;
+        ceres::Solve(options, robust.get(), &summary);
+        return summary;
+    }
+
+    const std::vector<const Target*>& targets() const { return targets_; }
+    const std::vector<int>& free() const { return free_; }
+
+private:
+    const CalibrationModel& model_;
+    std::string machine_;
+    std::vector<const Target*> targets_;
+    CalibrationScales start_;
+    std::vector<int> free_;
+};
+
+double pearson(const std::vector<double>& a, const std::vector<double>& b) {
+    const double n = static_cast<double>(a.size());
+    if (a.size() < 2) return std::numeric_limits<double>::quiet_NaN();
+    double ma = 0, mb = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) ma += a[i] / n, mb += b[i] / n;
+    double sab = 0, saa = 0, sbb = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        sab += (a[i] - ma) * (b[i] - mb);
+        saa += (a[i] - ma) * (a[i] - ma);
+        sbb += (b[i] - mb) * (b[i] - mb);
+    }
+    return saa > 0 && sbb > 0 ? sab / std::sqrt(saa * sbb) : std::numeric_limits<double>::quiet_NaN();
+}
+
+std::string percent(double relative) { return fmt::format("{:+.1f}%", 100.0 * relative); }
+
+std::string number(double v) {
+    if (!std::isfinite(v)) return "n/a";
+    return fmt::format("{:.4g}", v);
+}
+
+// Fills in every target's simulated value and error at the report's scales.
+void evaluate_all(const CalibrationModel& model, FitReport& report) {
+    std::map<std::string, std::vector<const Target*>> by_machine;
+    for (const Target& t : model.targets().targets) by_machine[t.machine].push_back(&t);
+    std::map<std::string, double> simulated;
+    for (const auto& [machine, targets] : by_machine) {
+        const std::vector<double> values = model.simulate(machine, report.scales(machine), targets);
+        for (std::size_t i = 0; i < targets.size(); ++i) simulated[targets[i]->id] = values[i];
+    }
+    std::map<std::string, TargetResult> previous;
+    for (TargetResult& r : report.results) previous.emplace(r.target.id, r);
+    report.results.clear();
+    for (const Target& t : model.targets().targets) {
+        TargetResult r;
+        if (const auto it = previous.find(t.id); it != previous.end()) r = it->second;
+        r.target = t;
+        r.simulated = simulated[t.id];
+        r.relative_error = (r.simulated - t.reported) / t.reported;
+        report.results.push_back(r);
+    }
+    report.fitted = summarize(report.results, true, false);
+    report.held_out = summarize(report.results, false, true);
+    report.all = summarize(report.results, true, true);
+}
+
+}  // namespace
+
+ErrorSummary summarize(const std::vector<TargetResult>& results, bool fitted, bool held_out) {
+    ErrorSummary s;
+    std::vector<double> log_simulated, log_reported;
+    for (const TargetResult& r : results) {
+        if ((r.target.fitted && !fitted) || (!r.target.fitted && !held_out)) continue;
+        ++s.count;
+        const double e = std::abs(r.relative_error);
+        s.mean_absolute_error += e;
+        s.max_absolute_error = std::max(s.max_absolute_error, e);
+        s.within_10 += e <= 0.10;
+        s.within_25 += e <= 0.25;
+        log_simulated.push_back(std::log(r.simulated));
+        log_reported.push_back(std::log(r.target.reported));
+    }
+    if (s.count > 0) s.mean_absolute_error /= s.count;
+    s.log_correlation = pearson(log_simulated, log_reported);
+    return s;
+}
+
+CalibrationScales FitReport::scales(const std::string& machine) const {
+    std::map<std::string, double> values;
+    for (const FittedParameter& p : parameters) values[p.machine + "/" + p.key] = p.value;
+    return scales_from(values, machine);
+}
+
+FitReport evaluate_targets(const CalibrationModel& model, const std::map<std::string, CalibrationScales>& scales) {
+    FitReport report;
+    report.targets_name = model.targets().name;
+    std::set<std::string> machines;
+    for (const Target& t : model.targets().targets) machines.insert(t.machine);
+    for (const std::string& machine : machines) {
+        const auto it = scales.find(machine);
+        const CalibrationScales s = it != scales.end() ? it->second : CalibrationScales::from(model.base_config(machine));
+        for (const ScaleSpec& spec : kScales) {
+            FittedParameter p;
+            p.machine = machine;
+            p.key = spec.key;
+            p.value = s.*spec.member;
+            p.standard_error = std::numeric_limits<double>::quiet_NaN();
+            p.lower = spec.lower;
+            p.upper = spec.upper;
+            p.free = false;
+            p.provenance = "given, not fitted";
+            report.parameters.push_back(p);
+        }
+    }
+    evaluate_all(model, report);
+    return report;
+}
+
+FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) {
+    const auto started = std::chrono::steady_clock::now();
+    const auto say = [&](const std::string& line) {
+        if (options.progress) options.progress(line);
+    };
+    FitReport report;
+    report.targets_name = model.targets().name;
+    std::map<std::string, std::vector<const Target*>> fitted_by_machine;
+    std::set<std::string> machines;
+    for (const Target& t : model.targets().targets) {
+        machines.insert(t.machine);
+        if (t.fitted) fitted_by_machine[t.machine].push_back(&t);
+    }
+    std::map<std::string, TargetResult> loo;
+    for (const std::string& machine : machines) {
+        const CalibrationScales start = CalibrationScales::from(model.base_config(machine));
+        std::vector<FittedParameter> params;
+        for (const ScaleSpec& spec : kScales) {
+            FittedParameter p;
+            p.machine = machine;
+            p.key = spec.key;
+            p.value = start.*spec.member;
+            p.standard_error = std::numeric_limits<double>::quiet_NaN();
+            p.lower = spec.lower;
+            p.upper = spec.upper;
+            p.provenance = kBoundsProvenance;
+            params.push_back(p);
+        }
+        const std::vector<const Target*>& targets = fitted_by_machine[machine];
+        if (targets.empty()) {
+            for (FittedParameter& p : params) {
+                p.free = false;
+                p.note = "no fitted target runs on this machine; held at the machine file's value";
+            }
+            report.parameters.insert(report.parameters.end(), params.begin(), params.end());
+            continue;
+        }
+
+        // Which scales the targets can tell apart: each scale's elasticity on every target.
+        say(fmt::format("{}: measuring what each scale moves ({} fitted targets)", machine, targets.size()));
+        const MachineFit all_scales(model, machine, targets, start, {0, 1, 2});
+        const std::vector<double> base = model.simulate(machine, start, targets);
+        std::vector<std::vector<double>> columns(kScaleCount);
+        std::vector<double> max_elasticity(kScaleCount, 0.0);
+        for (int j = 0; j < kScaleCount; ++j) {
+            CalibrationScales moved = start;
+            moved.*kScales[j].member *= 1.1;
+            const std::vector<double> sim = model.simulate(machine, moved, targets);
+            for (std::size_t i = 0; i < targets.size(); ++i) {
+                const double elasticity = std::log(sim[i] / base[i]) / std::log(1.1);
+                columns[static_cast<std::size_t>(j)].push_back(elasticity / relative_uncertainty(targets[i]->exactness));
+                max_elasticity[static_cast<std::size_t>(j)] = std::max(max_elasticity[static_cast<std::size_t>(j)], std::abs(elasticity));
+            }
+        }
+        std::vector<int> free;
+        for (int j = 0; j < kScaleCount; ++j) {
+            if (max_elasticity[static_cast<std::size_t>(j)] < kIdentifiableElasticity) {
+                params[static_cast<std::size_t>(j)].free = false;
+                params[static_cast<std::size_t>(j)].note = fmt::format(
+                    "not identifiable: a 10% change moves no fitted target by more than {:.2f}%; held at {}",
+                    100.0 * (std::pow(1.1, max_elasticity[static_cast<std::size_t>(j)]) - 1.0), params[static_cast<std::size_t>(j)].value);
+                continue;
+            }
+            free.push_back(j);
+        }
+        // Nearly parallel columns: the targets cannot separate the two scales; keep the stronger.
+        const auto norm = [](const std::vector<double>& c) {
+            double s = 0;
+            for (double v : c) s += v * v;
+            return std::sqrt(s);
+        };
+        const auto cosine_of = [&](int i, int j) {
+            const auto& ci = columns[static_cast<std::size_t>(i)];
+            const auto& cj = columns[static_cast<std::size_t>(j)];
+            double dot = 0;
+            for (std::size_t t = 0; t < ci.size(); ++t) dot += ci[t] * cj[t];
+            return dot / (norm(ci) * norm(cj));
+        };
+        for (std::size_t a = 0; a < free.size(); ++a)
+            for (std::size_t b = a + 1; b < free.size(); ++b)
+                report.notes.push_back(fmt::format("{}: {} and {} move the fitted targets alike with cosine {:.3f} (at the start)", machine,
+                                                   kScales[free[a]].key, kScales[free[b]].key, cosine_of(free[a], free[b])));
+        for (bool dropped = true; dropped;) {  // drop the weaker of the most nearly parallel pair, until none is
+            dropped = false;
+            double worst = kCollinearCosine;
+            std::size_t weaker = 0, stronger = 0;
+            for (std::size_t a = 0; a < free.size(); ++a) {
+                for (std::size_t b = a + 1; b < free.size(); ++b) {
+                    const double cosine = std::abs(cosine_of(free[a], free[b]));
+                    if (cosine < worst) continue;
+                    worst = cosine;
+                    const bool a_weaker = norm(columns[static_cast<std::size_t>(free[a])]) < norm(columns[static_cast<std::size_t>(free[b])]);
+                    weaker = a_weaker ? a : b;
+                    stronger = a_weaker ? b : a;
+                    dropped = true;
+                }
+            }
+            if (!dropped) break;
+            FittedParameter& p = params[static_cast<std::size_t>(free[weaker])];
+            p.free = false;
+            p.note = fmt::format("not identifiable apart from {}: the targets respond to both alike (cosine {:.3f}); held at {}",
+                                 kScales[free[stronger]].key, worst, p.value);
+            free.erase(free.begin() + static_cast<std::ptrdiff_t>(weaker));
+        }
+        if (free.size() >= targets.size()) {
+            throw InputError(model.targets().file.string(), "targets",
+                             fmt::format("machine {} has {} fitted targets for {} free scales; a fit needs more targets than "
+                                         "parameters (mark more rows use = \"fit\")",
+                                         machine, targets.size(), free.size()));
+        }
+        if (free.empty()) {
+            report.parameters.insert(report.parameters.end(), params.begin(), params.end());
+            continue;
+        }
+
+        const MachineFit fit(model, machine, targets, start, free);
+        std::vector<double> x;
+        for (int j : free) x.push_back(start.*kScales[j].member);
+        say(fmt::format("{}: fitting {} scales to {} targets", machine, free.size(), targets.size()));
+        const ceres::Solver::Summary summary = fit.solve(x, options.max_iterations);
+        const std::unique_ptr<ceres::Problem> plain = fit.problem(x, false);
+        report.notes.push_back(fmt::format("{}: {} iterations, {} residual evaluations, final cost {:.4g} (from {:.4g}); {}", machine,
+                                           summary.iterations.size(), summary.num_residual_evaluations, summary.final_cost,
+                                           summary.initial_cost, summary.message));
+
+        // Standard errors: Ceres' covariance at the solution, widened when the residuals spread more than
+        // their sources' stated uncertainty (reduced chi-square above 1).
+        const std::vector<double> r = fit.residuals(fit.scales(x.data()));
+        double chi2 = 0;
+        for (double v : r) chi2 += v * v;
+        const double spread = chi2 / static_cast<double>(targets.size() - free.size());
+        ceres::Covariance::Options cov_options;
+        cov_options.algorithm_type = ceres::DENSE_SVD;
+        cov_options.null_space_rank = -1;
+        ceres::Covariance covariance(cov_options);
+        std::vector<double> cov(x.size() * x.size(), std::numeric_limits<double>::quiet_NaN());
+        const std::vector<std::pair<const double*, const double*>> blocks{{x.data(), x.data()}};
+        const bool have_cov = covariance.Compute(blocks, plain.get()) && covariance.GetCovarianceBlock(x.data(), x.data(), cov.data());
+        for (std::size_t i = 0; i < free.size(); ++i) {
+            FittedParameter& p = params[static_cast<std::size_t>(free[i])];
+            p.value = x[i];
+            p.standard_error = have_cov ? std::sqrt(cov[i * x.size() + i] * std::max(1.0, spread)) : std::numeric_limits<double>::quiet_NaN();
+            p.at_bound = std::abs(x[i] - p.lower) < 1e-6 * p.lower || std::abs(x[i] - p.upper) < 1e-6 * p.upper;
+            if (p.at_bound) p.note = "at its bound: the targets push it further; its standard error means little";
+            if (!have_cov) p.note += (p.note.empty() ? "" : "; ") + std::string("covariance not computable (rank-deficient Jacobian)");
+        }
+        report.notes.push_back(fmt::format("{}: residual spread (reduced chi-square) {:.3g} on {} degrees of freedom", machine, spread,
+                                           targets.size() - free.size()));
+
+        // Leave one out: refit without each fitted target and predict it.
+        if (options.leave_one_out) {
+            for (std::size_t k = 0; k < targets.size(); ++k) {
+                TargetResult result;
+                result.target = *targets[k];
+                std::vector<const Target*> rest;
+                for (std::size_t i = 0; i < targets.size(); ++i)
+                    if (i != k) rest.push_back(targets[i]);
+                if (rest.size() < free.size()) {
+                    result.leave_one_out_note = fmt::format("not possible: {} targets left for {} scales", rest.size(), free.size());
+                } else {
+                    say(fmt::format("{}: leave-one-out {} of {} ({})", machine, k + 1, targets.size(), targets[k]->id));
+                    const MachineFit partial(model, machine, rest, start, free);
+                    std::vector<double> y = x;
+                    partial.solve(y, options.max_iterations);
+                    const double predicted = model.simulate(machine, partial.scales(y.data()), {targets[k]}).front();
+                    result.leave_one_out = predicted;
+                    result.leave_one_out_error = (predicted - targets[k]->reported) / targets[k]->reported;
+                    if (rest.size() == free.size()) result.leave_one_out_note = "the rest determine the scales exactly";
+                }
+                loo.emplace(targets[k]->id, result);
+            }
+        }
+        report.parameters.insert(report.parameters.end(), params.begin(), params.end());
+    }
+    for (const auto& [id, r] : loo) report.results.push_back(r);
+    evaluate_all(model, report);
+    report.host_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    return report;
+}
+
+nlohmann::json FitReport::to_json() const {
+    const auto nan_to_null = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
+    nlohmann::json params = nlohmann::json::array();
+    for (const FittedParameter& p : parameters) {
+        params.push_back({{"machine", p.machine}, {"key", p.key}, {"value", p.value}, {"standard_error", nan_to_null(p.standard_error)},
+                          {"lower", p.lower}, {"upper", p.upper}, {"free", p.free}, {"at_bound", p.at_bound},
+                          {"provenance", p.provenance}, {"note", p.note}});
+    }
+    nlohmann::json rows = nlohmann::json::array();
+    for (const TargetResult& r : results) {
+        nlohmann::json row{{"id", r.target.id},
+                           {"source", r.target.source},
+                           {"quote", r.target.quote},
+                           {"scenario", r.target.scenario},
+                           {"frame", r.target.frame},
+                           {"machine", r.target.machine},
+                           {"metric", std::string(to_string(r.target.metric))},
+                           {"unit", std::string(unit_of(r.target.metric))},
+                           {"reported", r.target.reported},
+                           {"exactness", std::string(to_string(r.target.exactness))},
+                           {"simulated", r.simulated},
+                           {"relative_error", r.relative_error},
+                           {"use", r.target.fitted ? "fitted" : "held-out"}};
+        row["leave_one_out"] = r.leave_one_out ? nlohmann::json(*r.leave_one_out) : nlohmann::json(nullptr);
+        row["leave_one_out_error"] = r.leave_one_out_error ? nlohmann::json(*r.leave_one_out_error) : nlohmann::json(nullptr);
+        if (!r.leave_one_out_note.empty()) row["leave_one_out_note"] = r.leave_one_out_note;
+        rows.push_back(row);
+    }
+    const auto summary = [&](const ErrorSummary& s) {
+        return nlohmann::json{{"count", s.count},
+                              {"mean_absolute_relative_error", s.mean_absolute_error},
+                              {"max_absolute_relative_error", s.max_absolute_error},
+                              {"within_10_percent", s.within_10},
+                              {"within_25_percent", s.within_25},
+                              {"log_correlation", nan_to_null(s.log_correlation)}};
+    };
+    return {{"targets", targets_name}, {"parameters", params}, {"rows", rows},
+            {"summary", {{"fitted", summary(fitted)}, {"held_out", summary(held_out)}, {"all", summary(all)}}},
+            {"notes", notes}, {"host_seconds", host_seconds}};
+}
+
+std::string FitReport::to_markdown() const {
+    std::ostringstream md;
+    md << "# Calibration against " << targets_name << "\n\n## Parameters\n\n"
+       << "| machine | parameter | value | standard error | bounds | status |\n|---|---|---|---|---|---|\n";
+    for (const FittedParameter& p : parameters) {
+        md << fmt::format("| {} | `{}` | {:.4g} | {} | [{:g}, {:g}] | {} |\n", p.machine, p.key, p.value, number(p.standard_error), p.lower,
+                          p.upper, p.free ? (p.note.empty() ? "fitted" : "fitted; " + p.note) : p.note);
+    }
+    md << "\n## Targets\n\n| id | machine | metric | reported | simulated | error | use | leave-one-out prediction |\n"
+       << "|---|---|---|---|---|---|---|---|\n";
+    for (const TargetResult& r : results) {
+        std::string loo = r.leave_one_out ? fmt::format("{} ({})", number(*r.leave_one_out), percent(*r.leave_one_out_error)) : "";
+        if (!r.leave_one_out_note.empty()) loo += (loo.empty() ? "" : "; ") + r.leave_one_out_note;
+        md << fmt::format("| {} | {} | {} ({}) | {} | {} | {} | {} | {} |\n", r.target.id, r.target.machine, to_string(r.target.metric),
+                          unit_of(r.target.metric), number(r.target.reported), number(r.simulated), percent(r.relative_error),
+                          r.target.fitted ? "fitted" : "held out", loo);
+    }
+    md << "\n## Fit quality\n\n| targets | count | mean abs. error | max abs. error | within 10% | within 25% | r (log) |\n"
+       << "|---|---|---|---|---|---|---|\n";
+    for (const auto& [name, s] : {std::pair{"fitted", fitted}, std::pair{"held out", held_out}, std::pair{"all", all}}) {
+        md << fmt::format("| {} | {} | {:.1f}% | {:.1f}% | {} | {} | {} |\n", name, s.count, 100.0 * s.mean_absolute_error,
+                          100.0 * s.max_absolute_error, s.within_10, s.within_25, number(s.log_correlation));
+    }
+    md << "\n## Outliers (more than 25% off)\n\n";
+    bool any = false;
+    for (const TargetResult& r : results) {
+        if (std::abs(r.relative_error) <= 0.25) continue;
+        any = true;
+        md << fmt::format("- `{}` ({}): reported {} {}, simulated {} ({})\n", r.target.id, r.target.fitted ? "fitted" : "held out",
+                          number(r.target.reported), unit_of(r.target.metric), number(r.simulated), percent(r.relative_error));
+    }
+    if (!any) md << "None.\n";
+    if (!notes.empty()) {
+        md << "\n## Solver\n\n";
+        for (const std::string& n : notes) md << "- " << n << "\n";
+    }
+    return md.str();
+}
+
+std::string fitted_machine_file(const CalibrationModel& model, const FitReport& report, const std::string& machine) {
+    std::ifstream in(resolve_machine_file(machine));
+    std::stringstream text;
+    text << in.rdbuf();
+    // Drop the file's own [calibration] table and rename the machine.
+    std::ostringstream out;
+    std::string line;
+    bool skipping = false;
+    bool in_machine = false;
+    const std::regex header(R"(^\s*\[([A-Za-z0-9_.]+)\]\s*(#.*)?$)");
+    const std::regex name_line(R"(^(\s*name\s*=\s*")([^"]*)(".*)$)");
+    std::smatch m;
+    while (std::getline(text, line)) {
+        if (std::regex_match(line, m, header)) {
+            skipping = m[1] == "calibration";
+            in_machine = m[1] == "machine";
+        }
+        if (skipping) continue;
+        if (in_machine && std::regex_match(line, m, name_line)) line = m[1].str() + m[2].str() + "-fitted" + m[3].str();
+        out << line << "\n";
+    }
+    out << "\n[calibration]                 # fitted by `pp5sim fit` to " << model.targets().name << "; standard errors in comments\n";
+    for (const FittedParameter& p : report.parameters) {
+        if (p.machine != machine) continue;
+        const std::string key = p.key.substr(std::string("calibration.").size());
+        std::string comment = p.free ? fmt::format("+/- {}", number(p.standard_error)) : "held: " + p.note;
+        if (p.at_bound) comment += " (at its bound)";
+        out << fmt::format("{} = {:.6g}    # {}\n", key, p.value, comment);
+    }
+    return out.str();
+}
+
+}  // namespace pp5

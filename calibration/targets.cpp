@@ -1,0 +1,196 @@
+#include "calibration/targets.h"
+
+#include "frontends/scenario.h"
+#include "sim/core/config.h"
+#include "sim/core/input_error.h"
+#include "sim/core/named_file.h"
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <set>
+
+namespace pp5 {
+
+namespace {
+
+struct MetricName {
+    Metric metric;
+    const char* name;
+    const char* unit;
+};
+constexpr MetricName kMetrics[] = {
+    {Metric::CrudeSeconds, "crude_seconds", "s"},
+    {Metric::RefinedSeconds, "refined_seconds", "s"},
+    {Metric::RefinementSeconds, "refinement_seconds", "s"},
+    {Metric::PixelProcessorSeconds, "pp_seconds", "s"},
+    {Metric::PolygonsPerSecond, "polygons_per_second", "1/s"},
+    {Metric::SecondsPerPolygon, "seconds_per_polygon", "s"},
+    {Metric::SpeedupFor30Hz, "speedup_for_30_fps", "factor"},
+};
+
+std::string metric_names() {
+    std::string names;
+    for (const MetricName& m : kMetrics) names += (names.empty() ? "" : ", ") + std::string(m.name);
+    return names;
+}
+
+// Reads one string field of a target, naming it in errors.
+std::string text_field(const toml::table& row, const std::string& file, const std::string& prefix, const char* key, bool required) {
+    const toml::node* node = row.get(key);
+    if (!node) {
+        if (required) throw InputError(file, prefix + key, "is missing");
+        return {};
+    }
+    const auto* s = node->as_string();
+    if (!s) throw InputError(file, prefix + key, "must be a string");
+    return s->get();
+}
+
+}  // namespace
+
+std::string_view to_string(Metric metric) {
+    for (const MetricName& m : kMetrics)
+        if (m.metric == metric) return m.name;
+    return "?";
+}
+
+std::string_view unit_of(Metric metric) {
+    for (const MetricName& m : kMetrics)
+        if (m.metric == metric) return m.unit;
+    return "?";
+}
+
+std::vector<Metric> all_metrics() {
+    std::vector<Metric> all;
+    for (const MetricName& m : kMetrics) all.push_back(m.metric);
+    return all;
+}
+
+std::string_view to_string(Exactness exactness) {
+    switch (exactness) {
+        case Exactness::Measured: return "measured";
+        case Exactness::Estimate: return "estimate";
+        case Exactness::OrderOfMagnitude: return "order-of-magnitude";
+    }
+    return "?";
+}
+
+double relative_uncertainty(Exactness exactness) {
+    switch (exactness) {
+        case Exactness::Measured: return 0.10;
+        case Exactness::Estimate: return 0.25;
+        case Exactness::OrderOfMagnitude: return 0.70;
+    }
+    return 1.0;
+}
+
+std::filesystem::path resolve_targets_file(const std::string& name_or_path) {
+#ifdef PP5_TARGETS_DIR
+    const char* builtin = PP5_TARGETS_DIR;
+#else
+    const char* builtin = nullptr;
+#endif
+    return resolve_named_file(name_or_path, {"PP5SIM_TARGETS", builtin, "--targets", "traces/calibration/*.toml"});
+}
+
+TargetSet load_targets(const std::filesystem::path& path) {
+    const std::string file = path.string();
+    toml::table root;
+    try {
+        root = toml::parse_file(file);
+    } catch (const toml::parse_error& e) {
+        const auto& where = e.source().begin;
+        throw InputError(file, fmt::format("line {}, column {}", where.line, where.column), std::string(e.description()));
+    }
+    TargetSet set;
+    set.file = path;
+    set.name = path.stem().string();
+    if (const toml::table* head = root["calibration"].as_table()) {
+        set.name = text_field(*head, file, "calibration.", "name", false);
+        if (set.name.empty()) set.name = path.stem().string();
+        set.description = text_field(*head, file, "calibration.", "description", false);
+    }
+    for (const auto& [key, node] : root) {
+        if (key.str() != "calibration" && key.str() != "targets")
+            throw InputError(file, std::string(key.str()), "unknown table; a target file holds [calibration] and [[targets]]");
+    }
+    const toml::array* rows = root["targets"].as_array();
+    if (!rows || rows->empty()) throw InputError(file, "targets", "needs at least one [[targets]] row");
+
+    std::set<std::string> ids;
+    for (std::size_t i = 0; i < rows->size(); ++i) {
+        const std::string prefix = fmt::format("targets[{}].", i);
+        const toml::table* row = (*rows)[i].as_table();
+        if (!row) throw InputError(file, prefix.substr(0, prefix.size() - 1), "must be a table");
+        static const std::set<std::string> known{"id", "source", "quote", "scenario", "frame", "machine", "metric",
+                                                 "reported", "exactness", "use"};
+        for (const auto& [k, v] : *row) {
+            if (!known.count(std::string(k.str())))
+                throw InputError(file, prefix + std::string(k.str()), "unknown field; a target has id, source, quote, scenario, "
+                                                                    "frame, machine, metric, reported, exactness and use");
+        }
+        Target t;
+        t.id = text_field(*row, file, prefix, "id", true);
+        if (!ids.insert(t.id).second) throw InputError(file, prefix + "id", "\"" + t.id + "\" is used by an earlier target");
+        t.source = text_field(*row, file, prefix, "source", true);
+        t.quote = text_field(*row, file, prefix, "quote", false);
+        t.scenario = text_field(*row, file, prefix, "scenario", true);
+        t.machine = text_field(*row, file, prefix, "machine", true);
+
+        const std::string metric = text_field(*row, file, prefix, "metric", true);
+        bool found = false;
+        for (const MetricName& m : kMetrics) {
+            if (metric == m.name) {
+                t.metric = m.metric;
+                found = true;
+            }
+        }
+        if (!found) throw InputError(file, prefix + "metric", "unknown metric \"" + metric + "\"; known: " + metric_names());
+
+        const toml::node* reported = row->get("reported");
+        if (!reported) throw InputError(file, prefix + "reported", "is missing");
+        const auto value = reported->value<double>();
+        if (!value || !std::isfinite(*value) || *value <= 0.0)
+            throw InputError(file, prefix + "reported", "must be a positive number");
+        t.reported = *value;
+
+        const std::string exactness = text_field(*row, file, prefix, "exactness", true);
+        if (exactness == "measured") t.exactness = Exactness::Measured;
+        else if (exactness == "estimate") t.exactness = Exactness::Estimate;
+        else if (exactness == "order-of-magnitude") t.exactness = Exactness::OrderOfMagnitude;
+        else throw InputError(file, prefix + "exactness", "must be measured, estimate or order-of-magnitude, not \"" + exactness + "\"");
+
+        const std::string use = text_field(*row, file, prefix, "use", true);
+        if (use != "fit" && use != "held-out") throw InputError(file, prefix + "use", "must be fit or held-out, not \"" + use + "\"");
+        t.fitted = use == "fit";
+
+        // The scenario and machine must exist, and the frame be one of the scenario's.
+        Scenario scenario;
+        try {
+            scenario = load_scenario(resolve_scenario_file(t.scenario));
+        } catch (const InputError& e) {
+            throw InputError(file, prefix + "scenario", std::string("\"") + t.scenario + "\": " + e.what());
+        }
+        if (scenario.kernel != ScenarioKernel::Levoy)
+            throw InputError(file, prefix + "scenario", "\"" + t.scenario + "\" does not run on the machine (kernel = \"reference\")");
+        const toml::node* frame = row->get("frame");
+        if (frame) {
+            const auto index = frame->value<std::int64_t>();
+            if (!index || *index < 0 || *index >= static_cast<std::int64_t>(scenario.frames.size()))
+                throw InputError(file, prefix + "frame",
+                                 fmt::format("must be a frame of \"{}\": 0 to {}", t.scenario, scenario.frames.size() - 1));
+            t.frame = static_cast<int>(*index);
+        }
+        try {
+            (void)resolve_machine_file(t.machine);
+        } catch (const InputError& e) {
+            throw InputError(file, prefix + "machine", std::string("\"") + t.machine + "\": " + e.what());
+        }
+        set.targets.push_back(std::move(t));
+    }
+    return set;
+}
+
+}  // namespace pp5

@@ -1,0 +1,66 @@
+#pragma once
+// Calibration targets as data: one row per figure a paper reported, naming the scenario and frame that
+// reproduces it, the machine it was reported for, the metric, the value, how exact the source is, and
+// whether the fit may use it or must predict it (held out). Read from a TOML file under
+// traces/calibration/ (format in traces/README.md); every field is checked, and a bad one is an
+// InputError naming the file, the field and the reason.
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace pp5 {
+
+// What a target measures, from one frame of a scenario.
+enum class Metric {
+    CrudeSeconds,            // the frame's first refinement pass on screen
+    RefinedSeconds,          // the frame fully refined
+    RefinementSeconds,       // refined minus crude: "a further 57 s"
+    PixelProcessorSeconds,   // classification and shading of the volume
+    PolygonsPerSecond,       // 3D scan-conversion rate
+    SecondsPerPolygon,
+    SpeedupFor30Hz,          // how much faster the crude frame must get for 30 frames/s
+};
+std::string_view to_string(Metric metric);
+std::string_view unit_of(Metric metric);
+// All metrics, for error messages and documentation.
+std::vector<Metric> all_metrics();
+
+// How exact the source is: it sets the target's weight in the fit (its relative uncertainty).
+enum class Exactness {
+    Measured,          // timed on a real machine ("6 seconds on a Sun 4/280"): 10%
+    Estimate,          // a designer's estimate ("about 1 s", "1/20 s"): 25%
+    OrderOfMagnitude,  // "several seconds": 70%
+};
+std::string_view to_string(Exactness exactness);
+double relative_uncertainty(Exactness exactness);
+
+struct Target {
+    std::string id;
+    std::string source;    // paper and section
+    std::string quote;     // the words the figure comes from, or a paraphrase
+    std::string scenario;  // a scenario name or file
+    int frame = 0;         // index into the scenario's frames
+    std::string machine;   // preset name or machine file
+    Metric metric = Metric::CrudeSeconds;
+    double reported = 0.0;
+    Exactness exactness = Exactness::Estimate;
+    bool fitted = true;  // false: held out, predicted only
+};
+
+struct TargetSet {
+    std::filesystem::path file;
+    std::string name;
+    std::string description;
+    std::vector<Target> targets;
+};
+
+// Reads and checks a target file: unknown metrics, exactness or use, scenarios or machines that do not
+// resolve, frames outside the scenario, non-positive values and repeated ids are errors.
+TargetSet load_targets(const std::filesystem::path& file);
+// A path, or the name of a shipped target file (traces/calibration/NAME.toml).
+std::filesystem::path resolve_targets_file(const std::string& name_or_path);
+inline constexpr const char* kDefaultTargets = "levoy89";
+
+}  // namespace pp5

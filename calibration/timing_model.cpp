@@ -1,0 +1,156 @@
+#include "calibration/timing_model.h"
+
+#include "frontends/run_config.h"
+#include "kernels/levoy/sequential_timing.h"
+#include "sim/core/input_error.h"
+#include "sim/machine/machine.h"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+
+namespace pp5 {
+
+namespace {
+
+FrameTimes frame_times(const LevoyFrameTiming& t) {
+    FrameTimes times;
+    times.crude_seconds = ticks_to_seconds(t.crude_ps());
+    times.refined_seconds = ticks_to_seconds(t.refined_ps());
+    times.pp_seconds = ticks_to_seconds(t.pixel_processors.duration_ps());
+    times.scan_converted = t.geometry.ran;
+    times.polygons = static_cast<double>(t.geometry.polygons);
+    times.scan_conversion_seconds = ticks_to_seconds(t.geometry.end_ps - t.geometry.start_ps);
+    return times;
+}
+
+FrameTimes frame_times(const SequentialFrameTiming& t, bool scan_converted) {
+    FrameTimes times;
+    times.crude_seconds = ticks_to_seconds(t.crude_ps());
+    times.refined_seconds = ticks_to_seconds(t.refined_ps());
+    times.pp_seconds = ticks_to_seconds(t.classification + t.shading);
+    times.scan_converted = scan_converted;
+    times.polygons = static_cast<double>(t.polygons);
+    times.scan_conversion_seconds = ticks_to_seconds(t.scan_conversion);
+    return times;
+}
+
+// Only these parameters may differ between the recording machine and the machine that re-times.
+constexpr const char* kTimingGroups[] = {"gp.", "gp_cost.", "pp.", "ring.", "calibration."};
+constexpr const char* kTimingKeys[] = {"renderer.clock_mhz", "renderer.request_setup_cycles", "renderer.request_cycles_per_voxel"};
+
+}  // namespace
+
+bool is_timing_parameter(const std::string& key) {
+    for (const char* group : kTimingGroups)
+        if (key.starts_with(group)) return true;
+    return std::find(std::begin(kTimingKeys), std::end(kTimingKeys), key) != std::end(kTimingKeys);
+}
+
+double metric_value(Metric metric, const FrameTimes& t, const std::string& file, const std::string& field) {
+    const auto need_polygons = [&] {
+        if (!t.scan_converted || t.polygons == 0.0 || t.scan_conversion_seconds <= 0.0)
+            throw InputError(file, field, "the frame scan-converts no polygons, so it has no polygon rate");
+    };
+    switch (metric) {
+        case Metric::CrudeSeconds: return t.crude_seconds;
+        case Metric::RefinedSeconds: return t.refined_seconds;
+        case Metric::RefinementSeconds: return t.refined_seconds - t.crude_seconds;
+        case Metric::PixelProcessorSeconds:
+            if (t.pp_seconds <= 0.0) throw InputError(file, field, "the frame runs no classification or shading pass");
+            return t.pp_seconds;
+        case Metric::PolygonsPerSecond: need_polygons(); return t.polygons / t.scan_conversion_seconds;
+        case Metric::SecondsPerPolygon: need_polygons(); return t.scan_conversion_seconds / t.polygons;
+        case Metric::SpeedupFor30Hz: return t.crude_seconds * 30.0;
+    }
+    return 0.0;
+}
+
+RecordedScenario::RecordedScenario(const Scenario& scenario, const MachineConfig& functional, int frames)
+    : scenario_(scenario), functional_(functional) {
+    const Volume volume = load_dataset(scenario);
+    Machine machine(functional);
+    LevoyRenderer workstation(machine, volume, LevoySettings::from(functional), levoy_image_settings(scenario.image));
+    workstation.set_polygons(scenario.polygons);
+    const int count = std::min(frames, static_cast<int>(scenario.frames.size()));
+    for (int i = 0; i < count; ++i) {
+        const FrameSpec& frame = scenario.frames[static_cast<std::size_t>(i)];
+        LevoyFrameReport report = workstation.render(levoy_frame_inputs(frame, volume));
+        frames_.push_back(RecordedFrame{frame.label, std::move(report.work), std::move(report.passes.front().image),
+                                        std::move(report.final_image)});
+    }
+    blocks_ = std::make_unique<VoxelBlocks>(workstation.blocks());
+}
+
+std::vector<FrameTimes> RecordedScenario::time_on(const MachineConfig& machine) const {
+    const nlohmann::json recorded = functional_.to_json()["parameters"];
+    const nlohmann::json timing = machine.to_json()["parameters"];
+    for (const auto& [key, entry] : recorded.items()) {
+        if (!is_timing_parameter(key) && timing.contains(key) && timing[key]["value"] != entry["value"]) {
+            throw InputError(timing[key]["origin"].get<std::string>(), key,
+                             fmt::format("is {} but the work was recorded with {}: it changes what the kernels compute, and "
+                                         "calibration only re-times recorded work (render the scenario on that machine instead)",
+                                         timing[key]["value"].dump(), entry["value"].dump()));
+        }
+    }
+    std::vector<FrameTimes> times;
+    if (machine.machine_kind() == MachineKind::Uniprocessor) {
+        const GpCostModel costs = GpCostModel::from(machine);
+        for (const RecordedFrame& frame : frames_) times.push_back(frame_times(time_levoy_frame_sequentially(costs, frame.work), frame.work.scan_converted));
+        return times;
+    }
+    Machine timed(machine);
+    VoxelBlocks blocks = *blocks_;
+    for (const RecordedFrame& frame : frames_) times.push_back(frame_times(time_levoy_frame(timed, blocks, frame.work)));
+    return times;
+}
+
+CalibrationModel::CalibrationModel(const TargetSet& targets, std::optional<MachineConfig> functional) : targets_(targets) {
+    const MachineConfig recording = functional ? *functional : load_run_config("pxpl5", {});
+    std::map<std::string, int> frames_needed;
+    for (const Target& t : targets_.targets) {
+        frames_needed[t.scenario] = std::max(frames_needed[t.scenario], t.frame + 1);
+        if (!machines_.count(t.machine)) machines_.emplace(t.machine, load_run_config(t.machine, {}));
+    }
+    for (const auto& [name, frames] : frames_needed) {
+        const Scenario scenario = load_scenario(resolve_scenario_file(name));
+        scenarios_.emplace(name, std::make_unique<RecordedScenario>(scenario, recording, frames));
+    }
+}
+
+const MachineConfig& CalibrationModel::base_config(const std::string& machine) const {
+    const auto it = machines_.find(machine);
+    if (it == machines_.end()) throw std::logic_error("CalibrationModel: no target runs on machine " + machine);
+    return it->second;
+}
+
+MachineConfig CalibrationModel::machine_config(const std::string& machine, const CalibrationScales& scales) const {
+    MachineConfig config = base_config(machine);
+    config.set("calibration.gp_flops_scale", scales.gp_flops, "fit");
+    config.set("calibration.gp_cycles_scale", scales.gp_cycles, "fit");
+    config.set("calibration.pp_cycles_scale", scales.pp_cycles, "fit");
+    return config;
+}
+
+const RecordedScenario& CalibrationModel::recording(const std::string& scenario) const {
+    const auto it = scenarios_.find(scenario);
+    if (it == scenarios_.end()) throw std::logic_error("CalibrationModel: scenario not recorded: " + scenario);
+    return *it->second;
+}
+
+std::vector<double> CalibrationModel::simulate(const std::string& machine, const CalibrationScales& scales,
+                                               const std::vector<const Target*>& targets) const {
+    const MachineConfig config = machine_config(machine, scales);
+    std::map<std::string, std::vector<FrameTimes>> timed;  // each scenario timed once per call
+    std::vector<double> values;
+    for (const Target* t : targets) {
+        auto it = timed.find(t->scenario);
+        if (it == timed.end()) it = timed.emplace(t->scenario, recording(t->scenario).time_on(config)).first;
+        values.push_back(metric_value(t->metric, it->second[static_cast<std::size_t>(t->frame)], targets_.file.string(),
+                                      "target \"" + t->id + "\" metric"));
+    }
+    return values;
+}
+
+}  // namespace pp5

@@ -1,0 +1,251 @@
+// `pp5sim fit` and `pp5sim reproduce`: calibrate the timing model against a target file, and reproduce
+// the papers' table with the calibrated machines (calibration/fit.h).
+//
+// fit:       the fitted machine files (<machine>-fitted.toml), fit.md and fit.json.
+// reproduce: the fit's files, then reproduction.md and reproduction.json (one row per target), the
+//            figure-like images, and plots: reported against simulated, and simulated frame time
+//            against the number of GPs for a crude and a refined frame.
+
+#include "calibration/fit.h"
+#include "calibration/targets.h"
+#include "calibration/timing_model.h"
+#include "frontends/cli/commands.h"
+#include "frontends/cli/output_dir.h"
+#include "frontends/plot.h"
+#include "sim/core/input_error.h"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <thread>
+
+namespace pp5::cli {
+namespace {
+
+struct CalibrateOptions {
+    std::string targets = kDefaultTargets;
+    std::string out;
+    int threads = 0;
+    bool leave_one_out = true;
+    bool uncalibrated = false;                            // reproduce only: skip the fit
+    std::vector<int> gp_counts{1, 2, 4, 8, 16, 32, 64, 128};  // reproduce only
+};
+
+void add_common_options(CLI::App* cmd, CalibrateOptions& o) {
+    cmd->add_option("--targets", o.targets, "Target file (TOML) or the name of a shipped one (traces/calibration/)")->capture_default_str();
+    cmd->add_option("--out", o.out, "Output directory");
+    cmd->add_option("--threads", o.threads, "Host threads for rendering the scenarios once; 0 uses every core. Results do not depend on it");
+    cmd->add_flag("!--no-leave-one-out", o.leave_one_out, "Skip refitting without each fitted target");
+}
+
+void say(const std::string& line) { fmt::print(stderr, "  {}\n", line); }
+
+// Reads the targets and renders their scenarios once.
+std::unique_ptr<CalibrationModel> prepare(const CalibrateOptions& o, std::optional<tbb::global_control>& parallelism) {
+    if (o.threads < 0) throw InputError("--threads", "--threads", "must be 0 (all cores) or more");
+    const TargetSet targets = load_targets(resolve_targets_file(o.targets));
+    const std::size_t threads = o.threads > 0 ? static_cast<std::size_t>(o.threads) : std::max(1u, std::thread::hardware_concurrency());
+    parallelism.emplace(tbb::global_control::max_allowed_parallelism, threads);
+    fmt::print(stderr, "pp5sim: {} targets from {}; rendering their scenarios once\n", targets.targets.size(), targets.file.string());
+    return std::make_unique<CalibrationModel>(targets);
+}
+
+FitReport fit(const CalibrationModel& model, const CalibrateOptions& o) {
+    FitOptions options;
+    options.leave_one_out = o.leave_one_out;
+    options.progress = say;
+    return fit_targets(model, options);
+}
+
+std::set<std::string> machines_of(const CalibrationModel& model) {
+    std::set<std::string> machines;
+    for (const Target& t : model.targets().targets) machines.insert(t.machine);
+    return machines;
+}
+
+void stage_fit(StagedOutput& output, const CalibrationModel& model, const FitReport& report) {
+    output.add_text("fit.md", report.to_markdown());
+    output.add_text("fit.json", report.to_json().dump(2) + "\n");
+    for (const std::string& machine : machines_of(model)) {
+        const std::string name = std::filesystem::path(machine).stem().string() + "-fitted.toml";
+        output.add_text(name, fitted_machine_file(model, report, machine));
+    }
+}
+
+void print_summary(const FitReport& report) {
+    for (const FittedParameter& p : report.parameters) {
+        if (!p.free) continue;
+        fmt::print("  {} {} = {:.4g} +/- {:.2g}{}\n", p.machine, p.key, p.value, p.standard_error, p.at_bound ? " (at bound)" : "");
+    }
+    for (const auto& [name, s] : {std::pair{"fitted", report.fitted}, std::pair{"held out", report.held_out}}) {
+        fmt::print("  {}: {} targets, mean abs. error {:.1f}%, max {:.1f}%, {} within 10%, {} within 25%\n", name, s.count,
+                   100.0 * s.mean_absolute_error, 100.0 * s.max_absolute_error, s.within_10, s.within_25);
+    }
+}
+
+int run_fit(const CalibrateOptions& o) {
+    std::optional<tbb::global_control> parallelism;
+    const auto model = prepare(o, parallelism);
+    const FitReport report = fit(*model, o);
+    StagedOutput output(o.out.empty() ? std::filesystem::path("out") / "fit" : std::filesystem::path(o.out));
+    stage_fit(output, *model, report);
+    const auto written = output.commit();
+    fmt::print("pp5sim fit: {} ({:.0f} s)\n", model->targets().name, report.host_seconds);
+    print_summary(report);
+    fmt::print("wrote {} files to {}\n", written.size(), output.directory().string());
+    return 0;
+}
+
+void stage_plot(StagedOutput& output, const PlotSpec& spec, const std::string& name) {
+    const RenderedPlot plot = render_plot(spec, name);
+    output.add_text(name + ".dat", plot.data);
+    output.add_text(name + ".gp", plot.script);
+    output.add_text(name + ".png", plot.png);
+}
+
+PlotSpec reported_vs_simulated(const FitReport& report) {
+    PlotSpec spec;
+    spec.title = "Reported against simulated (" + report.targets_name + ")";
+    spec.x_label = "reported (s, or polygons/s, or factor)";
+    spec.y_label = "simulated";
+    spec.log_x = spec.log_y = true;
+    PlotSeries fitted{"fitted targets", {}, {}, "points pt 7 ps 1.4 lc rgb '#1f77b4'"};
+    PlotSeries held{"held-out targets", {}, {}, "points pt 5 ps 1.4 lc rgb '#d62728'"};
+    for (const TargetResult& r : report.results) {
+        PlotSeries& s = r.target.fitted ? fitted : held;
+        s.x.push_back(r.target.reported);
+        s.y.push_back(r.simulated);
+    }
+    spec.series = {fitted, held};
+    spec.extra_plots = {"x title 'simulated = reported' lw 2 lc rgb 'black'", "1.25*x title '+/- 25%' dt 2 lc rgb 'gray'",
+                        "0.8*x notitle dt 2 lc rgb 'gray'"};
+    return spec;
+}
+
+int run_reproduce(const CalibrateOptions& o) {
+    if (o.gp_counts.empty()) throw InputError("--gp-counts", "--gp-counts", "needs at least one GP count");
+    for (const int n : o.gp_counts)
+        if (n < 1 || n > 1024) throw InputError("--gp-counts", "--gp-counts", fmt::format("{} is not a GP count from 1 to 1024", n));
+    std::optional<tbb::global_control> parallelism;
+    const auto model = prepare(o, parallelism);
+    StagedOutput output(o.out.empty() ? std::filesystem::path("out") / "reproduce" : std::filesystem::path(o.out));
+    FitReport report;
+    if (o.uncalibrated) {
+        report = evaluate_targets(*model, {});
+    } else {
+        report = fit(*model, o);
+        stage_fit(output, *model, report);
+    }
+
+    // The table: every target with the (fitted) machines.
+    nlohmann::json table = report.to_json();
+    table["calibrated"] = !o.uncalibrated;
+    output.add_text("reproduction.json", nlohmann::json{{"targets", report.targets_name}, {"calibrated", !o.uncalibrated},
+                                                        {"rows", table["rows"]}, {"summary", table["summary"]}}.dump(2) + "\n");
+    output.add_text("reproduction.md", report.to_markdown());
+
+    // Figure-like images from the recorded frames (what is computed does not depend on the machine's timing).
+    struct Figure {
+        const char* name;
+        const char* scenario;
+        int frame;
+        bool refined;
+    };
+    constexpr Figure figures[] = {{"figure3_mr_head_crude", "mr-head-sequence", 1, false},
+                                  {"figure4_mr_head_refined", "mr-head-sequence", 1, true},
+                                  {"figure5_ct_head_polygons", "ct-head-polygons", 0, true},
+                                  {"region_of_interest_mr_head", "mr-head-region", 1, true}};
+    int images = 0;
+    for (const Figure& f : figures) {
+        bool present = false;
+        for (const Target& t : model->targets().targets) present = present || (t.scenario == f.scenario && t.frame >= f.frame);
+        if (!present) continue;
+        const RecordedFrame& frame = model->recording(f.scenario).frames()[static_cast<std::size_t>(f.frame)];
+        output.add_image(std::string("images/") + f.name + ".png", f.refined ? frame.refined_image : frame.crude_image, ImageFormat::Png);
+        ++images;
+    }
+
+    // Plots.
+    stage_plot(output, reported_vs_simulated(report), "reported_vs_simulated");
+    const Target* scaling = nullptr;  // the first Pixel-planes 5 frame-time target sets the scenario and frame
+    for (const Target& t : model->targets().targets) {
+        if (!scaling && model->base_config(t.machine).machine_kind() == MachineKind::Multicomputer &&
+            (t.metric == Metric::CrudeSeconds || t.metric == Metric::RefinedSeconds))
+            scaling = &t;
+    }
+    nlohmann::json sweep = nlohmann::json::array();
+    if (scaling) {
+        PlotSpec spec;
+        spec.title = fmt::format("Frame time against GP count ({}, frame {}, {})", scaling->scenario, scaling->frame,
+                                 o.uncalibrated ? "uncalibrated" : "calibrated");
+        spec.x_label = "graphics processors";
+        spec.y_label = "simulated frame time (s)";
+        spec.log_x = spec.log_y = true;
+        const int most = *std::max_element(o.gp_counts.begin(), o.gp_counts.end());
+        const int fewest = *std::min_element(o.gp_counts.begin(), o.gp_counts.end());
+        spec.extra_commands = {"set xtics (1,2,4,8,16,32,64,128,256,512,1024)",
+                               fmt::format("set xrange [{}:{}]", 0.8 * fewest, 1.25 * most)};
+        PlotSeries crude{"crude (first pass)", {}, {}, "linespoints pt 7 lw 2"};
+        PlotSeries refined{"fully refined", {}, {}, "linespoints pt 5 lw 2"};
+        const CalibrationScales scales = report.scales(scaling->machine);
+        for (const int n : o.gp_counts) {
+            say(fmt::format("GP sweep: {} GPs", n));
+            MachineConfig config = model->machine_config(scaling->machine, scales);
+            config.set("gp.count", static_cast<std::int64_t>(n), "--gp-counts");
+            const FrameTimes times = model->recording(scaling->scenario).time_on(config)[static_cast<std::size_t>(scaling->frame)];
+            crude.x.push_back(n);
+            crude.y.push_back(times.crude_seconds);
+            refined.x.push_back(n);
+            refined.y.push_back(times.refined_seconds);
+            sweep.push_back({{"gps", n}, {"crude_seconds", times.crude_seconds}, {"refined_seconds", times.refined_seconds}});
+        }
+        // Perfect speed-up from the fewest GPs, for comparison.
+        PlotSeries ideal{"refined, perfect speed-up", {}, {}, "lines dt 2 lc rgb 'gray'"};
+        for (std::size_t i = 0; i < refined.x.size(); ++i) {
+            ideal.x.push_back(refined.x[i]);
+            ideal.y.push_back(refined.y.front() * refined.x.front() / refined.x[i]);
+        }
+        spec.series = {crude, refined, ideal};
+        // Levoy's estimates for 32 GPs, where the frame's targets give them.
+        for (const Target& t : model->targets().targets) {
+            if (t.scenario != scaling->scenario || t.frame != scaling->frame || t.machine != scaling->machine) continue;
+            if (t.metric != Metric::CrudeSeconds && t.metric != Metric::RefinedSeconds) continue;
+            const double gps = static_cast<double>(model->base_config(t.machine).integer("gp.count"));
+            spec.series.push_back(PlotSeries{"reported: " + t.id, {gps}, {t.reported}, "points pt 9 ps 2.5"});
+        }
+        stage_plot(output, spec, "frame_time_vs_gps");
+        output.add_text("frame_time_vs_gps.json", nlohmann::json{{"scenario", scaling->scenario}, {"frame", scaling->frame},
+                                                                 {"machine", scaling->machine}, {"points", sweep}}.dump(2) + "\n");
+    }
+    const auto written = output.commit();
+    fmt::print("pp5sim reproduce: {} ({})\n", model->targets().name, o.uncalibrated ? "uncalibrated" : "calibrated");
+    print_summary(report);
+    fmt::print("  {} images; plots reported_vs_simulated.png{}\n", images, scaling ? ", frame_time_vs_gps.png" : "");
+    fmt::print("wrote {} files to {}\n", written.size(), output.directory().string());
+    return 0;
+}
+
+}  // namespace
+
+void add_fit_command(CLI::App& app, std::function<int()>& run) {
+    auto o = std::make_shared<CalibrateOptions>();
+    CLI::App* cmd = app.add_subcommand("fit", "Fit the timing model's scale factors to a target file with Ceres; write fitted machine files and a report");
+    add_common_options(cmd, *o);
+    cmd->callback([o, &run] { run = [o] { return run_fit(*o); }; });
+}
+
+void add_reproduce_command(CLI::App& app, std::function<int()>& run) {
+    auto o = std::make_shared<CalibrateOptions>();
+    CLI::App* cmd = app.add_subcommand("reproduce", "Fit, then reproduce every target: table (Markdown, JSON), figure images and plots");
+    add_common_options(cmd, *o);
+    cmd->add_flag("--uncalibrated", o->uncalibrated, "Skip the fit: the machines' own files as they are");
+    cmd->add_option("--gp-counts", o->gp_counts, "GP counts for the frame-time sweep")->delimiter(',')->capture_default_str();
+    cmd->callback([o, &run] { run = [o] { return run_reproduce(*o); }; });
+}
+
+}  // namespace pp5::cli
