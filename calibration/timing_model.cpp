@@ -107,12 +107,17 @@ std::vector<FrameTimes> RecordedScenario::time_on(const MachineConfig& machine) 
 }
 
 CalibrationModel::CalibrationModel(const TargetSet& targets, std::optional<MachineConfig> functional) : targets_(targets) {
-    const MachineConfig recording = functional ? *functional : load_run_config("pxpl5", {});
     std::map<std::string, int> frames_needed;
+    std::optional<MachineConfig> first_multicomputer;
     for (const Target& t : targets_.targets) {
         frames_needed[t.scenario] = std::max(frames_needed[t.scenario], t.frame + 1);
         if (!machines_.count(t.machine)) machines_.emplace(t.machine, load_run_config(t.machine, {}));
+        if (!first_multicomputer && machines_.at(t.machine).machine_kind() == MachineKind::Multicomputer) first_multicomputer = machines_.at(t.machine);
     }
+    // The work is recorded on the first Pixel-planes 5 machine the targets name (every machine must
+    // compute the same; time_on checks), or on the first machine when all are uniprocessors.
+    const MachineConfig recording =
+        functional ? *functional : first_multicomputer ? *first_multicomputer : machines_.at(targets_.targets.front().machine);
     for (const auto& [name, frames] : frames_needed) {
         const Scenario scenario = load_scenario(resolve_scenario_file(name));
         scenarios_.emplace(name, std::make_unique<RecordedScenario>(scenario, recording, frames));

@@ -67,8 +67,8 @@ bool is_timing_parameter(const std::string& key);
 // its machine with given calibration scales.
 class CalibrationModel {
 public:
-    // Records every scenario the targets name, on the functional configuration `functional`
-    // (the pxpl5 preset's unless given).
+    // Records every scenario the targets name, on the functional configuration `functional` (unless
+    // given, the first Pixel-planes 5 machine the targets name).
     explicit CalibrationModel(const TargetSet& targets, std::optional<MachineConfig> functional = std::nullopt);
 
     // The targets' simulated values, on their machine with `scales` applied.

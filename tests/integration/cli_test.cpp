@@ -277,11 +277,71 @@ TEST(Cli, ParamsListsEveryParameterWithProvenance) {
 
 TEST(Cli, HelpOnEveryCommand) {
     const fs::path dir = scratch("help");
-    for (const char* command : {"--help", "render --help", "params --help", "volume-info --help"}) {
+    for (const char* command : {"--help", "render --help", "params --help", "volume-info --help", "fit --help", "reproduce --help"}) {
         const RunResult r = run(command, dir);
         EXPECT_EQ(r.exit_code, 0) << command << r.output;
         EXPECT_NE(r.output.find("Usage"), std::string::npos) << command << r.output;
     }
+}
+
+// A small calibration a user could write: a sphere scenario on a small machine, targets for it, and a
+// Sun-like uniprocessor; `reproduce` writes the table, the images and the plots.
+fs::path write_small_calibration(const fs::path& dir, const std::string& extra_row) {
+    std::ofstream(dir / "small.toml") << "[gp]\ncount = 4\n[renderer]\ncount = 4\npp_columns = 32\npp_rows = 32\n";
+    std::ofstream(dir / "uni.toml") << "[machine]\nname = \"uni\"\nkind = \"uniprocessor\"\n[gp]\ncount = 1\nsustained_mflops = 2.0\n"
+                                       "[renderer]\ncount = 4\npp_columns = 32\npp_rows = 32\n";
+    std::ofstream(dir / "frames.toml") << "[scenario]\nname = \"frames\"\n[dataset]\nphantom = \"sphere\"\nsize = 40\n"
+                                          "[classification]\nkind = \"piecewise-linear\"\n"
+                                          "points = [{ value = 50.0, opacity = 0.0 }, { value = 150.0, opacity = 0.8 }]\n"
+                                          "[image]\nwidth = 48\nheight = 48\n"
+                                          "[[frames]]\nlabel = \"first\"\n[[frames]]\nlabel = \"orbit\"\ncamera = { azimuth = 15.0 }\n";
+    const auto row = [&](const std::string& id, int frame, const std::string& machine, const std::string& metric, double value,
+                         const std::string& use) {
+        return "[[targets]]\nid = \"" + id + "\"\nsource = \"test\"\nscenario = \"" + (dir / "frames.toml").string() +
+               "\"\nframe = " + std::to_string(frame) + "\nmachine = \"" + (dir / machine).string() + "\"\nmetric = \"" + metric +
+               "\"\nreported = " + std::to_string(value) + "\nexactness = \"estimate\"\nuse = \"" + use + "\"\n";
+    };
+    const fs::path targets = dir / "targets.toml";
+    std::ofstream(targets) << "[calibration]\nname = \"small\"\n" << row("a", 0, "small.toml", "crude_seconds", 0.05, "fit")
+                           << row("b", 0, "small.toml", "refined_seconds", 0.2, "fit") << row("c", 1, "small.toml", "refined_seconds", 0.1, "fit")
+                           << row("d", 0, "small.toml", "pp_seconds", 0.01, "fit") << row("e", 1, "small.toml", "crude_seconds", 0.02, "held-out")
+                           << row("f", 1, "uni.toml", "crude_seconds", 0.5, "fit") << row("g", 1, "uni.toml", "refined_seconds", 2.0, "fit")
+                           << extra_row;
+    return targets;
+}
+
+TEST(Cli, ReproduceWritesTheTableImagesAndPlots) {
+    const fs::path dir = scratch("reproduce");
+    const fs::path targets = write_small_calibration(dir, "");
+    const RunResult r = run("reproduce --targets " + targets.string() + " --gp-counts 1,4,16 --out " + (dir / "out").string(), dir);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    for (const char* file : {"reproduction.md", "reproduction.json", "fit.md", "fit.json", "small-fitted.toml", "uni-fitted.toml",
+                             "reported_vs_simulated.png", "reported_vs_simulated.gp", "frame_time_vs_gps.png", "frame_time_vs_gps.json"})
+        EXPECT_TRUE(fs::exists(dir / "out" / file)) << file;
+    const auto table = nlohmann::json::parse(read_file(dir / "out/reproduction.json"));
+    ASSERT_EQ(table["rows"].size(), 7u);
+    for (const auto& row : table["rows"]) {
+        EXPECT_GT(row["simulated"].get<double>(), 0.0) << row;
+        EXPECT_NEAR(row["relative_error"].get<double>(),
+                    (row["simulated"].get<double>() - row["reported"].get<double>()) / row["reported"].get<double>(), 1e-12);
+        EXPECT_TRUE(row["use"] == "fitted" || row["use"] == "held-out") << row;
+    }
+    const auto sweep = nlohmann::json::parse(read_file(dir / "out/frame_time_vs_gps.json"));
+    ASSERT_EQ(sweep["points"].size(), 3u);
+    // More GPs never make the crude frame slower here.
+    EXPECT_GE(sweep["points"][0]["crude_seconds"].get<double>(), sweep["points"][2]["crude_seconds"].get<double>());
+    EXPECT_NE(read_file(dir / "out/fit.md").find("| a | "), std::string::npos);
+}
+
+TEST(Cli, FitRejectsABadTargetFileBeforeAnyOutput) {
+    const fs::path dir = scratch("fit_bad");
+    const fs::path targets = write_small_calibration(dir, "[[targets]]\nid = \"z\"\nsource = \"x\"\nscenario = \"nowhere\"\n"
+                                                          "machine = \"pxpl5\"\nmetric = \"crude_seconds\"\nreported = 1.0\n"
+                                                          "exactness = \"estimate\"\nuse = \"fit\"\n");
+    const RunResult r = run("fit --targets " + targets.string() + " --out " + (dir / "out").string(), dir);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("targets[7].scenario"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
 }  // namespace

@@ -1,0 +1,170 @@
+// The fit recovers scales it generated its own targets with; target files with unknown scenarios,
+// metrics or frames, and fits with too few targets, are clear errors.
+
+#include "calibration/fit.h"
+#include "calibration/targets.h"
+#include "calibration/timing_model.h"
+#include "calibration_support.h"
+#include "frontends/run_config.h"
+#include "sim/core/input_error.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+namespace pp5 {
+namespace {
+
+Target make_target(const test::CalibrationFiles& files, const std::string& id, int frame, Metric metric) {
+    Target t;
+    t.id = id;
+    t.source = "synthetic";
+    t.scenario = files.scenario.string();
+    t.frame = frame;
+    t.machine = files.machine.string();
+    t.metric = metric;
+    t.reported = 1.0;
+    t.exactness = Exactness::Measured;
+    return t;
+}
+
+TEST(Fit, RecoversTheScalesItsTargetsWereMadeWith) {
+    const test::CalibrationFiles files = test::write_calibration_files("recover");
+    TargetSet set;
+    set.file = files.dir / "synthetic.toml";
+    set.name = "synthetic";
+    set.targets = {make_target(files, "first-crude", 0, Metric::CrudeSeconds),     // the pyramid build: GP cycles
+                   make_target(files, "first-refined", 0, Metric::RefinedSeconds),
+                   make_target(files, "orbit-crude", 1, Metric::CrudeSeconds),
+                   make_target(files, "orbit-refined", 1, Metric::RefinedSeconds),  // rays: mostly GP flops
+                   make_target(files, "first-pp", 0, Metric::PixelProcessorSeconds),
+                   make_target(files, "light-pp", 2, Metric::PixelProcessorSeconds),
+                   make_target(files, "light-refined", 2, Metric::RefinedSeconds)};
+    set.targets.back().fitted = false;  // one held out, predicted only
+    const MachineConfig functional = load_run_config(files.machine.string(), {});
+
+    // The model itself makes the targets, at known scales.
+    const CalibrationScales truth{1.8, 0.6, 1.3};
+    {
+        const CalibrationModel generator(set, functional);
+        std::vector<const Target*> all;
+        for (const Target& t : generator.targets().targets) all.push_back(&t);
+        const std::vector<double> values = generator.simulate(files.machine.string(), truth, all);
+        for (std::size_t i = 0; i < values.size(); ++i) set.targets[i].reported = values[i];
+    }
+    const CalibrationModel model(set, functional);
+    FitOptions options;
+    options.leave_one_out = true;
+    const FitReport report = fit_targets(model, options);
+
+    const CalibrationScales fitted = report.scales(files.machine.string());
+    EXPECT_NEAR(fitted.gp_flops, truth.gp_flops, 0.02 * truth.gp_flops);
+    EXPECT_NEAR(fitted.gp_cycles, truth.gp_cycles, 0.02 * truth.gp_cycles);
+    EXPECT_NEAR(fitted.pp_cycles, truth.pp_cycles, 0.02 * truth.pp_cycles);
+    for (const FittedParameter& p : report.parameters) {
+        EXPECT_TRUE(p.free) << p.key << ": " << p.note;
+        EXPECT_TRUE(std::isfinite(p.standard_error)) << p.key;
+        EXPECT_FALSE(p.at_bound) << p.key;
+    }
+    // Every target, fitted or held out, is reproduced; leaving one out still predicts it.
+    ASSERT_EQ(report.results.size(), set.targets.size());
+    for (const TargetResult& r : report.results) {
+        EXPECT_LT(std::abs(r.relative_error), 0.01) << r.target.id;
+        if (r.target.fitted) {
+            ASSERT_TRUE(r.leave_one_out_error.has_value()) << r.target.id;
+            EXPECT_LT(std::abs(*r.leave_one_out_error), 0.05) << r.target.id;
+        }
+    }
+    EXPECT_EQ(report.fitted.count, 6);
+    EXPECT_EQ(report.held_out.count, 1);
+    EXPECT_EQ(report.all.within_10, 7);
+
+    // The fitted machine file carries the values and loads as a machine.
+    const std::string text = fitted_machine_file(model, report, files.machine.string());
+    const std::filesystem::path fitted_file = files.dir / "tiny-fitted.toml";
+    std::ofstream(fitted_file) << text;
+    const MachineConfig reloaded = load_run_config(fitted_file.string(), {});
+    EXPECT_NEAR(reloaded.real("calibration.gp_flops_scale"), fitted.gp_flops, 1e-5 * fitted.gp_flops);
+    EXPECT_EQ(reloaded.machine_name(), "tiny-fitted");
+}
+
+TEST(Fit, NeedsMoreFittedTargetsThanFreeScales) {
+    const test::CalibrationFiles files = test::write_calibration_files("too_few");
+    TargetSet set;
+    set.file = files.dir / "few.toml";
+    set.name = "few";
+    set.targets = {make_target(files, "orbit-refined", 1, Metric::RefinedSeconds), make_target(files, "first-pp", 0, Metric::PixelProcessorSeconds)};
+    const CalibrationModel model(set, load_run_config(files.machine.string(), {}));
+    try {
+        (void)fit_targets(model, FitOptions{});
+        FAIL() << "expected an InputError";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.field(), "targets");
+        EXPECT_NE(std::string(e.what()).find("more targets than"), std::string::npos) << e.what();
+    }
+}
+
+// A target file with one row, `field` replaced by `value` (a TOML value, or nothing to drop it).
+std::filesystem::path target_file(const test::CalibrationFiles& files, const std::string& field, const std::string& value) {
+    std::map<std::string, std::string> row{{"id", "\"a\""},
+                                           {"source", "\"test\""},
+                                           {"scenario", "\"" + files.scenario.string() + "\""},
+                                           {"frame", "1"},
+                                           {"machine", "\"" + files.machine.string() + "\""},
+                                           {"metric", "\"crude_seconds\""},
+                                           {"reported", "0.1"},
+                                           {"exactness", "\"estimate\""},
+                                           {"use", "\"fit\""}};
+    row[field] = value;
+    const std::filesystem::path path = files.dir / ("targets-" + field + ".toml");
+    std::ofstream out(path);
+    out << "[[targets]]\n";
+    for (const auto& [k, v] : row)
+        if (!v.empty()) out << k << " = " << v << "\n";
+    return path;
+}
+
+TEST(Targets, BadRowsNameTheFieldAndTheReason) {
+    const test::CalibrationFiles files = test::write_calibration_files("bad_targets");
+    const auto expect_error = [&](const std::string& field, const std::string& value, const std::string& reason) {
+        const std::filesystem::path path = target_file(files, field, value);
+        try {
+            (void)load_targets(path);
+            ADD_FAILURE() << field << " = " << value << " was accepted";
+        } catch (const InputError& e) {
+            EXPECT_EQ(e.file(), path.string());
+            EXPECT_EQ(e.field(), "targets[0]." + field) << e.what();
+            EXPECT_NE(std::string(e.what()).find(reason), std::string::npos) << e.what();
+        }
+    };
+    expect_error("scenario", "\"no-such-scenario\"", "no-such-scenario");
+    expect_error("metric", "\"frames_per_fortnight\"", "unknown metric");
+    expect_error("frame", "7", "0 to 2");
+    expect_error("machine", "\"no-such-machine\"", "no-such-machine");
+    expect_error("reported", "-1.0", "positive");
+    expect_error("exactness", "\"roughly\"", "measured, estimate or order-of-magnitude");
+    expect_error("use", "\"maybe\"", "fit or held-out");
+    expect_error("id", "", "is missing");
+    // And the good row loads.
+    const TargetSet good = load_targets(target_file(files, "id", "\"fine\""));
+    ASSERT_EQ(good.targets.size(), 1u);
+    EXPECT_EQ(good.targets[0].metric, Metric::CrudeSeconds);
+    EXPECT_EQ(good.targets[0].frame, 1);
+}
+
+TEST(Targets, TheShippedLevoyFileLoads) {
+    const TargetSet set = load_targets(resolve_targets_file(kDefaultTargets));
+    EXPECT_GE(set.targets.size(), 15u);
+    int fitted = 0, sun = 0;
+    for (const Target& t : set.targets) {
+        fitted += t.fitted;
+        sun += t.machine == "sun4-280";
+    }
+    EXPECT_GT(fitted, 0);
+    EXPECT_LT(fitted, static_cast<int>(set.targets.size()));  // some held out
+    EXPECT_EQ(sun, 3);                                        // Levoy's three Sun 4/280 measurements
+}
+
+}  // namespace
+}  // namespace pp5
