@@ -7,11 +7,13 @@
 //            against the number of GPs for a crude and a refined frame.
 
 #include "calibration/fit.h"
+#include "calibration/host_check.h"
 #include "calibration/targets.h"
 #include "calibration/timing_model.h"
 #include "frontends/cli/commands.h"
 #include "frontends/cli/output_dir.h"
 #include "frontends/plot.h"
+#include "frontends/run_config.h"
 #include "sim/core/input_error.h"
 
 #include <fmt/format.h>
@@ -34,6 +36,8 @@ struct CalibrateOptions {
     bool leave_one_out = true;
     bool uncalibrated = false;                            // reproduce only: skip the fit
     std::vector<int> gp_counts{1, 2, 4, 8, 16, 32, 64, 128};  // reproduce only
+    bool host_check = true;                                   // reproduce only
+    int repeats = 3;                                          // host check: best of
 };
 
 void add_common_options(CLI::App* cmd, CalibrateOptions& o) {
@@ -125,6 +129,46 @@ PlotSpec reported_vs_simulated(const FitReport& report) {
     spec.extra_plots = {"x title 'simulated = reported' lw 2 lc rgb 'black'", "1.25*x title '+/- 25%' dt 2 lc rgb 'gray'",
                         "0.8*x notitle dt 2 lc rgb 'gray'"};
     return spec;
+}
+
+HostCheckReport host_check(const CalibrateOptions& o) {
+    if (o.repeats < 1) throw InputError("--repeats", "--repeats", "must be at least 1");
+    HostCheckOptions options;
+    options.repeats = o.repeats;
+    options.progress = say;
+    return run_host_check(load_run_config("host", {}), options);
+}
+
+void stage_host_check(StagedOutput& output, const HostCheckReport& report) {
+    output.add_text("host_check.md", report.to_markdown());
+    output.add_text("host_check.json", report.to_json().dump(2) + "\n");
+    PlotSpec spec;
+    spec.title = "The model against this machine: reference renderer, one thread";
+    spec.x_label = "measured (s)";
+    spec.y_label = "predicted (s)";
+    spec.log_x = spec.log_y = true;
+    PlotSeries fitted{"fitted cases", {}, {}, "points pt 7 ps 1.4 lc rgb '#1f77b4'"};
+    PlotSeries held{"held-out cases", {}, {}, "points pt 5 ps 1.4 lc rgb '#d62728'"};
+    for (const HostCase& c : report.cases) {
+        PlotSeries& series = c.fitted ? fitted : held;
+        series.x.push_back(c.measured_seconds);
+        series.y.push_back(c.predicted_seconds);
+    }
+    spec.series = {fitted, held};
+    spec.extra_plots = {"x title 'predicted = measured' lw 2 lc rgb 'black'", "1.2*x title '+/- 20%' dt 2 lc rgb 'gray'",
+                        "x/1.2 notitle dt 2 lc rgb 'gray'"};
+    stage_plot(output, spec, "host_check");
+}
+
+int run_host_check_command(const CalibrateOptions& o) {
+    const HostCheckReport report = host_check(o);
+    StagedOutput output(o.out.empty() ? std::filesystem::path("out") / "host-check" : std::filesystem::path(o.out));
+    stage_host_check(output, report);
+    const auto written = output.commit();
+    fmt::print("pp5sim host-check: median absolute error {:.1f}% fitted, {:.1f}% held out (max {:.1f}%)\n", 100 * report.median_fitted_error,
+               100 * report.median_held_out_error, 100 * report.max_held_out_error);
+    fmt::print("wrote {} files to {}\n", written.size(), output.directory().string());
+    return 0;
 }
 
 int run_reproduce(const CalibrateOptions& o) {
@@ -222,8 +266,17 @@ int run_reproduce(const CalibrateOptions& o) {
         output.add_text("frame_time_vs_gps.json", nlohmann::json{{"scenario", scaling->scenario}, {"frame", scaling->frame},
                                                                  {"machine", scaling->machine}, {"points", sweep}}.dump(2) + "\n");
     }
+    std::optional<HostCheckReport> host;
+    if (o.host_check) {
+        host = host_check(o);
+        stage_host_check(output, *host);
+    }
     const auto written = output.commit();
     fmt::print("pp5sim reproduce: {} ({})\n", model->targets().name, o.uncalibrated ? "uncalibrated" : "calibrated");
+    if (host) {
+        fmt::print("  host check: median absolute error {:.1f}% fitted, {:.1f}% held out\n", 100 * host->median_fitted_error,
+                   100 * host->median_held_out_error);
+    }
     print_summary(report);
     fmt::print("  {} images; plots reported_vs_simulated.png{}\n", images, scaling ? ", frame_time_vs_gps.png" : "");
     fmt::print("wrote {} files to {}\n", written.size(), output.directory().string());
@@ -245,7 +298,17 @@ void add_reproduce_command(CLI::App& app, std::function<int()>& run) {
     add_common_options(cmd, *o);
     cmd->add_flag("--uncalibrated", o->uncalibrated, "Skip the fit: the machines' own files as they are");
     cmd->add_option("--gp-counts", o->gp_counts, "GP counts for the frame-time sweep")->delimiter(',')->capture_default_str();
+    cmd->add_flag("!--no-host-check", o->host_check, "Skip the check against this machine (see `pp5sim host-check`)");
+    cmd->add_option("--repeats", o->repeats, "Host check: timed runs per case, the best kept")->capture_default_str();
     cmd->callback([o, &run] { run = [o] { return run_reproduce(*o); }; });
+}
+
+void add_host_check_command(CLI::App& app, std::function<int()>& run) {
+    auto o = std::make_shared<CalibrateOptions>();
+    CLI::App* cmd = app.add_subcommand("host-check", "Fit the host preset to measured reference-renderer timings on half the cases; predict the rest");
+    cmd->add_option("--out", o->out, "Output directory");
+    cmd->add_option("--repeats", o->repeats, "Timed runs per case, the best kept")->capture_default_str();
+    cmd->callback([o, &run] { run = [o] { return run_host_check_command(*o); }; });
 }
 
 }  // namespace pp5::cli

@@ -13,5 +13,6 @@ void add_params_command(CLI::App& app, std::function<int()>& run);
 void add_volume_info_command(CLI::App& app, std::function<int()>& run);
 void add_fit_command(CLI::App& app, std::function<int()>& run);
 void add_reproduce_command(CLI::App& app, std::function<int()>& run);
+void add_host_check_command(CLI::App& app, std::function<int()>& run);
 
 }  // namespace pp5::cli

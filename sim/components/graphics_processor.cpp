@@ -11,7 +11,7 @@ const ParamGroup& GraphicsProcessor::params() {
         ParamGroup g("gp", "Graphics processors: Intel i860 nodes that trace rays");
         g.integer("count", 32, "count", 1, 1024, "Number of graphics processors", Provenance::Paper,
                   "Levoy 1989, Implementation on Pixel-planes 5: 32 GPs")
-            .real("clock_mhz", 40.0, "MHz", 1, 1000, "i860 core clock", Provenance::Hardware,
+            .real("clock_mhz", 40.0, "MHz", 1, 10000, "i860 core clock (up to 10 GHz for other processors, such as the host preset)", Provenance::Hardware,
                   "Fuchs et al. 1989: Intel i860 at 40 MHz")
             .real("sustained_mflops", 20.0, "MFLOPS", 0.1, 1e5, "Floating-point rate a GP sustains on ray tracing",
                   Provenance::Paper, "Levoy 1989: 20-MFLOP graphics processors (i860 peak is 80)")
