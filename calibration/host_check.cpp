@@ -84,6 +84,11 @@ HostCheckReport run_host_check(const MachineConfig& host, const HostCheckOptions
         }
     }
 
+    fit_host_cases(report);
+    return report;
+}
+
+void fit_host_cases(HostCheckReport& report) {
     double scales[2] = {1.0, 1.0};
     ceres::Problem problem;
     for (const HostCase& c : report.cases) {
@@ -127,7 +132,6 @@ HostCheckReport run_host_check(const MachineConfig& host, const HostCheckOptions
     report.median_fitted_error = median(fitted_errors);
     report.median_held_out_error = median(held_errors);
     report.max_held_out_error = held_errors.empty() ? 0.0 : *std::max_element(held_errors.begin(), held_errors.end());
-    return report;
 }
 
 nlohmann::json HostCheckReport::to_json() const {

@@ -62,4 +62,8 @@ struct HostCheckOptions {
 
 HostCheckReport run_host_check(const MachineConfig& host, const HostCheckOptions& options);
 
+// The fit alone: from the cases' measured times and model parts, the two scales, the predictions and
+// the error summary.
+void fit_host_cases(HostCheckReport& report);
+
 }  // namespace pp5

@@ -2,6 +2,7 @@
 // metrics or frames, and fits with too few targets, are clear errors.
 
 #include "calibration/fit.h"
+#include "calibration/host_check.h"
 #include "calibration/targets.h"
 #include "calibration/timing_model.h"
 #include "calibration_support.h"
@@ -164,6 +165,29 @@ TEST(Targets, TheShippedLevoyFileLoads) {
     EXPECT_GT(fitted, 0);
     EXPECT_LT(fitted, static_cast<int>(set.targets.size()));  // some held out
     EXPECT_EQ(sun, 3);                                        // Levoy's three Sun 4/280 measurements
+}
+
+}  // namespace
+}  // namespace pp5
+
+namespace pp5 {
+namespace {
+
+TEST(HostCheck, RecoversTheScalesOfSyntheticMeasurementsAndPredictsTheHeldOutHalf) {
+    HostCheckReport report;
+    for (int i = 0; i < 8; ++i) {
+        HostCase c;
+        c.fitted = i % 2 == 0;
+        c.flop_seconds = 0.01 * (1 + i);
+        c.cycle_seconds = 0.004 * (8 - i) * (8 - i);
+        c.measured_seconds = 0.45 * c.flop_seconds + 3.5 * c.cycle_seconds;
+        report.cases.push_back(c);
+    }
+    fit_host_cases(report);
+    EXPECT_NEAR(report.gp_flops_scale, 0.45, 1e-6);
+    EXPECT_NEAR(report.gp_cycles_scale, 3.5, 1e-5);
+    EXPECT_LT(report.median_held_out_error, 1e-6);
+    for (const HostCase& c : report.cases) EXPECT_NEAR(c.predicted_seconds, c.measured_seconds, 1e-9);
 }
 
 }  // namespace
