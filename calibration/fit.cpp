@@ -145,6 +145,25 @@ std::string number(double v) {
     return fmt::format("{:.4g}", v);
 }
 
+// A machine's three scales at `start`, before any fit.
+std::vector<FittedParameter> initial_parameters(const std::string& machine, const CalibrationScales& start, bool free,
+                                                const std::string& provenance) {
+    std::vector<FittedParameter> params;
+    for (const ScaleSpec& spec : kScales) {
+        FittedParameter p;
+        p.machine = machine;
+        p.key = spec.key;
+        p.value = start.*spec.member;
+        p.standard_error = std::numeric_limits<double>::quiet_NaN();
+        p.lower = spec.lower;
+        p.upper = spec.upper;
+        p.free = free;
+        p.provenance = provenance;
+        params.push_back(p);
+    }
+    return params;
+}
+
 // Fills in every target's simulated value and error at the report's scales.
 void evaluate_all(const CalibrationModel& model, FitReport& report) {
     std::map<std::string, std::vector<const Target*>> by_machine;
@@ -205,18 +224,8 @@ FitReport evaluate_targets(const CalibrationModel& model, const std::map<std::st
     for (const std::string& machine : machines) {
         const auto it = scales.find(machine);
         const CalibrationScales s = it != scales.end() ? it->second : CalibrationScales::from(model.base_config(machine));
-        for (const ScaleSpec& spec : kScales) {
-            FittedParameter p;
-            p.machine = machine;
-            p.key = spec.key;
-            p.value = s.*spec.member;
-            p.standard_error = std::numeric_limits<double>::quiet_NaN();
-            p.lower = spec.lower;
-            p.upper = spec.upper;
-            p.free = false;
-            p.provenance = "given, not fitted";
-            report.parameters.push_back(p);
-        }
+        const std::vector<FittedParameter> given = initial_parameters(machine, s, false, "given, not fitted");
+        report.parameters.insert(report.parameters.end(), given.begin(), given.end());
     }
     evaluate_all(model, report);
     return report;
@@ -238,18 +247,7 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
     std::map<std::string, TargetResult> loo;
     for (const std::string& machine : machines) {
         const CalibrationScales start = CalibrationScales::from(model.base_config(machine));
-        std::vector<FittedParameter> params;
-        for (const ScaleSpec& spec : kScales) {
-            FittedParameter p;
-            p.machine = machine;
-            p.key = spec.key;
-            p.value = start.*spec.member;
-            p.standard_error = std::numeric_limits<double>::quiet_NaN();
-            p.lower = spec.lower;
-            p.upper = spec.upper;
-            p.provenance = kBoundsProvenance;
-            params.push_back(p);
-        }
+        std::vector<FittedParameter> params = initial_parameters(machine, start, true, kBoundsProvenance);
         const std::vector<const Target*>& targets = fitted_by_machine[machine];
         if (targets.empty()) {
             for (FittedParameter& p : params) {

@@ -6,7 +6,7 @@
 #include "sim/core/named_file.h"
 
 #include <fmt/format.h>
-#include <toml++/toml.h>
+#include "sim/core/toml_file.h"
 
 #include <cmath>
 #include <set>
@@ -97,13 +97,7 @@ std::filesystem::path resolve_targets_file(const std::string& name_or_path) {
 
 TargetSet load_targets(const std::filesystem::path& path) {
     const std::string file = path.string();
-    toml::table root;
-    try {
-        root = toml::parse_file(file);
-    } catch (const toml::parse_error& e) {
-        const auto& where = e.source().begin;
-        throw InputError(file, fmt::format("line {}, column {}", where.line, where.column), std::string(e.description()));
-    }
+    const toml::table root = read_toml_file(file);
     TargetSet set;
     set.file = path;
     set.name = path.stem().string();

@@ -13,7 +13,7 @@
 #include <glm/gtc/constants.hpp>
 #include <glm/trigonometric.hpp>
 #include <tiny_obj_loader.h>
-#include <toml++/toml.h>
+#include "sim/core/toml_file.h"
 
 #include <cmath>
 #include <cstdlib>
@@ -432,13 +432,7 @@ void read_region(TableReader r, std::optional<RegionOfInterest>& region) {
 
 Scenario load_scenario(const std::filesystem::path& path) {
     const std::string file = path.string();
-    toml::table root;
-    try {
-        root = toml::parse_file(file);
-    } catch (const toml::parse_error& e) {
-        const auto& where = e.source().begin;
-        throw InputError(file, fmt::format("line {}, column {}", where.line, where.column), std::string(e.description()));
-    }
+    const toml::table root = read_toml_file(file);
     TableReader top(&root, "", file);
     Scenario s;
     s.file = path;

@@ -5,7 +5,7 @@
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
-#include <toml++/toml.h>
+#include "sim/core/toml_file.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -123,14 +123,7 @@ void MachineConfig::apply_override(std::string_view assignment) {
 
 void MachineConfig::load_file(const std::filesystem::path& path) {
     const std::string file = path.string();
-    toml::table root;
-    try {
-        root = toml::parse_file(file);
-    } catch (const toml::parse_error& e) {
-        const auto& where = e.source().begin;
-        throw InputError(file, fmt::format("line {}, column {}", where.line, where.column),
-                         std::string(e.description()));
-    }
+    const toml::table root = read_toml_file(file);
     for (const auto& [group_key, node] : root) {
         const std::string group_name(group_key.str());
         const toml::table* table = node.as_table();
