@@ -364,6 +364,8 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
             p.standard_error = have_cov ? std::sqrt(cov[i * x.size() + i] * std::max(1.0, spread)) : std::numeric_limits<double>::quiet_NaN();
             p.at_bound = std::abs(x[i] - p.lower) < 1e-6 * p.lower || std::abs(x[i] - p.upper) < 1e-6 * p.upper;
             if (p.at_bound) p.note = "at its bound: the targets push it further; its standard error means little";
+            else if (std::isfinite(p.standard_error) && p.standard_error > 0.5 * p.value)
+                p.note = fmt::format("poorly determined: the standard error is {:.0f}% of the value", 100.0 * p.standard_error / p.value);
             if (!have_cov) p.note += (p.note.empty() ? "" : "; ") + std::string("covariance not computable (rank-deficient Jacobian)");
         }
         report.notes.push_back(fmt::format("{}: residual spread (reduced chi-square) {:.3g} on {} degrees of freedom", machine, spread,
