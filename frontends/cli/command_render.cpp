@@ -225,6 +225,11 @@ int run_render(const RenderOptions& o) {
     const MachineConfig config = load_run_config(o.machine, o.overrides);
     if (o.threads < 0) throw InputError("--threads", "--threads", "must be 0 (all cores) or more");
     if (o.format != "png" && o.format != "exr") throw InputError("--format", "--format", "must be png or exr");
+    if (config.machine_kind() == MachineKind::Uniprocessor) {
+        throw InputError(resolve_machine_file(o.machine).string(), "machine.kind",
+                         "a uniprocessor machine is timed from recorded work by `pp5sim fit` and `pp5sim reproduce` (targets "
+                         "naming it); `render` simulates Pixel-planes 5 machines only");
+    }
     const bool on_machine = scenario.kernel == ScenarioKernel::Levoy;
     if (on_machine && scenario.image.resampling != ResamplingOrder::ShadeThenInterpolate) {
         throw InputError(scenario.file.string(), "image.resampling",

@@ -333,6 +333,14 @@ TEST(Cli, ReproduceWritesTheTableImagesAndPlots) {
     EXPECT_NE(read_file(dir / "out/fit.md").find("| a | "), std::string::npos);
 }
 
+TEST(Cli, RenderRefusesAUniprocessorMachine) {
+    const fs::path dir = scratch("render_sun");
+    const RunResult r = run("render sphere --machine sun4-280 --out " + (dir / "out").string(), dir);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("machine.kind"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
 TEST(Cli, FitRejectsABadTargetFileBeforeAnyOutput) {
     const fs::path dir = scratch("fit_bad");
     const fs::path targets = write_small_calibration(dir, "[[targets]]\nid = \"z\"\nsource = \"x\"\nscenario = \"nowhere\"\n"
