@@ -11,7 +11,6 @@
 #include <fstream>
 #include <limits>
 #include <map>
-#include <regex>
 #include <sstream>
 
 namespace pp5 {
@@ -487,20 +486,27 @@ std::string fitted_machine_file(const CalibrationModel& model, const FitReport& 
     std::stringstream text;
     text << in.rdbuf();
     // Drop the file's own [calibration] table and rename the machine.
+    const auto trim = [](const std::string& t) {
+        const auto b = t.find_first_not_of(" \t");
+        const auto e = t.find_last_not_of(" \t\r");
+        return b == std::string::npos ? std::string() : t.substr(b, e - b + 1);
+    };
     std::ostringstream out;
     std::string line;
     bool skipping = false;
     bool in_machine = false;
-    const std::regex header(R"(^\s*\[([A-Za-z0-9_.]+)\]\s*(#.*)?$)");
-    const std::regex name_line(R"(^(\s*name\s*=\s*")([^"]*)(".*)$)");
-    std::smatch m;
     while (std::getline(text, line)) {
-        if (std::regex_match(line, m, header)) {
-            skipping = m[1] == "calibration";
-            in_machine = m[1] == "machine";
+        const std::string bare = trim(line.substr(0, line.find('#')));
+        if (bare.size() > 2 && bare.front() == '[' && bare.back() == ']' && bare[1] != '[') {
+            const std::string table = trim(bare.substr(1, bare.size() - 2));
+            skipping = table == "calibration";
+            in_machine = table == "machine";
         }
         if (skipping) continue;
-        if (in_machine && std::regex_match(line, m, name_line)) line = m[1].str() + m[2].str() + "-fitted" + m[3].str();
+        if (in_machine && bare.rfind("name", 0) == 0 && trim(bare.substr(4)).rfind("=", 0) == 0) {
+            const auto close = line.find('"', line.find('"') + 1);
+            if (close != std::string::npos) line.insert(close, "-fitted");
+        }
         out << line << "\n";
     }
     out << "\n[calibration]                 # fitted by `pp5sim fit` to " << model.targets().name << "; standard errors in comments\n";
