@@ -259,7 +259,6 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
 
         // Which scales the targets can tell apart: each scale's elasticity on every target.
         say(fmt::format("{}: measuring what each scale moves ({} fitted targets)", machine, targets.size()));
-        const MachineFit all_scales(model, machine, targets, start, {0, 1, 2});
         const std::vector<double> base = model.simulate(machine, start, targets);
         std::vector<std::vector<double>> columns(kScaleCount);
         std::vector<double> max_elasticity(kScaleCount, 0.0);

@@ -60,11 +60,8 @@ HostCheckReport run_host_check(const MachineConfig& host, const HostCheckOptions
             c.scenario = name;
             c.image_size = size;
             c.fitted = index++ % 2 == 0;
-            RenderSettings settings;
+            RenderSettings settings = reference_render_settings(scenario.image);
             settings.width = settings.height = size;
-            settings.sample_step = scenario.image.sample_step;
-            settings.termination_opacity = scenario.image.termination_opacity;
-            settings.background = scenario.image.background;
             RenderStats stats;
             (void)renderer.render(camera, settings, &stats);  // classifies, shades on demand: not timed
             c.measured_seconds = std::numeric_limits<double>::infinity();

@@ -32,6 +32,17 @@ LevoyImageSettings levoy_image_settings(const ImageSpec& spec) {
     return image;
 }
 
+RenderSettings reference_render_settings(const ImageSpec& image) {
+    RenderSettings s;
+    s.width = image.width;
+    s.height = image.height;
+    s.background = image.background;
+    s.sample_step = image.sample_step;
+    s.termination_opacity = image.termination_opacity;
+    s.resampling = image.resampling;
+    return s;
+}
+
 Camera frame_camera(const FrameSpec& frame, const Volume& volume) {
     const glm::vec3 extent = glm::vec3(volume.dims() - 1) * volume.spacing();
     const float radius = std::max(0.5f * glm::length(extent), 1e-3f);

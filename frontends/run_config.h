@@ -4,6 +4,7 @@
 
 #include "frontends/scenario.h"
 #include "kernels/levoy/levoy_renderer.h"
+#include "kernels/reference/reference_renderer.h"
 #include "sim/core/config.h"
 
 #include <string>
@@ -19,6 +20,7 @@ MachineConfig load_run_config(const std::string& machine, const std::vector<std:
 // How a scenario's frames become the Levoy kernel's inputs: its image settings, and each frame's camera
 // (an orbit about the volume's bounding sphere) with what changed.
 LevoyImageSettings levoy_image_settings(const ImageSpec& image);
+RenderSettings reference_render_settings(const ImageSpec& image);
 Camera frame_camera(const FrameSpec& frame, const Volume& volume);
 LevoyFrameInputs levoy_frame_inputs(const FrameSpec& frame, const Volume& volume);
 

@@ -187,8 +187,7 @@ int run_reproduce(const CalibrateOptions& o) {
     }
 
     // The table: every target with the (fitted) machines.
-    nlohmann::json table = report.to_json();
-    table["calibrated"] = !o.uncalibrated;
+    const nlohmann::json table = report.to_json();
     output.add_text("reproduction.json", nlohmann::json{{"targets", report.targets_name}, {"calibrated", !o.uncalibrated},
                                                         {"rows", table["rows"]}, {"summary", table["summary"]}}.dump(2) + "\n");
     output.add_text("reproduction.md", report.to_markdown());

@@ -70,17 +70,6 @@ std::pair<Tick, Tick> parse_trace_window(const std::string& text) {
 
 using Seconds = std::chrono::duration<double>;
 
-RenderSettings render_settings(const ImageSpec& image) {
-    RenderSettings s;
-    s.width = image.width;
-    s.height = image.height;
-    s.background = image.background;
-    s.sample_step = image.sample_step;
-    s.termination_opacity = image.termination_opacity;
-    s.resampling = image.resampling;
-    return s;
-}
-
 nlohmann::json pass_record(const PpProgramPass& pass) {
     if (!pass.ran) return {{"ran", false}};
     return {{"ran", true},
@@ -259,7 +248,7 @@ int run_render(const RenderOptions& o) {
 
     StagedOutput output(o.out.empty() ? std::filesystem::path("out") / scenario.name : std::filesystem::path(o.out));
     ReferenceRenderer reference(volume);
-    const RenderSettings settings = render_settings(scenario.image);
+    const RenderSettings settings = reference_render_settings(scenario.image);
     nlohmann::json frames = nlohmann::json::array();
     nlohmann::json simulated = nlohmann::json::array();
     Progress progress("render " + scenario.name, scenario.frames.size());
