@@ -1,0 +1,128 @@
+// Golden statistics: every shipped scenario (traces/scenarios) rendered by the pp5sim command, its
+// stats.json (host timings removed) and the pixels of every image it writes compared with the files
+// recorded under tests/golden/scenarios/. A refactor of the machine or of a kernel must leave them
+// identical; a change that moves them on purpose refreshes them in the same commit and says why.
+//
+// Refresh: PP5_GOLDEN_REFRESH=1 build/tests/golden/test_golden   (writes the files in the source tree)
+// PP5SIM=path runs another pp5sim binary (an older build, to record what it gave).
+
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kSource = PP5_SOURCE_DIR;
+const fs::path kGolden = kSource / "tests/golden/scenarios";
+
+std::string read_file(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+void write_file(const fs::path& path, const std::string& text) {
+    fs::create_directories(path.parent_path());
+    std::ofstream(path, std::ios::binary) << text;
+}
+
+bool refreshing() {
+    const char* flag = std::getenv("PP5_GOLDEN_REFRESH");
+    return flag != nullptr && std::string(flag) == "1";
+}
+
+// Host timings differ from run to run; everything else must not.
+nlohmann::json without_host_fields(nlohmann::json j) {
+    if (j.is_object()) {
+        j.erase("host_seconds");
+        for (auto& [k, v] : j.items()) v = without_host_fields(v);
+    } else if (j.is_array()) {
+        for (auto& v : j) v = without_host_fields(v);
+    }
+    return j;
+}
+
+// FNV-1a over an image's size and decoded 8-bit pixels: the same picture gives the same digest
+// whatever the PNG encoder's choices.
+std::string pixel_digest(const fs::path& path) {
+    auto in = OIIO::ImageInput::open(path.string());
+    if (!in) return "unreadable";
+    const OIIO::ImageSpec& spec = in->spec();
+    std::vector<unsigned char> pixels(static_cast<std::size_t>(spec.width) * static_cast<std::size_t>(spec.height) *
+                                      static_cast<std::size_t>(spec.nchannels));
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, pixels.data())) return "unreadable";
+    std::uint64_t h = 1469598103934665603ull;
+    const auto mix = [&h](std::uint64_t byte) {
+        h ^= byte;
+        h *= 1099511628211ull;
+    };
+    for (const int v : {spec.width, spec.height, spec.nchannels})
+        for (int b = 0; b < 4; ++b) mix(static_cast<std::uint64_t>((v >> (8 * b)) & 0xff));
+    for (const unsigned char p : pixels) mix(p);
+    char text[17];
+    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
+    return text;
+}
+
+std::vector<std::string> shipped_scenarios() {
+    std::vector<std::string> names;
+    for (const auto& entry : fs::directory_iterator(kSource / "traces/scenarios"))
+        if (entry.path().extension() == ".toml") names.push_back(entry.path().stem().string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+class Golden : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(Golden, StatisticsAndImagesMatchTheRecordedRun) {
+    const std::string name = GetParam();
+    const fs::path out = fs::temp_directory_path() / ("pp5_golden_" + name);
+    fs::remove_all(out);
+    const char* binary = std::getenv("PP5SIM");
+    const std::string command = std::string(binary != nullptr ? binary : PP5SIM_BINARY) + " render " + name + " --threads 2 --out " + out.string() + " > " +
+                                out.string() + ".log 2>&1";
+    ASSERT_EQ(std::system(command.c_str()), 0) << read_file(out.string() + ".log");
+
+    const nlohmann::json stats = without_host_fields(nlohmann::json::parse(read_file(out / "stats.json")));
+    nlohmann::json images = nlohmann::json::object();
+    for (const auto& entry : fs::directory_iterator(out))
+        if (entry.path().extension() == ".png" || entry.path().extension() == ".exr")
+            images[entry.path().filename().string()] = pixel_digest(entry.path());
+
+    const fs::path golden = kGolden / name;
+    if (refreshing()) {
+        write_file(golden / "stats.json", stats.dump(1) + "\n");
+        write_file(golden / "images.json", images.dump(1) + "\n");
+        GTEST_SKIP() << "refreshed " << golden;
+    }
+    ASSERT_TRUE(fs::exists(golden / "stats.json")) << "no golden files for " << name << "; refresh them (see the file's head)";
+    const nlohmann::json expected_stats = nlohmann::json::parse(read_file(golden / "stats.json"));
+    const nlohmann::json expected_images = nlohmann::json::parse(read_file(golden / "images.json"));
+    // A JSON patch from the golden to this run names every path that moved.
+    const nlohmann::json stats_diff = nlohmann::json::diff(expected_stats, stats);
+    EXPECT_TRUE(stats_diff.empty()) << name << ": stats.json differs from the golden run:\n" << stats_diff.dump(1).substr(0, 6000);
+    const nlohmann::json image_diff = nlohmann::json::diff(expected_images, images);
+    EXPECT_TRUE(image_diff.empty()) << name << ": images differ from the golden run:\n" << image_diff.dump(1);
+    fs::remove_all(out);
+}
+
+INSTANTIATE_TEST_SUITE_P(ShippedScenarios, Golden, ::testing::ValuesIn(shipped_scenarios()),
+                         [](const ::testing::TestParamInfo<std::string>& info) {
+                             std::string id = info.param;
+                             for (char& c : id)
+                                 if (c == '-') c = '_';
+                             return id;
+                         });
+
+}  // namespace
