@@ -1,7 +1,7 @@
 #include "calibration/timing_model.h"
 
 #include "frontends/run_config.h"
-#include "kernels/levoy/sequential_timing.h"
+#include "sim/timing/one_processor.h"
 #include "sim/core/input_error.h"
 #include "sim/machine/machine.h"
 
@@ -25,20 +25,9 @@ FrameTimes frame_times(const LevoyFrameTiming& t) {
     return times;
 }
 
-FrameTimes frame_times(const SequentialFrameTiming& t, bool scan_converted) {
-    FrameTimes times;
-    times.crude_seconds = ticks_to_seconds(t.crude_ps());
-    times.refined_seconds = ticks_to_seconds(t.refined_ps());
-    times.pp_seconds = ticks_to_seconds(t.classification + t.shading);
-    times.scan_converted = scan_converted;
-    times.polygons = static_cast<double>(t.polygons);
-    times.scan_conversion_seconds = ticks_to_seconds(t.scan_conversion);
-    return times;
-}
-
 // Only these parameters may differ between the recording machine and the machine that re-times.
 constexpr const char* kTimingGroups[] = {"gp.", "gp_cost.", "pp.", "ring.", "calibration."};
-constexpr const char* kTimingKeys[] = {"renderer.clock_mhz", "renderer.request_setup_cycles", "renderer.request_cycles_per_voxel"};
+constexpr const char* kTimingKeys[] = {"renderer.clock_mhz", "renderer.fetch_setup_cycles", "renderer.fetch_cycles_per_unit"};
 
 }  // namespace
 
@@ -80,7 +69,6 @@ RecordedScenario::RecordedScenario(const Scenario& scenario, const MachineConfig
         frames_.push_back(RecordedFrame{frame.label, std::move(report.work), std::move(report.passes.front().image),
                                         std::move(report.final_image)});
     }
-    blocks_ = std::make_unique<VoxelBlocks>(workstation.blocks());
 }
 
 std::vector<FrameTimes> RecordedScenario::time_on(const MachineConfig& machine) const {
@@ -96,13 +84,12 @@ std::vector<FrameTimes> RecordedScenario::time_on(const MachineConfig& machine) 
     }
     std::vector<FrameTimes> times;
     if (machine.machine_kind() == MachineKind::Uniprocessor) {
-        const GpCostModel costs = GpCostModel::from(machine);
-        for (const RecordedFrame& frame : frames_) times.push_back(frame_times(time_levoy_frame_sequentially(costs, frame.work), frame.work.scan_converted));
+        for (const RecordedFrame& frame : frames_)
+            times.push_back(frame_times(levoy_frame_timing(frame.work, time_frame_on_one_processor(machine, frame.work.machine))));
         return times;
     }
     Machine timed(machine);
-    VoxelBlocks blocks = *blocks_;
-    for (const RecordedFrame& frame : frames_) times.push_back(frame_times(time_levoy_frame(timed, blocks, frame.work)));
+    for (const RecordedFrame& frame : frames_) times.push_back(frame_times(time_levoy_frame(timed, frame.work)));
     return times;
 }
 

@@ -3,7 +3,7 @@
 // work every frame asks of the machine), and then timed again, as often as the fit needs, on machines
 // that differ only in timing parameters (costs, clocks, counts of GPs, the calibration's scales). A
 // Pixel-planes 5 machine times the work event by event (levoy_renderer.h); a uniprocessor (the Sun
-// 4/280) times it as one processor's sum (sequential_timing.h). Re-timing gives exactly what a fresh
+// 4/280) times it as one processor's sum (sim/timing/one_processor.h). Re-timing gives exactly what a fresh
 // render on that machine would (tests/unit/calibration), in a fraction of the time.
 
 #include "calibration/targets.h"
@@ -57,7 +57,6 @@ private:
     Scenario scenario_;
     MachineConfig functional_;
     std::vector<RecordedFrame> frames_;
-    std::unique_ptr<VoxelBlocks> blocks_;
 };
 
 // Whether `key` only changes when things happen, never what is computed.

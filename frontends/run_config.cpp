@@ -1,5 +1,6 @@
 #include "frontends/run_config.h"
 
+#include "kernels/levoy/levoy_costs.h"
 #include "kernels/levoy/pp_shading.h"
 #include "sim/machine/machine.h"
 
@@ -12,6 +13,7 @@ namespace pp5 {
 std::vector<const ParamGroup*> run_param_groups() {
     std::vector<const ParamGroup*> groups = Machine::param_groups();
     groups.push_back(&LevoySettings::params());
+    groups.push_back(&levoy_cost_params());
     return groups;
 }
 

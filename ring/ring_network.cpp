@@ -35,10 +35,11 @@ RingChannel::RingChannel(std::size_t index, Component* ring)
 
 const char* to_string(MessageKind kind) {
     switch (kind) {
-        case MessageKind::VoxelRequest: return "voxel_request";
-        case MessageKind::VoxelReply: return "voxel_reply";
-        case MessageKind::Pixels: return "pixels";
-        case MessageKind::Pyramid: return "pyramid";
+        case MessageKind::FetchRequest: return "fetch_request";
+        case MessageKind::FetchReply: return "fetch_reply";
+        case MessageKind::PrimitiveBatch: return "primitive_batch";
+        case MessageKind::PixelBlock: return "pixel_block";
+        case MessageKind::Broadcast: return "broadcast";
         case MessageKind::Command: return "command";
     }
     return "unknown";

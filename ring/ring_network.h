@@ -33,9 +33,11 @@ struct RingStation {
     std::string name;   // "gp[3]"
 };
 
-// What a message carries, for the statistics (bytes and messages by type) and traces.
-enum class MessageKind : std::uint8_t { VoxelRequest, VoxelReply, Pixels, Pyramid, Command };
-inline constexpr std::size_t kMessageKinds = 5;
+// What a message carries, for the statistics (bytes and messages by type) and traces: a GP asking a
+// renderer for a block and the block coming back, primitives for a renderer's screen region, finished
+// pixels for the frame buffer, data broadcast to every station, and commands.
+enum class MessageKind : std::uint8_t { FetchRequest, FetchReply, PrimitiveBatch, PixelBlock, Broadcast, Command };
+inline constexpr std::size_t kMessageKinds = 6;
 const char* to_string(MessageKind kind);
 
 struct RingMessage {

@@ -3,9 +3,13 @@
 #include "kernels/levoy/geometry_programs.h"
 #include "kernels/levoy/ray_caster.h"
 #include "sim/core/input_error.h"
+#include "sim/timing/frame_engine.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <numeric>
+#include <stdexcept>
 
 namespace pp5 {
 
@@ -25,101 +29,89 @@ LevoyRenderer::LevoyRenderer(Machine& machine, const Volume& volume, const Levoy
       dims_(volume.dims()),
       spacing_(volume.spacing()),
       pixel_processors_(machine, volume, settings),
-      blocks_(pixel_processors_.placement(), settings.block_cells, voxel_bits_of(settings.layout)) {
+      blocks_(pixel_processors_.placement(), settings.block_cells, voxel_bits_of(settings.layout)),
+      directory_(blocks_.directory()) {
     if (image.width < 1 || image.height < 1) throw InputError("scenario", "image.width", "the image needs at least one pixel");
-    for (auto& gp : machine.gps()) gp->cache(blocks_.block_bits());  // InputError if one block does not fit
+    for (auto& gp : machine.gps()) gp->cache(blocks_.block_bits());  // InputError if one block does not fit, before any frame
     depth_.assign(static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height), 0);
 }
 
 namespace {
 
-// Every renderer broadcasts one bit per voxel it holds, a slot at a time, once its PPs are free; every
-// GP takes every message in and, with all of them, builds the whole pyramid. Returns when it is built.
-Tick distribute_pyramid(Machine& machine, const PyramidWork& work, Tick start) {
-    RingNetwork& ring = machine.ring();
-    std::vector<std::pair<Tick, std::size_t>> ready;
-    for (auto& r : machine.renderers()) ready.emplace_back(std::max(start, r->busy_until()), r->index());
-    std::sort(ready.begin(), ready.end());
-    // Each GP takes every message in as it arrives, after the one before (taking a message in is
-    // slower than the ring delivers it), then builds.
-    const GpCostModel& costs = machine.gps().front()->costs();
-    std::vector<RingTransit> transits;
-    for (const auto& [at, r] : ready) {
-        const std::size_t station = ring.position(StationKind::Renderer, r);
-        for (int slot = 0; slot < work.slots_per_renderer[r]; ++slot)
-            transits.push_back(ring.transmit(at, RingMessage{MessageKind::Pyramid, station, 0, work.bits_per_slot, true}));
-    }
-    std::sort(transits.begin(), transits.end(), [](const RingTransit& a, const RingTransit& b) { return a.arrival < b.arrival; });
-    Tick taken_in = start;
-    Tick receiving = 0;
-    for (const RingTransit& transit : transits) {
-        const Tick receive = costs.message_receive + static_cast<Tick>(transit.words) * costs.receive_per_word;
-        taken_in = std::max(taken_in, transit.arrival) + receive;
-        receiving += receive;
-    }
-    const Tick build = static_cast<Tick>(work.cells) * costs.pyramid_build_per_cell;
-    for (auto& gp : machine.gps()) {
-        gp->busy_ps += static_cast<std::uint64_t>(receiving + build);
-        if (TraceRecorder* trace = machine.trace()) trace->slice(trace->track("GPs", gp->name()), "building the pyramid", taken_in, taken_in + build);
-    }
-    return taken_in + build;
+// Appends `count` operations of `kind` to `ops` (none when the count is 0).
+void add_op(std::vector<GpOp>& ops, LevoyOp kind, std::uint64_t count) {
+    if (count == 0) return;
+    if (count > std::numeric_limits<std::uint32_t>::max()) throw std::logic_error("levoy: an operation count overflows its record");
+    ops.push_back(GpOp{kind, static_cast<std::uint32_t>(count)});
 }
 
-// The host broadcasts the polygons one after another; each renderer runs them in the order they arrive.
-GeometryReport time_scan_conversion(Machine& machine, const LevoyFrameWork& work, Tick start) {
-    GeometryReport report;
-    report.ran = true;
-    report.polygons = work.polygons;
-    report.start_ps = start;
-    report.end_ps = start;
-    for (const PolygonWork& polygon : work.polygon_passes) {
-        const RingTransit transit = machine.ring().transmit(start, RingMessage{MessageKind::Command, 0, 0, polygon.command_bits, true});
-        const PpProgramPass pass = PpShading::schedule(machine, polygon.pass, transit.arrival);
-        for (const auto& r : machine.renderers()) report.end_ps = std::max(report.end_ps, r->busy_until());
-        report.slots += pass.slots;
-    }
-    machine.events().run_until();
-    return report;
+PpProgramPass pass_of(const PhaseTiming* phase) {
+    return phase != nullptr && !phase->passes.empty() ? PpProgramPass(phase->passes.front()) : PpProgramPass();
 }
 
 }  // namespace
 
-LevoyFrameTiming time_levoy_frame(Machine& machine, VoxelBlocks& blocks, const LevoyFrameWork& work) {
-    LevoyFrameTiming timing;
-    timing.start_ps = machine.events().now();
-    timing.pixel_processors = PpShading::time(machine, work.pixel_processors, timing.start_ps);
-    Tick t = timing.pixel_processors.end_ps;
-    if (work.region) {
-        timing.region = PpShading::schedule(machine, *work.region, t);
-        machine.events().run_until();
-        t = timing.region.end_ps;
+LevoyFrameTiming levoy_frame_timing(const LevoyFrameWork& work, const FrameTiming& timing) {
+    LevoyFrameTiming t;
+    t.start_ps = timing.start_ps;
+    t.end_ps = timing.end_ps;
+    const PhaseTiming* classification = timing.phase("classification");
+    const PhaseTiming* shading = timing.phase("shading");
+    t.pixel_processors.classification = pass_of(classification);
+    t.pixel_processors.shading = pass_of(shading);
+    t.pixel_processors.start_ps = classification ? classification->start_ps : shading ? shading->start_ps : timing.start_ps;
+    t.pixel_processors.end_ps = shading ? shading->end_ps : classification ? classification->end_ps : timing.start_ps;
+    t.region = pass_of(timing.phase("region_of_interest"));
+    if (const PhaseTiming* scan = timing.phase("scan_conversion"); scan != nullptr || work.scan_converted) {
+        t.geometry.ran = true;
+        t.geometry.polygons = work.polygons;
+        const PhaseTiming* before = scan;
+        if (before == nullptr) before = timing.phase("region_of_interest");
+        if (before == nullptr) before = shading;
+        t.geometry.start_ps = scan != nullptr ? scan->start_ps : before != nullptr ? before->end_ps : timing.start_ps;
+        t.geometry.end_ps = scan != nullptr ? scan->end_ps : t.geometry.start_ps;
+        if (scan != nullptr)
+            for (const PpPassTiming& p : scan->passes) t.geometry.slots += p.slots;
     }
-    if (work.scan_converted) {
-        timing.geometry = time_scan_conversion(machine, work, t);
-        t = timing.geometry.end_ps;
+    if (const PhaseTiming* pyramid = timing.phase("pyramid")) t.pyramid_ps = pyramid->duration_ps();
+    RayCastReport& rc = t.ray_cast;
+    if (const PhaseTiming* cast = timing.phase("ray_casting")) {
+        rc.start = cast->start_ps;
+        rc.end = cast->end_ps;
+        rc.pass_end = cast->group_end_ps;
+        rc.cache_hits = cast->gp.cache_hits;
+        rc.cache_misses = cast->gp.cache_misses;
+        rc.requests = cast->gp.fetch_requests;
+        rc.context_switches = cast->gp.context_switches;
+        rc.gp_busy = cast->gp.gp_busy;
+        rc.gp_wait = cast->gp.gp_wait;
+        rc.renderer_busy = cast->gp.renderer_busy;
+        rc.ring_busy = cast->gp.ring_busy;
+        rc.events = cast->gp.events;
     }
-    if (work.invalidate_caches) {
-        for (auto& gp : machine.gps()) gp->cache(blocks.block_bits()).invalidate();
-    }
-    if (work.pyramid) {
-        const Tick before = t;
-        t = distribute_pyramid(machine, *work.pyramid, t);
-        timing.pyramid_ps = t - before;
-    }
-    RayCastTimingOptions options;
-    options.assignment = work.assignment;
-    timing.ray_cast = time_ray_casting(machine, blocks, work.ray_cast, options, t);
-    timing.end_ps = timing.ray_cast.end;
-    return timing;
+    rc.rays = work.rays.rays;
+    rc.samples = work.rays.samples;
+    rc.samples_skipped = work.rays.samples_skipped;
+    rc.pyramid_steps = work.rays.pyramid_steps;
+    rc.rays_terminated = work.rays.rays_terminated;
+    rc.pixels_filled = work.rays.pixels_filled;
+    return t;
 }
 
-PyramidWork LevoyRenderer::pyramid_work() const {
+LevoyFrameTiming time_levoy_frame(Machine& machine, const LevoyFrameWork& work) {
+    return levoy_frame_timing(work, time_frame(machine, work.machine));
+}
+
+// Every renderer broadcasts one bit per voxel it holds, a slot at a time; every GP takes every message
+// in and, with all of them, builds the whole pyramid.
+Phase LevoyRenderer::pyramid_phase() const {
     const VoxelPlacement& placement = pixel_processors_.placement();
-    PyramidWork work;
-    for (std::size_t r = 0; r < machine_.renderers().size(); ++r) work.slots_per_renderer.push_back(placement.slots_used(static_cast<int>(r)));
-    work.bits_per_slot = static_cast<std::uint64_t>(placement.shape().columns) * static_cast<std::uint64_t>(placement.shape().rows);
-    work.cells = pyramid_.total_cells();
-    return work;
+    BroadcastPhase broadcast;
+    for (std::size_t r = 0; r < machine_.renderers().size(); ++r)
+        broadcast.messages_per_renderer.push_back(static_cast<std::uint32_t>(placement.slots_used(static_cast<int>(r))));
+    broadcast.bits_per_message = static_cast<std::uint64_t>(placement.shape().columns) * static_cast<std::uint64_t>(placement.shape().rows);
+    add_op(broadcast.then_each_gp, kPyramidBuildCell, pyramid_.total_cells());
+    return Phase{"pyramid", std::move(broadcast)};
 }
 
 void LevoyRenderer::set_polygons(const std::vector<PolygonSpec>& polygons) {
@@ -128,26 +120,38 @@ void LevoyRenderer::set_polygons(const std::vector<PolygonSpec>& polygons) {
     polygons_changed_ = true;
 }
 
-std::vector<PolygonWork> LevoyRenderer::scan_convert() {
+// The host broadcasts each polygon's QEE coefficients; each renderer runs the polygons in the order
+// they arrive. A sequential scan-converter visits the voxels within one voxel of the polygon's plane
+// over its area (about twice the area) and tests each of its J sample points against the plane and
+// every edge.
+Phase LevoyRenderer::scan_convert() {
+    constexpr double kSequentialVoxelsPerUnitArea = 2.0;
     const std::vector<glm::dvec3> offsets = subvoxel_offsets(settings_.jitter_samples);
     const PpProgramInputs inputs = pixel_processors_.program_inputs();
     const VoxelPlacement& placement = pixel_processors_.placement();
-    std::vector<PolygonWork> passes;
+    PpPhase phase;
     for (const PreparedPolygon& polygon : polygons_) {
         if (polygon.degenerate) continue;
         PpProgram program = build_polygon_program(polygon, settings_.jitter_samples, dims_, inputs);
         // D, E and F of every expression, a word each.
         const auto bits = static_cast<std::uint64_t>(program.expressions) * 3 * 32;
-        passes.push_back(PolygonWork{
-            pixel_processors_.execute(
-                program, [&](const SlotFrame& frame) { return polygon_reaches_slot(polygon, frame, dims_, placement.shape()); },
-                [&](const SlotFrame& frame) { return polygon_expressions(polygon, offsets, frame, settings_.layout); }),
-            bits, polygon.area, static_cast<int>(polygon.edge_normals.size())});
+        PpPhase::Pass pass{pixel_processors_.execute(
+                               program, [&](const SlotFrame& frame) { return polygon_reaches_slot(polygon, frame, dims_, placement.shape()); },
+                               [&](const SlotFrame& frame) { return polygon_expressions(polygon, offsets, frame, settings_.layout); }),
+                           bits, {}};
+        const auto visited = static_cast<std::uint64_t>(std::llround(kSequentialVoxelsPerUnitArea * polygon.area));
+        const auto tests = static_cast<std::uint64_t>(settings_.jitter_samples) * (polygon.edge_normals.size() + 1);
+        add_op(pass.on_one_processor, kPolygonPointTest, visited * tests);
+        add_op(pass.on_one_processor, kVoxelMatte, visited);
+        phase.passes.push_back(std::move(pass));
     }
-    return passes;
+    return Phase{"scan_conversion", std::move(phase)};
 }
 
-RayCastJob LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& report) {
+// The GPs' work: a task per tile and refinement pass (its rays, in the order the tile casts them; the
+// refinement tests that chose them first; filling and sending the tile's pixels last), a group per pass.
+// A ray is an item whose steps are the samples and pyramid steps up to each block it looks up.
+Phase LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& report) {
     const int width = image_.width;
     const int height = image_.height;
     const int tile = settings_.tile_pixels;
@@ -175,12 +179,60 @@ RayCastJob LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& rep
     const RayCaster caster(shaded_, pyramid_, blocks_, camera, cast_settings);
     AdaptiveRefinement refinement(width, height, settings_.refinement);
 
-    RayCastJob job;
-    job.tiles = tiles_x * tiles_y;
-    std::vector<std::uint32_t> cast_in_tile(static_cast<std::size_t>(job.tiles), 0);
+    const int tiles = tiles_x * tiles_y;
+    GpPhase job;
+    job.assignment = settings_.ray_assignment;
+    job.blocks = directory_;
+    RayCastCounts& counts = report.work.rays;
+    // One ray as an item: a step per block look-up (its ray setup in the first), then the rest.
+    const auto add_ray = [&](const CastBatch& batch, const RayWork& ray) {
+        GpItem item{static_cast<std::uint32_t>(job.steps.size()), 0};
+        bool setup = true;
+        const auto add_step = [&](std::uint32_t samples, std::uint32_t pyramid_steps, std::uint32_t block) {
+            GpStep step{static_cast<std::uint32_t>(job.ops.size()), 0, block};
+            if (setup) add_op(job.ops, kRaySetup, 1);
+            setup = false;
+            add_op(job.ops, kSample, samples);
+            add_op(job.ops, kPyramidStep, pyramid_steps);
+            step.op_count = static_cast<std::uint32_t>(job.ops.size()) - step.first_op;
+            job.steps.push_back(step);
+            ++item.step_count;
+        };
+        for (std::uint32_t i = 0; i < ray.touch_count; ++i) {
+            const BlockTouch& touch = batch.touches[ray.first_touch + i];
+            add_step(touch.samples, touch.pyramid_steps, touch.block);
+        }
+        if (setup || ray.tail_samples > 0 || ray.tail_pyramid_steps > 0) add_step(ray.tail_samples, ray.tail_pyramid_steps, kNoFetch);
+        job.items.push_back(item);
+        ++counts.rays;
+        counts.samples += ray.samples;
+        counts.samples_skipped += ray.samples_skipped;
+        counts.pyramid_steps += ray.pyramid_steps;
+        if (ray.terminated) ++counts.rays_terminated;
+    };
+    const auto add_task = [&](std::uint32_t pass, int t, std::uint32_t first_item, std::uint32_t tests, std::uint32_t filled) {
+        GpTask task;
+        task.group = pass;
+        task.key = static_cast<std::uint32_t>(t);
+        task.first_item = first_item;
+        task.item_count = static_cast<std::uint32_t>(job.items.size()) - first_item;
+        task.first_op = static_cast<std::uint32_t>(job.ops.size());
+        add_op(job.ops, kRefinementTest, tests);
+        task.op_count = static_cast<std::uint32_t>(job.ops.size()) - task.first_op;
+        task.first_finish_op = static_cast<std::uint32_t>(job.ops.size());
+        if (task.item_count > 0) {  // a tile that cast nothing sends nothing
+            add_op(job.ops, kPixelFill, filled);
+            task.pixels = pixels_in_tile(t);
+            counts.pixels_filled += filled;
+        }
+        task.finish_op_count = static_cast<std::uint32_t>(job.ops.size()) - task.first_finish_op;
+        if (task.item_count > 0 || tests > 0) job.tasks.push_back(task);
+    };
+
+    std::vector<std::uint32_t> cast_in_tile(static_cast<std::size_t>(tiles), 0);
     // The refinement decision's square tests, by the tile of each square's top-left corner.
     const auto tests_per_tile = [&] {
-        std::vector<std::uint32_t> tests(static_cast<std::size_t>(job.tiles), 0);
+        std::vector<std::uint32_t> tests(static_cast<std::size_t>(tiles), 0);
         for (const std::uint32_t corner : refinement.tested_squares()) ++tests[static_cast<std::size_t>(tile_of(corner))];
         return tests;
     };
@@ -190,7 +242,7 @@ RayCastJob LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& rep
         const std::vector<std::uint32_t>& pending = refinement.pending();
         // Rays grouped by tile, row by row within a tile: the order a GP casts them in (a counting
         // sort of the row-major pending list by tile keeps rows in order).
-        std::vector<std::uint32_t> tile_start(static_cast<std::size_t>(job.tiles) + 1, 0);
+        std::vector<std::uint32_t> tile_start(static_cast<std::size_t>(tiles) + 1, 0);
         for (const std::uint32_t p : pending) ++tile_start[static_cast<std::size_t>(tile_of(p)) + 1];
         std::partial_sum(tile_start.begin(), tile_start.end(), tile_start.begin());
         std::vector<std::uint32_t> order(pending.size());
@@ -217,40 +269,39 @@ RayCastJob LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& rep
         pass_report.image = refinement.image();
         report.passes.push_back(std::move(pass_report));
 
-        for (int t = 0; t < job.tiles; ++t) {
-            TileTask task;
-            task.pass = pass;
-            task.tile = t;
-            task.first_ray = tile_start[static_cast<std::size_t>(t)];
-            task.ray_count = tile_start[static_cast<std::size_t>(t) + 1] - task.first_ray;
-            task.squares_tested = tests[static_cast<std::size_t>(t)];
-            task.tile_pixels = pixels_in_tile(t);
-            task.pixels_filled = task.tile_pixels - cast_in_tile[static_cast<std::size_t>(t)];
-            if (task.ray_count > 0 || task.squares_tested > 0) job.tasks.push_back(task);
+        for (int t = 0; t < tiles; ++t) {
+            const auto first_item = static_cast<std::uint32_t>(job.items.size());
+            for (std::uint32_t r = tile_start[static_cast<std::size_t>(t)]; r < tile_start[static_cast<std::size_t>(t) + 1]; ++r)
+                add_ray(batch, batch.rays[r]);
+            add_task(static_cast<std::uint32_t>(pass), t, first_item, tests[static_cast<std::size_t>(t)],
+                     pixels_in_tile(t) - cast_in_tile[static_cast<std::size_t>(t)]);
         }
-        job.passes.push_back(std::move(batch));
+        job.groups = static_cast<std::uint32_t>(pass) + 1;
     }
     // The last decision, that nothing more splits, was made too: charge its tests to the last pass.
-    if (!job.passes.empty() && !refinement.tested_squares().empty()) {
+    if (job.groups > 0 && !refinement.tested_squares().empty()) {
         const std::vector<std::uint32_t> tests = tests_per_tile();
-        for (int t = 0; t < job.tiles; ++t) {
-            if (tests[static_cast<std::size_t>(t)] == 0) continue;
-            TileTask task;
-            task.pass = static_cast<int>(job.passes.size()) - 1;
-            task.tile = t;
-            task.squares_tested = tests[static_cast<std::size_t>(t)];
-            task.tile_pixels = pixels_in_tile(t);
-            job.tasks.push_back(task);
-        }
+        for (int t = 0; t < tiles; ++t)
+            if (tests[static_cast<std::size_t>(t)] > 0)
+                add_task(job.groups - 1, t, static_cast<std::uint32_t>(job.items.size()), tests[static_cast<std::size_t>(t)], 0);
     }
-    return job;
+    return Phase{"ray_casting", std::move(job)};
 }
 
 LevoyFrameReport LevoyRenderer::render(const LevoyFrameInputs& frame) {
     LevoyFrameReport report;
     LevoyFrameWork& work = report.work;
-    work.voxels = static_cast<std::uint64_t>(dims_.x) * static_cast<std::uint64_t>(dims_.y) * static_cast<std::uint64_t>(dims_.z);
-    work.jitter_samples = settings_.jitter_samples;
+    FrameWork& machine_work = work.machine;
+    machine_work.op_kinds = levoy_op_kinds();
+    machine_work.image_width = image_.width;
+    machine_work.image_height = image_.height;
+    const std::uint64_t voxels = static_cast<std::uint64_t>(dims_.x) * static_cast<std::uint64_t>(dims_.y) * static_cast<std::uint64_t>(dims_.z);
+    // A PP pass over every voxel, and what one processor would do for it instead.
+    const auto voxel_pass = [&](const char* name, const PpPassWork& pass, LevoyOp per_voxel) {
+        PpPhase phase{{PpPhase::Pass{pass, 0, {}}}};
+        add_op(phase.passes.front().on_one_processor, per_voxel, voxels);
+        return Phase{name, std::move(phase)};
+    };
 
     // Function first: what this frame changes, and the work that follows from it.
     // Shade only for a view the colours depend on; otherwise keep the view they were shaded for.
@@ -262,7 +313,9 @@ LevoyFrameReport LevoyRenderer::render(const LevoyFrameInputs& frame) {
     bool reshade = first_frame_ || frame.classification_changed || frame.lighting_changed || shaded_for_ != view;
     if (!polygons_.empty() && (classify || reshade || polygons_changed_)) classify = reshade = true;  // matte into fresh voxels
     polygons_changed_ = false;
-    work.pixel_processors = pixel_processors_.compute(frame.classification, frame.colors, frame.lighting, view, classify, reshade);
+    const PpFrameWork pp = pixel_processors_.compute(frame.classification, frame.colors, frame.lighting, view, classify, reshade);
+    if (pp.classification) machine_work.phases.push_back(voxel_pass("classification", *pp.classification, kVoxelClassification));
+    if (pp.shading) machine_work.phases.push_back(voxel_pass("shading", *pp.shading, kVoxelShading));
     shaded_for_ = view;
     region_ = frame.region;
     // The pyramid marks what the classification leaves non-empty before the region scales it: a
@@ -273,23 +326,25 @@ LevoyFrameReport LevoyRenderer::render(const LevoyFrameInputs& frame) {
         unscaled = pixel_processors_.shaded_volume();
         const PpProgram program = build_region_program(*region_, dims_, pixel_processors_.program_inputs());
         const RegionOfInterest& region = *region_;
-        work.region = pixel_processors_.execute(
+        const PpPassWork pass = pixel_processors_.execute(
             program, [](const SlotFrame&) { return true; }, [&](const SlotFrame& f) { return region_expressions(region, f); });
+        machine_work.phases.push_back(voxel_pass("region_of_interest", pass, kVoxelRegion));
     }
     if (!polygons_.empty() && reshade) {
         work.scan_converted = true;
         work.polygons = polygons_.size();
-        work.polygon_passes = scan_convert();
+        machine_work.phases.push_back(scan_convert());
     }
     if (classify || reshade) {
         shaded_ = pixel_processors_.shaded_volume();
-        work.invalidate_caches = !first_frame_;
+        machine_work.invalidate_gp_caches = !first_frame_;
     }
     if (classify) {
         BinaryPyramid fresh = BinaryPyramid::from_opacity(shaded_, unscaled ? &*unscaled : nullptr);
         if (first_frame_ || !fresh.same_cells(pyramid_)) {
             pyramid_ = std::move(fresh);
-            work.pyramid = pyramid_work();
+            report.pyramid_rebuilt = true;
+            machine_work.phases.push_back(pyramid_phase());
             depth_for_.reset();
         }
     }
@@ -297,20 +352,20 @@ LevoyFrameReport LevoyRenderer::render(const LevoyFrameInputs& frame) {
     report.depth_buffer_used = settings_.depth_buffer && depth_for_ == frame.camera;
     if (!report.depth_buffer_used) std::fill(depth_.begin(), depth_.end(), 0);
     depth_for_ = frame.camera;
-    work.ray_cast = cast_frame(frame.camera, report);
-    work.assignment = settings_.ray_assignment;
+    // Each GP holds the whole pyramid of binary volumes, a bit a cell, beside its cache.
+    machine_work.gp_resident_bits = settings_.pyramid_skipping ? pyramid_.total_cells() : 0;
+    machine_work.phases.push_back(cast_frame(frame.camera, report));
     first_frame_ = false;
 
     // Then time it on this machine.
-    const LevoyFrameTiming timing = time_levoy_frame(machine_, blocks_, work);
+    const LevoyFrameTiming timing = time_levoy_frame(machine_, work);
     report.start_ps = timing.start_ps;
     report.end_ps = timing.end_ps;
     report.pixel_processors = timing.pixel_processors;
     report.region = timing.region;
     report.geometry = timing.geometry;
-    report.pyramid_rebuilt = work.pyramid.has_value();
     report.pyramid_ps = timing.pyramid_ps;
-    report.caches_invalidated = work.invalidate_caches;
+    report.caches_invalidated = machine_work.invalidate_gp_caches;
     report.ray_cast = timing.ray_cast;
     for (std::size_t p = 0; p < report.passes.size(); ++p) report.passes[p].end_ps = report.ray_cast.pass_end[p] - report.start_ps;
     report.final_image = report.passes.back().image;

@@ -4,7 +4,10 @@
 //   2. when the classification changed the set of non-empty voxels, the renderers send every GP the
 //      voxels' emptiness and each GP rebuilds the pyramid of binary volumes (binary_pyramid.h);
 //   3. the GPs cast rays pass after pass of adaptive refinement (ray_caster.h, adaptive_refinement.h),
-//      fetching voxels over the ring into their caches (ray_cast_timing.h).
+//      fetching voxels over the ring into their caches.
+// The frame is computed first and recorded as the machine's work (sim/timing/recorded_work.h); the
+// timing engine then times it on the machine (sim/timing/frame_engine.h), or one processor does it all
+// (sim/timing/one_processor.h).
 // Each change between frames reruns only what it needs (Levoy's animation sequences): a light or
 // colour change reshades, a classification change reclassifies and rebuilds the pyramid only if the
 // non-empty set moved, an observer move reshades only if the shading depends on the view. GP caches
@@ -13,12 +16,14 @@
 
 #include "kernels/levoy/binary_pyramid.h"
 #include "kernels/levoy/pp_shading.h"
-#include "kernels/levoy/ray_cast_timing.h"
+#include "kernels/levoy/levoy_costs.h"
 #include "kernels/levoy/voxel_blocks.h"
 #include "kernels/render/camera.h"
 #include "kernels/render/polygon.h"
 #include "kernels/render/region_of_interest.h"
 #include "kernels/render/image.h"
+#include "sim/timing/frame_timing.h"
+#include "sim/timing/recorded_work.h"
 
 #include <optional>
 #include <vector>
@@ -33,6 +38,51 @@ struct LevoyFrameInputs {
     bool classification_changed = true;
     bool lighting_changed = true;  // lights or colours
     std::optional<RegionOfInterest> region;  // the volume-of-interest tool, when in use
+};
+
+// What the ray casting of one frame did: the rays' own counts (from the functional layer) and the
+// machine's (from the timing engine), summed over the GPs.
+struct RayCastReport {
+    Tick start = 0;
+    Tick end = 0;
+    std::vector<Tick> pass_end;  // when each refinement pass's last tile reached the frame buffer
+    std::uint64_t rays = 0;
+    std::uint64_t samples = 0;
+    std::uint64_t samples_skipped = 0;
+    std::uint64_t pyramid_steps = 0;
+    std::uint64_t rays_terminated = 0;
+    std::uint64_t pixels_filled = 0;
+    std::uint64_t cache_hits = 0;
+    std::uint64_t cache_misses = 0;
+    std::uint64_t requests = 0;  // fetch requests to renderers
+    std::uint64_t context_switches = 0;
+    Tick gp_busy = 0;
+    Tick gp_wait = 0;
+    Tick renderer_busy = 0;
+    Tick ring_busy = 0;
+    std::uint64_t events = 0;
+};
+
+// The rays' counts, which no timing parameter changes.
+struct RayCastCounts {
+    std::uint64_t rays = 0;
+    std::uint64_t samples = 0;
+    std::uint64_t samples_skipped = 0;
+    std::uint64_t pyramid_steps = 0;
+    std::uint64_t rays_terminated = 0;
+    std::uint64_t pixels_filled = 0;
+};
+
+// What a frame asks of the machine, recorded by the functional layer, with what Levoy's metrics need
+// besides. None of it depends on a timing parameter (costs, clocks, GP count, ring, caches), so the same
+// work can be timed again on machines that differ only in those: calibration fits and GP-count sweeps
+// do that instead of re-rendering. Phases are named: classification, region_of_interest, shading,
+// scan_conversion, pyramid, ray_casting (each only when the frame needs it).
+struct LevoyFrameWork {
+    FrameWork machine;
+    bool scan_converted = false;
+    std::uint64_t polygons = 0;  // including degenerate ones, which need no pass
+    RayCastCounts rays;
 };
 
 // The polygons scan-converted into the volume after each reshading (Levoy's Figure 5).
@@ -55,35 +105,7 @@ struct RefinementPassReport {
     Image image;                    // the picture after this pass
 };
 
-// What a frame asks of the machine, recorded by the functional layer. None of it depends on a timing
-// parameter (costs, clocks, GP count, ring, caches), so the same work can be timed again on machines
-// that differ only in those: calibration fits and GP-count sweeps do that instead of re-rendering.
-struct PolygonWork {
-    PpPassWork pass;
-    std::uint64_t command_bits = 0;  // the host's broadcast of the polygon's QEE coefficients
-    double area = 0.0;               // voxels^2: what a sequential scan-converter's work grows with
-    int edges = 0;
-};
-struct PyramidWork {
-    std::vector<int> slots_per_renderer;  // each renderer broadcasts one message a slot
-    std::uint64_t bits_per_slot = 0;      // one emptiness bit per PP
-    std::uint64_t cells = 0;              // every GP builds every cell
-};
-struct LevoyFrameWork {
-    std::uint64_t voxels = 0;  // in the volume
-    int jitter_samples = 1;    // subvoxel translations per voxel in scan-conversion
-    PpFrameWork pixel_processors;
-    std::optional<PpPassWork> region;
-    bool scan_converted = false;
-    std::uint64_t polygons = 0;           // including degenerate ones, which need no pass
-    std::vector<PolygonWork> polygon_passes;
-    bool invalidate_caches = false;
-    std::optional<PyramidWork> pyramid;  // when the non-empty set changed
-    RayCastJob ray_cast;
-    RayAssignment assignment = RayAssignment::StaticTiles;
-};
-
-// When a frame's work happened on one machine.
+// When a frame's work happened on one machine, in Levoy's terms.
 struct LevoyFrameTiming {
     Tick start_ps = 0;
     Tick end_ps = 0;
@@ -96,9 +118,10 @@ struct LevoyFrameTiming {
     Tick refined_ps() const { return end_ps - start_ps; }
 };
 
-// Times `work` on `machine` from its current time, with `blocks` for the GPs' voxel requests: the PP
-// passes, the polygons, the pyramid, then the ray casting. GP caches carry over from earlier frames.
-LevoyFrameTiming time_levoy_frame(Machine& machine, VoxelBlocks& blocks, const LevoyFrameWork& work);
+// Levoy's view of a frame's timing on any machine (the engine's, or one processor's).
+LevoyFrameTiming levoy_frame_timing(const LevoyFrameWork& work, const FrameTiming& timing);
+// Times `work` on `machine` from its current time; GP caches carry over from earlier frames.
+LevoyFrameTiming time_levoy_frame(Machine& machine, const LevoyFrameWork& work);
 
 struct LevoyFrameReport {
     Tick start_ps = 0;
@@ -128,7 +151,7 @@ struct LevoyImageSettings {
 
 class LevoyRenderer {
 public:
-    // Places the volume in the PPs (InputError if it does not fit) and sizes the GP caches.
+    // Places the volume in the PPs (InputError if it does not fit).
     LevoyRenderer(Machine& machine, const Volume& volume, const LevoySettings& settings, const LevoyImageSettings& image);
 
     // Polygons to scan-convert into the volume (voxel coordinates), from the next frame on. With
@@ -144,9 +167,9 @@ public:
     const VoxelBlocks& blocks() const { return blocks_; }
 
 private:
-    std::vector<PolygonWork> scan_convert();
-    PyramidWork pyramid_work() const;
-    RayCastJob cast_frame(const Camera& camera, LevoyFrameReport& report);
+    Phase scan_convert();
+    Phase pyramid_phase() const;
+    Phase cast_frame(const Camera& camera, LevoyFrameReport& report);
 
     Machine& machine_;
     LevoySettings settings_;
@@ -155,6 +178,7 @@ private:
     glm::vec3 spacing_;
     PpShading pixel_processors_;
     VoxelBlocks blocks_;
+    std::shared_ptr<const BlockDirectory> directory_;
     ShadedVolume shaded_;
     BinaryPyramid pyramid_;
     std::vector<PreparedPolygon> polygons_;

@@ -1,6 +1,7 @@
 #include "kernels/levoy/pp_shading.h"
 
 #include "sim/core/input_error.h"
+#include "sim/timing/frame_engine.h"
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
@@ -86,7 +87,7 @@ LevoySettings LevoySettings::from(const MachineConfig& config) {
     s.layout.color_bits = static_cast<int>(config.integer("levoy.color_bits"));
     s.layout.opacity_bits = static_cast<int>(config.integer("levoy.opacity_bits"));
     s.block_cells = static_cast<int>(config.integer("levoy.block_cells"));
-    s.ray_assignment = config.text("levoy.ray_assignment") == "work_queue" ? RayAssignment::WorkQueue : RayAssignment::StaticTiles;
+    s.ray_assignment = config.text("levoy.ray_assignment") == "work_queue" ? TaskAssignment::WorkQueue : TaskAssignment::Static;
     s.tile_pixels = static_cast<int>(config.integer("levoy.tile_pixels"));
     s.refinement.initial_spacing = static_cast<int>(config.integer("levoy.refinement_spacing"));
     s.refinement.threshold = static_cast<float>(config.real("levoy.refinement_threshold"));
@@ -150,11 +151,6 @@ PpProgramInputs PpShading::program_inputs() const {
     return PpProgramInputs{settings_.layout, quantization_, spacing_, static_cast<int>(machine_.config().integer("renderer.local_memory_bits"))};
 }
 
-PpProgramPass PpShading::run_over_slots(const PpProgram& program, const SlotSelector& select, const SlotExpressions& expressions,
-                                        Tick start) {
-    return schedule(machine_, execute(program, select, expressions), start);
-}
-
 PpPassWork PpShading::execute(const PpProgram& program, const SlotSelector& select, const SlotExpressions& expressions) {
     auto& renderers = machine_.renderers();
     const int record_bits = settings_.layout.bits();
@@ -178,37 +174,20 @@ PpPassWork PpShading::execute(const PpProgram& program, const SlotSelector& sele
     return work;
 }
 
-PpProgramPass PpShading::schedule(Machine& machine, const PpPassWork& work, Tick start) {
-    // Each renderer spends its pass on its own clock, in the shared event queue.
-    auto& renderers = machine.renderers();
-    if (renderers.size() != work.slots.size()) throw std::logic_error("PpShading::schedule: work recorded for another renderer count");
-    PpProgramPass pass;
-    pass.ran = true;
-    pass.start_ps = start;
-    pass.end_ps = start;
-    pass.instructions = work.program.instructions.size();
-    pass.local_memory_bits_used = work.program.local_memory_bits_used;
-    EventQueue& events = machine.events();
-    for (std::size_t r = 0; r < renderers.size(); ++r) {
-        Renderer& renderer = *renderers[r];
-        RendererPass pass_work{work.program.name, renderer.cost_model().cost(work.program), work.slots[r], work.counts[r],
-                               work.program.local_memory_bits_used};
-        const Tick end = renderer.begin_pass(events, start, pass_work);
-        if (end > pass.end_ps || r == 0) {
-            pass.end_ps = end;
-            pass.slot_cost = pass_work.cost;
-            pass.busiest = renderer.cost_model().pass(pass_work.cost, pass_work.slots);
-            pass.slots = pass_work.slots;
-        }
-    }
-    return pass;
-}
-
 PpFrameReport PpShading::update(const Classification& classification, const ColorMap& color_map,
                                 const PhongLighting& lighting, const ShadingView& view, bool classification_changed,
                                 bool shading_changed) {
     const PpFrameWork work = compute(classification, color_map, lighting, view, classification_changed, shading_changed);
-    return time(machine_, work, machine_.events().now());
+    FrameWork frame;
+    if (work.classification) frame.phases.push_back(Phase{"classification", PpPhase{{PpPhase::Pass{*work.classification, 0, {}}}}});
+    if (work.shading) frame.phases.push_back(Phase{"shading", PpPhase{{PpPhase::Pass{*work.shading, 0, {}}}}});
+    const FrameTiming timing = time_frame(machine_, frame);
+    PpFrameReport report;
+    report.start_ps = timing.start_ps;
+    report.end_ps = timing.end_ps;
+    if (const PhaseTiming* p = timing.phase("classification")) report.classification = PpProgramPass(p->passes.front());
+    if (const PhaseTiming* p = timing.phase("shading")) report.shading = PpProgramPass(p->passes.front());
+    return report;
 }
 
 PpFrameWork PpShading::compute(const Classification& classification, const ColorMap& color_map, const PhongLighting& lighting,
@@ -221,19 +200,6 @@ PpFrameWork PpShading::compute(const Classification& classification, const Color
         work.shading = execute_program(program, program.expressions > 0 ? &view : nullptr);
     }
     return work;
-}
-
-PpFrameReport PpShading::time(Machine& machine, const PpFrameWork& work, Tick start) {
-    PpFrameReport report;
-    report.start_ps = start;
-    report.end_ps = start;
-    for (auto [pass, report_pass] : {std::pair{&work.classification, &report.classification}, std::pair{&work.shading, &report.shading}}) {
-        if (!*pass) continue;
-        *report_pass = schedule(machine, **pass, report.end_ps);
-        machine.events().run_until();
-        report.end_ps = report_pass->end_ps;
-    }
-    return report;
 }
 
 ShadedVolume PpShading::shaded_volume() const {

@@ -5,15 +5,14 @@
 //
 // PpShading places and loads the volume once, then for each frame reruns only what changed: the
 // classification program when the classification changed, the shading program when the colours,
-// lights or view did. The programs really run (functionally, on every PP, in fixed point) and their
-// time comes from the operations they perform (sim/renderer/pp_cost_model.h), on each renderer's
-// clock through the machine's event queue.
+// lights or view did. The programs really run (functionally, on every PP, in fixed point) and are
+// recorded as PpPassWork; their time comes from the operations they perform (sim/renderer/pp_cost_model.h)
+// when the timing engine (sim/timing/frame_engine.h) replays them on each renderer's clock.
 //
 // Not modelled yet: moving the volume into the backing stores (the ring brings it once, before any
 // frame) and the commands that start each pass (they arrive over the ring from a GP).
 
 #include "kernels/levoy/adaptive_refinement.h"
-#include "kernels/levoy/ray_cast_timing.h"
 #include "kernels/levoy/shading_programs.h"
 #include "kernels/levoy/voxel_placement.h"
 #include "kernels/levoy/voxel_record.h"
@@ -28,6 +27,8 @@
 #include "sim/core/time.h"
 #include "sim/machine/machine.h"
 #include "sim/renderer/pp_cost_model.h"
+#include "sim/timing/frame_timing.h"
+#include "sim/timing/recorded_work.h"
 
 #include <functional>
 #include <optional>
@@ -40,7 +41,7 @@ struct LevoySettings {
     PlacementPolicy placement = PlacementPolicy::Bricks;
     VoxelRecordLayout layout;
     int block_cells = 4;
-    RayAssignment ray_assignment = RayAssignment::StaticTiles;
+    TaskAssignment ray_assignment = TaskAssignment::Static;  // tiles dealt round-robin, or from the host's queue
     int tile_pixels = 16;
     RefinementSettings refinement;
     bool pyramid_skipping = true;
@@ -51,24 +52,11 @@ struct LevoySettings {
     static LevoySettings from(const MachineConfig& config);
 };
 
-// One program's pass over the machine: the busiest renderer's time, and one slot's cost.
-struct PpProgramPass {
+// One program's pass as a frame's report shows it: whether it ran, and its timing.
+struct PpProgramPass : PpPassTiming {
     bool ran = false;
-    Tick start_ps = 0;
-    Tick end_ps = 0;
-    std::uint64_t instructions = 0;     // in the program
-    int local_memory_bits_used = 0;
-    PpProgramCost slot_cost;            // one voxel slot
-    PpPassCycles busiest;               // the renderer that finished last
-    std::uint64_t slots = 0;            // on that renderer
-};
-
-// The functional half of one program's pass: what each renderer's PPs ran. It does not depend on any
-// timing parameter, so the same work can be timed again on a machine with other costs (calibration).
-struct PpPassWork {
-    PpProgram program;
-    std::vector<std::uint64_t> slots;   // per renderer
-    std::vector<PpRunCounts> counts;    // per renderer
+    PpProgramPass() = default;
+    explicit PpProgramPass(const PpPassTiming& timing) : PpPassTiming(timing), ran(true) {}
 };
 
 // The passes a frame's classification and shading ran, in order.
@@ -91,27 +79,19 @@ public:
     // what it would need) if it does not fit, and InputError for a layout the programs cannot use.
     PpShading(Machine& machine, const Volume& volume, const LevoySettings& settings);
 
-    // Runs the passes this frame needs, from the machine's current time; returns what they did.
+    // Runs the passes this frame needs and times them on the machine from its current time (the
+    // classification, then the shading); returns what they did.
     PpFrameReport update(const Classification& classification, const ColorMap& color_map, const PhongLighting& lighting,
                          const ShadingView& view, bool classification_changed, bool shading_changed);
-    // The two halves of update(): the programs' functional runs, then their timing from `start`
-    // (classification first, each pass after the one before; events drained).
+    // The functional half of update(): the programs' runs, recorded.
     PpFrameWork compute(const Classification& classification, const ColorMap& color_map, const PhongLighting& lighting,
                         const ShadingView& view, bool classification_changed, bool shading_changed);
-    static PpFrameReport time(Machine& machine, const PpFrameWork& work, Tick start);
 
     // Runs `program` on every renderer over the slots `select` accepts, each with the QEE expressions
-    // `expressions` gives for its frame (none when empty), starting at `start` or when each renderer
-    // is free: the functional run and its timing, as for the classification and shading passes. The
-    // passes' end events are left in the queue (so that several can be queued back to back); run it.
+    // `expressions` gives for its frame (none when empty), and records what each renderer ran.
     using SlotSelector = std::function<bool(const SlotFrame&)>;
     using SlotExpressions = std::function<std::vector<QeeCoefficients>(const SlotFrame&)>;
-    PpProgramPass run_over_slots(const PpProgram& program, const SlotSelector& select, const SlotExpressions& expressions,
-                                 Tick start);
-    // run_over_slots in two halves: the functional run, and its timing on `machine` from `start`
-    // (events left queued).
     PpPassWork execute(const PpProgram& program, const SlotSelector& select, const SlotExpressions& expressions);
-    static PpProgramPass schedule(Machine& machine, const PpPassWork& work, Tick start);
     PpProgramInputs program_inputs() const;
 
     // The colours and opacities the PPs hold, read back into a volume for the compositor.

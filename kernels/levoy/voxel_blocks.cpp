@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <limits>
-#include <map>
 #include <stdexcept>
 
 namespace pp5 {
@@ -46,21 +45,37 @@ std::span<const VoxelBlocks::Part> VoxelBlocks::parts(std::uint32_t block) {
         const int columns = placement_.shape().columns;
         const int rows = placement_.shape().rows;
         // Within one z and one tile of PP columns x rows, every voxel is on the same renderer.
-        std::map<int, std::uint32_t> by_renderer;
+        std::vector<std::pair<int, std::uint32_t>> by_renderer;  // few entries: a linear search beats a map
         for (int z = lo.z; z <= hi.z; ++z) {
             for (int y = lo.y; y <= hi.y; y = (y / rows + 1) * rows) {
                 const int y_end = std::min(hi.y + 1, (y / rows + 1) * rows);
                 for (int x = lo.x; x <= hi.x; x = (x / columns + 1) * columns) {
                     const int x_end = std::min(hi.x + 1, (x / columns + 1) * columns);
-                    by_renderer[placement_.locate({x, y, z}).renderer] += static_cast<std::uint32_t>((x_end - x) * (y_end - y));
+                    const int renderer = placement_.locate({x, y, z}).renderer;
+                    const auto voxels = static_cast<std::uint32_t>((x_end - x) * (y_end - y));
+                    const auto it = std::find_if(by_renderer.begin(), by_renderer.end(), [&](const auto& e) { return e.first == renderer; });
+                    if (it == by_renderer.end()) by_renderer.emplace_back(renderer, voxels);
+                    else it->second += voxels;
                 }
             }
         }
         first_part_[block] = static_cast<std::uint32_t>(parts_.size());
         part_count_[block] = static_cast<std::uint16_t>(by_renderer.size());
+        std::sort(by_renderer.begin(), by_renderer.end());  // renderer order, as the requests go out
         for (const auto& [renderer, voxels] : by_renderer) parts_.push_back(Part{renderer, voxels});
     }
     return {parts_.data() + first_part_[block], part_count_[block]};
+}
+
+std::shared_ptr<const BlockDirectory> VoxelBlocks::directory() {
+    std::vector<std::uint32_t> first{0};
+    std::vector<BlockPart> all;
+    for (std::uint64_t b = 0; b < block_count(); ++b) {
+        for (const Part& part : parts(static_cast<std::uint32_t>(b)))
+            all.push_back(BlockPart{static_cast<std::uint32_t>(part.renderer), part.voxels});
+        first.push_back(static_cast<std::uint32_t>(all.size()));
+    }
+    return std::make_shared<const BlockDirectory>(block_bits(), static_cast<std::uint32_t>(voxel_bits_), std::move(first), std::move(all));
 }
 
 }  // namespace pp5

@@ -5,10 +5,12 @@
 // faces with bricks): the GP asks each of them for its part and has the block when every part is in.
 
 #include "kernels/levoy/voxel_placement.h"
+#include "sim/timing/recorded_work.h"
 
 #include <glm/vec3.hpp>
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -37,6 +39,8 @@ public:
     }
     // Renderers holding the block's voxels, with how many each; computed on first use.
     std::span<const Part> parts(std::uint32_t block);
+    // Every block's parts, for the timing engine: a unit is one voxel's colour and opacity.
+    std::shared_ptr<const BlockDirectory> directory();
 
 private:
     const VoxelPlacement& placement_;

@@ -1,46 +1,34 @@
 #pragma once
-// What a graphics processor's work costs: the i860 by operation class. Floating-point classes are
-// counted in flops and run at the GP's sustained rate (gp.sustained_mflops, Levoy's 20 MFLOPS); control
-// classes (look-ups, messages, context switches) are counted in GP clock cycles. None of these numbers
-// is published: each default is an operation count of the obvious implementation, documented with the
-// parameter, and the calibration fits them. A cost is kept in picoseconds so that sums are exact.
+// What a graphics processor's machine-level work costs on the i860, in GP clock cycles: looking a block
+// up in its cache, sending and receiving ring messages, switching between contexts. What a kernel's
+// own operations cost is declared by the kernel ("gp_cost.<kernel>.*", in flops or cycles) and resolved
+// with cost_of(). None of these numbers is published: each default is an operation count of the
+// obvious implementation, documented with the parameter, and the calibration scales them. A cost is
+// kept in picoseconds so that sums are exact.
 
 #include "sim/core/config.h"
 #include "sim/core/param.h"
 #include "sim/core/time.h"
 
 #include <cstdint>
+#include <string>
 
 namespace pp5 {
 
 struct GpCostModel {
-    // Floating-point work, per operation.
-    Tick ray_setup = 0;         // a ray's origin, direction and entry into the volume
-    Tick sample_step = 0;       // advance to the next sample and find its cell
-    Tick interpolation = 0;     // trilinear interpolation of colour and opacity
-    Tick compositing = 0;       // front-to-back compositing of one sample, with the termination test
-    Tick pixel_fill = 0;        // a pixel not cast, interpolated from its square's corners
-    Tick refinement_test = 0;   // comparing a square's corner colours
-    // What the PPs do on Pixel-planes 5, when one processor does it instead (a uniprocessor machine).
-    Tick voxel_classification = 0;
-    Tick voxel_shading = 0;
-    Tick voxel_region = 0;
-    Tick polygon_point_test = 0;  // one sample point against one plane
-    Tick voxel_matte = 0;
-    // Control work, per operation.
-    Tick pyramid_step = 0;      // one visit to a cell of the pyramid of binary volumes
     Tick cache_lookup = 0;
     Tick message_send = 0;      // composing and handing a message to the ring interface
     Tick message_receive = 0;   // taking a message from the ring interface
     Tick receive_per_word = 0;  // copying one received word into the cache
-    Tick context_switch = 0;    // saving one ray's state and restoring another's
-    Tick pyramid_build_per_cell = 0;
+    Tick context_switch = 0;    // saving one context's state and restoring another's
 
     static const ParamGroup& params();
     static GpCostModel from(const MachineConfig& config);
 
-    // One resampled sample: step, interpolation and compositing.
-    Tick per_sample() const { return sample_step + interpolation + compositing; }
+    // One operation's cost on this machine's GPs for the cost parameter `key` (any group's): a count of
+    // flops at gp.sustained_mflops, or of cycles at gp.clock_mhz, as the parameter's unit says, times
+    // the calibration scale of that family.
+    static Tick cost_of(const MachineConfig& config, const std::string& key);
 };
 
 }  // namespace pp5

@@ -8,7 +8,7 @@ namespace pp5 {
 
 const ParamGroup& GraphicsProcessor::params() {
     static const ParamGroup group = [] {
-        ParamGroup g("gp", "Graphics processors: Intel i860 nodes that trace rays");
+        ParamGroup g("gp", "Graphics processors: Intel i860 nodes with memory and a block cache");
         g.integer("count", 32, "count", 1, 1024, "Number of graphics processors", Provenance::Paper,
                   "Levoy 1989, Implementation on Pixel-planes 5: 32 GPs")
             .real("clock_mhz", 40.0, "MHz", 1, 10000, "i860 core clock (up to 10 GHz for other processors, such as the host preset)", Provenance::Hardware,
@@ -16,14 +16,14 @@ const ParamGroup& GraphicsProcessor::params() {
             .real("sustained_mflops", 20.0, "MFLOPS", 0.1, 1e5, "Floating-point rate a GP sustains on ray tracing",
                   Provenance::Paper, "Levoy 1989: 20-MFLOP graphics processors (i860 peak is 80)")
             .integer("cache_bits", 16 * 1024 * 1024, "bits", 1024, 1LL << 40,
-                     "Voxel cache capacity per GP (16 Mbit = 2 MiB)", Provenance::Paper,
+                     "Block cache capacity per GP (16 Mbit = 2 MiB); it must fit in gp.memory_bytes with the kernel's own data", Provenance::Paper,
                      "Levoy 1989: voxels retained in a 16Mb local cache")
-            .integer("memory_bytes", 8 * 1024 * 1024, "bytes", 1024, 1LL << 40, "Memory per GP board",
+            .integer("memory_bytes", 8 * 1024 * 1024, "bytes", 1024, 1LL << 40, "Memory per GP board: holds the block cache and what a kernel keeps on every GP (Levoy's pyramid)",
                      Provenance::Default, "machine.md: about 8 MB per GP board, not confirmed")
             .integer("ray_contexts", 8, "count", 1, 4096,
-                     "Rays a GP keeps in flight, switching between them while voxel requests are outstanding",
+                     "Items (rays) a GP keeps in flight, switching between them while fetches are outstanding",
                      Provenance::Default, "Levoy 1989 says 'several rays' without a number")
-            .integer("cache_associativity", 8, "ways", 1, 1 << 20, "Ways per set of the voxel cache (LRU within a set)",
+            .integer("cache_associativity", 8, "ways", 1, 1 << 20, "Ways per set of the block cache (LRU within a set)",
                      Provenance::Default, "not published: the cache is software on the i860, any organisation is possible");
         return g;
     }();
@@ -32,38 +32,42 @@ const ParamGroup& GraphicsProcessor::params() {
 
 GraphicsProcessor::GraphicsProcessor(std::size_t index, const MachineConfig& config)
     : Component(indexed("gp", index), nullptr),
-      rays(stats().counter("rays", "count", "Rays traced to completion")),
-      samples(stats().counter("samples", "count", "Resampling points interpolated and composited")),
-      samples_skipped(stats().counter("samples_skipped", "count", "Samples in empty pyramid cells, not computed")),
-      pyramid_steps(stats().counter("pyramid_steps", "count", "Visits to cells of the pyramid of binary volumes")),
-      rays_terminated(stats().counter("rays_terminated", "count", "Rays stopped by early termination")),
-      pixels_filled(stats().counter("pixels_filled", "count", "Pixels interpolated from their square's corners, not cast")),
-      requests(stats().counter("requests", "count", "Voxel request messages sent to renderers")),
-      replies(stats().counter("replies", "count", "Voxel replies received")),
-      context_switches(stats().counter("context_switches", "count", "Switches from a waiting ray to a ready one")),
+      tasks(stats().counter("tasks", "count", "Tasks (a tile of rays in one refinement pass, say) finished")),
+      items(stats().counter("items", "count", "Items (rays, primitive batches) run to completion")),
+      fetch_requests(stats().counter("fetch_requests", "count", "Fetch request messages sent to renderers")),
+      replies(stats().counter("replies", "count", "Fetch replies received")),
+      context_switches(stats().counter("context_switches", "count", "Switches from a waiting item to a ready one")),
       busy_ps(stats().counter("busy_time", "ps", "Simulated time spent computing")),
-      wait_ps(stats().counter("wait_time", "ps", "Simulated time with work left but nothing to run: every ray waiting for voxels, or the next refinement pass not yet open")),
+      wait_ps(stats().counter("wait_time", "ps", "Simulated time with work left but nothing to run: every item waiting for a block, or the next group of tasks not yet open")),
       index_(index),
       clock_(ClockDomain::from_megahertz(name() + ".clock", config.real("gp.clock_mhz"))),
       cache_bits_(static_cast<std::uint64_t>(config.integer("gp.cache_bits"))),
+      memory_bytes_(static_cast<std::uint64_t>(config.integer("gp.memory_bytes"))),
       ray_contexts_(static_cast<int>(config.integer("gp.ray_contexts"))),
       cache_associativity_(static_cast<int>(config.integer("gp.cache_associativity"))),
       costs_(GpCostModel::from(config)) {}
 
-VoxelCache& GraphicsProcessor::cache(std::uint64_t block_bits) {
-    if (block_bits == 0) throw std::invalid_argument("voxel cache blocks need at least one bit");
+BlockCache& GraphicsProcessor::cache(std::uint64_t block_bits) {
+    if (block_bits == 0) throw std::invalid_argument("cache blocks need at least one bit");
     if (cache_ && block_bits != cache_block_bits_) throw std::logic_error(name() + ": cache already built for another block size");
     if (!cache_) {
         const std::uint64_t blocks = cache_bits_ / block_bits;
         if (blocks == 0) {
             throw InputError("machine configuration", "gp.cache_bits",
-                             "the voxel cache (" + std::to_string(cache_bits_) + " bits) cannot hold one block of " +
+                             "the block cache (" + std::to_string(cache_bits_) + " bits) cannot hold one block of " +
                                  std::to_string(block_bits) + " bits");
         }
         cache_block_bits_ = block_bits;
-        cache_ = std::make_unique<VoxelCache>(this, blocks, cache_associativity_);
+        cache_ = std::make_unique<BlockCache>(this, blocks, cache_associativity_);
     }
     return *cache_;
+}
+
+Counter& GraphicsProcessor::operations(const std::string& kind) {
+    auto it = operations_.find(kind);
+    if (it == operations_.end())
+        it = operations_.emplace(kind, &stats().counter("operations." + kind, "count", "Operations of the kernel's kind " + kind)).first;
+    return *it->second;
 }
 
 }  // namespace pp5

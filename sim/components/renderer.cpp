@@ -23,12 +23,12 @@ const ParamGroup& Renderer::params() {
                      Provenance::Hardware, "Fuchs et al. 1989: moved in 32-bit blocks")
             .real("clock_mhz", 40.0, "MHz", 1, 1000, "Pixel-processor clock", Provenance::Hardware,
                   "Fuchs et al. 1989: chips designed for 40 MHz")
-            .integer("request_setup_cycles", 64, "cycles", 0, 1 << 24,
-                     "Controller cycles to decode a voxel request and set up the read-out", Provenance::Default,
+            .integer("fetch_setup_cycles", 64, "cycles", 0, 1 << 24,
+                     "Controller cycles to decode a GP's fetch request and set up the read-out", Provenance::Default,
                      "not published: a few dozen controller instructions")
-            .real("request_cycles_per_voxel", 4.0, "cycles", 0, 1 << 20,
-                  "Cycles to read one voxel's colour and opacity out of the PPs onto the ring port", Provenance::Default,
-                  "not published: a 32-bit word through the renderer's port in a few cycles");
+            .real("fetch_cycles_per_unit", 4.0, "cycles", 0, 1 << 20,
+                  "Cycles to read one unit of a fetched block (a 32-bit word: one of Levoy's shaded voxels) out of the PPs onto the ring port",
+                  Provenance::Default, "not published: a 32-bit word through the renderer's port in a few cycles");
         return g;
     }();
     return group;
@@ -36,11 +36,11 @@ const ParamGroup& Renderer::params() {
 
 Renderer::Renderer(std::size_t index, const MachineConfig& config)
     : Component(indexed("renderer", index), nullptr),
-      busy_ps(stats().counter("busy_time", "ps", "Simulated time busy: PP passes and voxel requests")),
-      voxel_requests(stats().counter("voxel_requests", "count", "Voxel requests answered for the GPs")),
-      voxels_sent(stats().counter("voxels_sent", "count", "Voxels read out in answer to requests")),
-      request_busy_ps(stats().counter("request_busy_time", "ps", "Simulated time spent answering voxel requests")),
-      request_wait_ps(stats().counter("request_wait_time", "ps", "Time requests waited for the renderer to be free")),
+      busy_ps(stats().counter("busy_time", "ps", "Simulated time busy: PP passes and fetches")),
+      fetches(stats().counter("fetches", "count", "GPs' fetch requests answered")),
+      units_sent(stats().counter("units_sent", "count", "Units (words) read out in answer to fetches")),
+      fetch_busy_ps(stats().counter("fetch_busy_time", "ps", "Simulated time spent answering fetches")),
+      fetch_wait_ps(stats().counter("fetch_wait_time", "ps", "Time fetch requests waited for the renderer to be free")),
       index_(index),
       clock_(ClockDomain::from_megahertz(name() + ".clock", config.real("renderer.clock_mhz"))),
       columns_(static_cast<std::uint64_t>(config.integer("renderer.pp_columns"))),
@@ -48,8 +48,8 @@ Renderer::Renderer(std::size_t index, const MachineConfig& config)
       local_memory_bits_(static_cast<std::uint64_t>(config.integer("renderer.local_memory_bits"))),
       backing_store_bits_(static_cast<std::uint64_t>(config.integer("renderer.backing_store_bits"))),
       cost_model_(config),
-      request_setup_cycles_(static_cast<std::uint64_t>(config.integer("renderer.request_setup_cycles"))),
-      request_cycles_per_voxel_(config.real("renderer.request_cycles_per_voxel")),
+      fetch_setup_cycles_(static_cast<std::uint64_t>(config.integer("renderer.fetch_setup_cycles"))),
+      fetch_cycles_per_unit_(config.real("renderer.fetch_cycles_per_unit")),
       passes_(stats().counter("passes", "count", "PP program runs over voxel slots")),
       slots_(stats().counter("slots", "count", "Voxel slots processed, summed over passes")),
       busy_cycles_(stats().counter("busy_cycles", "cycles", "PP clock cycles spent in passes")),
@@ -110,18 +110,17 @@ Tick Renderer::begin_pass(EventQueue& events, Tick start, const RendererPass& pa
     return busy_until_;
 }
 
-Tick Renderer::serve_request(Tick arrival, std::uint64_t voxels) {
+Tick Renderer::serve_fetch(Tick arrival, std::uint64_t units) {
     const Tick begin = clock_.next_edge(std::max(arrival, busy_until_));
-    const auto cycles = request_setup_cycles_ +
-                        static_cast<std::uint64_t>(std::ceil(request_cycles_per_voxel_ * static_cast<double>(voxels)));
+    const auto cycles = fetch_setup_cycles_ + static_cast<std::uint64_t>(std::ceil(fetch_cycles_per_unit_ * static_cast<double>(units)));
     const Tick duration = clock_.cycles_to_ticks(cycles);
     busy_until_ = begin + duration;
-    ++voxel_requests;
-    voxels_sent += voxels;
-    request_busy_ps += static_cast<std::uint64_t>(duration);
-    request_wait_ps += static_cast<std::uint64_t>(begin - arrival);
+    ++fetches;
+    units_sent += units;
+    fetch_busy_ps += static_cast<std::uint64_t>(duration);
+    fetch_wait_ps += static_cast<std::uint64_t>(begin - arrival);
     busy_ps += static_cast<std::uint64_t>(duration);
-    if (trace_ != nullptr) trace_->slice(trace_track_, "answering a voxel request", begin, busy_until_);
+    if (trace_ != nullptr) trace_->slice(trace_track_, "answering a fetch", begin, busy_until_);
     return busy_until_;
 }
 
@@ -131,8 +130,8 @@ void Renderer::set_trace(TraceRecorder* trace) {
 }
 
 void Renderer::handle_event(Tick, std::uint64_t) {
-    // The pass is over; the renderer takes new work from busy_until_ on. Nothing else waits on it yet:
-    // the GPs' voxel requests (which queue behind passes) arrive with the ray caster.
+    // The pass is over; the renderer takes new work from busy_until_ on (fetches queue behind passes,
+    // and the timing engine starts the next phase itself).
 }
 
 }  // namespace pp5

@@ -1,7 +1,8 @@
 #pragma once
 // A renderer: a SIMD array of bit-serial pixel processors (PPs), each with a little local memory and a
-// larger backing store, driven by a controller and a quadratic expression evaluator. In Levoy's design
-// the PPs hold the voxels and shade and classify them in parallel.
+// larger backing store, driven by a controller and a quadratic expression evaluator. Kernels give it PP
+// programs to run over the data its PPs hold (in Levoy's design, the voxels: classified and shaded in
+// parallel) and blocks of that data for the GPs to fetch.
 //
 // Function and time are kept apart: the PP array (sim/renderer/pp_array.h) computes real values, and
 // this component spends simulated time on the program runs it is given, at the cost the PP cost model
@@ -50,19 +51,19 @@ public:
     // Starts `pass` at `start` (or when the renderer is next free, if later); returns when it will end.
     Tick begin_pass(EventQueue& events, Tick start, const RendererPass& pass);
     Tick busy_until() const { return busy_until_; }
-    // Answers a voxel request for `voxels` voxels that arrived at `arrival`: requests and passes are
-    // served one at a time in the order they come. Returns when the reply is ready to leave.
-    Tick serve_request(Tick arrival, std::uint64_t voxels);
+    // Answers a GP's fetch of `units` units (words of the PPs' data) that arrived at `arrival`: fetches
+    // and passes are served one at a time in the order they come. Returns when the reply is ready to leave.
+    Tick serve_fetch(Tick arrival, std::uint64_t units);
     // Bits of each PP's backing store holding data, as the kernel that placed it reports.
     void set_backing_store_bits_used(std::uint64_t bits) { backing_store_bits_used_ = bits; }
     // Records passes and requests as slices on this renderer's track (nullptr: no trace).
     void set_trace(TraceRecorder* trace);
 
     Counter& busy_ps;
-    Counter& voxel_requests;
-    Counter& voxels_sent;
-    Counter& request_busy_ps;
-    Counter& request_wait_ps;
+    Counter& fetches;
+    Counter& units_sent;
+    Counter& fetch_busy_ps;
+    Counter& fetch_wait_ps;
 
 private:
     void handle_event(Tick now, std::uint64_t payload) override;
@@ -74,8 +75,8 @@ private:
     std::uint64_t local_memory_bits_;
     std::uint64_t backing_store_bits_;
     PpCostModel cost_model_;
-    std::uint64_t request_setup_cycles_;
-    double request_cycles_per_voxel_;
+    std::uint64_t fetch_setup_cycles_;
+    double fetch_cycles_per_unit_;
     std::unique_ptr<PpArray> array_;
     TraceRecorder* trace_ = nullptr;
     int trace_track_ = 0;

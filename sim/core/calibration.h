@@ -10,8 +10,8 @@
 namespace pp5 {
 
 struct CalibrationScales {
-    double gp_flops = 1.0;   // every gp_cost.*_flops
-    double gp_cycles = 1.0;  // every gp_cost.*_cycles
+    double gp_flops = 1.0;   // every GP cost in flops (gp_cost.*, every kernel's included)
+    double gp_cycles = 1.0;  // every GP cost in cycles
     double pp_cycles = 1.0;  // every PP program's cycles: ALU, controller and backing store
 
     static const ParamGroup& params();

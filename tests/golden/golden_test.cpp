@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -114,7 +115,8 @@ TEST_P(Golden, StatisticsAndImagesMatchTheRecordedRun) {
     EXPECT_TRUE(stats_diff.empty()) << name << ": stats.json differs from the golden run:\n" << stats_diff.dump(1).substr(0, 6000);
     const nlohmann::json image_diff = nlohmann::json::diff(expected_images, images);
     EXPECT_TRUE(image_diff.empty()) << name << ": images differ from the golden run:\n" << image_diff.dump(1);
-    fs::remove_all(out);
+    if (HasFailure()) std::cout << "this run's output is kept in " << out << "\n";
+    else fs::remove_all(out);
 }
 
 INSTANTIATE_TEST_SUITE_P(ShippedScenarios, Golden, ::testing::ValuesIn(shipped_scenarios()),

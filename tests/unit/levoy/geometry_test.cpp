@@ -10,6 +10,8 @@
 #include "sim/machine/machine.h"
 #include "tests/unit/levoy/levoy_test_support.h"
 
+#include "sim/timing/one_processor.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -132,6 +134,33 @@ ShadedVolume scan_converted(const std::vector<PolygonSpec>& polygons, int sample
     EXPECT_EQ(report.geometry.ran, !polygons.empty());
     EXPECT_EQ(report.geometry.polygons, polygons.size());
     return renderer.shaded_volume();
+}
+
+// Levoy: on a sequential machine the cost of scan-converting a polygon is proportional to its area.
+TEST(ScanConversion, OnOneProcessorItsCostGrowsInProportionToArea) {
+    const auto seconds_for = [](float side) {
+        const MachineConfig config = small_machine({"levoy.jitter_samples=16", "gp.sustained_mflops=1.1"});
+        Machine machine(config);
+        const Volume volume = make_constant_volume(glm::ivec3(32), 50.0f);
+        LevoyRenderer renderer(machine, volume, LevoySettings::from(config), LevoyImageSettings{16, 16, 1.0f, 0.95f, glm::vec3(0.0f)});
+        PolygonSpec square;
+        square.vertices = {{4.0f, 4.0f, 10.0f}, {4.0f + side, 4.0f, 10.0f}, {4.0f + side, 4.0f + side, 10.0f}, {4.0f, 4.0f + side, 10.0f}};
+        square.colors = {glm::vec3(1.0f)};
+        square.opacities = {1.0f};
+        renderer.set_polygons({square});
+        LevoyFrameInputs in;
+        in.camera = front_view();
+        in.classification.contours = {{200.0f, 1.0f, 1.0f}};
+        in.colors = ColorMap{{{0.0f, {0.5f, 0.5f, 0.5f}}}};
+        const LevoyFrameReport report = renderer.render(in);
+        const FrameTiming t = time_frame_on_one_processor(config, report.work.machine);
+        return ticks_to_seconds(t.phase("scan_conversion")->duration_ps());
+    };
+    const double small = seconds_for(4.0f);
+    EXPECT_NEAR(seconds_for(8.0f) / small, 4.0, 1e-9);
+    EXPECT_NEAR(seconds_for(16.0f) / small, 16.0, 1e-9);
+    // The closed form: 2 voxels per unit area, J x (edges + 1) tests of 2 flops and a 12-flop matte each.
+    EXPECT_NEAR(small, 16.0 * 2.0 * (16.0 * 5.0 * 2.0 + 12.0) / 1.1e6, small * 1e-6);
 }
 
 TEST(ScanConversion, PixelProcessorsCountWhatTheHostCounts) {

@@ -2,6 +2,7 @@
 // Helpers shared by the levoy kernel's tests: a configuration holding the machine's and the kernel's
 // parameters, small by default so that tests run in milliseconds.
 
+#include "kernels/levoy/levoy_costs.h"
 #include "kernels/levoy/pp_shading.h"
 #include "sim/machine/machine.h"
 
@@ -14,6 +15,7 @@ namespace pp5::test {
 inline MachineConfig levoy_config(std::initializer_list<std::string_view> base, std::initializer_list<std::string_view> overrides) {
     std::vector<const ParamGroup*> groups = Machine::param_groups();
     groups.push_back(&LevoySettings::params());
+    groups.push_back(&levoy_cost_params());
     MachineConfig config(groups);
     for (auto o : base) config.apply_override(o);
     for (auto o : overrides) config.apply_override(o);

@@ -290,35 +290,5 @@ TEST(LevoyRenderer, WorkQueueAssignmentGivesTheSameImage) {
     EXPECT_GT(stats["ring"]["messages"]["value"]["command"].get<std::uint64_t>(), 0u);
 }
 
-TEST(LevoyRenderer, WatchdogNamesTheGpThatIsStuck) {
-    Scene s;
-    s.config.apply_override("renderer.request_setup_cycles=10000000");  // a quarter second per request
-    Machine machine(s.config);
-    LevoySettings settings = LevoySettings::from(s.config);
-    LevoyRenderer renderer(machine, s.volume, settings, s.image);
-    // Run the timing layer alone with a tight limit.
-    RayCastJob job;
-    CastBatch batch;
-    batch.rays.push_back(RayWork{});
-    batch.rays[0].touch_count = 1;
-    batch.touches.push_back(BlockTouch{0, 1, 0});
-    batch.colors.push_back(glm::vec4(0.0f));
-    job.passes.push_back(batch);
-    job.tasks.push_back(TileTask{0, 0, 0, 1, 0, 0, 64});
-    job.tiles = 1;
-    RayCastTimingOptions options;
-    options.watchdog_limit = kTicksPerSecond / 1000;
-    VoxelBlocks blocks(renderer.pixel_processors().placement(), 4, 32);
-    try {
-        time_ray_casting(machine, blocks, job, options, machine.events().now());
-        FAIL() << "expected the watchdog to fire";
-    } catch (const std::runtime_error& e) {
-        const std::string what = e.what();
-        EXPECT_NE(what.find("watchdog"), std::string::npos) << what;
-        EXPECT_NE(what.find("gp[0]"), std::string::npos) << what;
-        EXPECT_NE(what.find("voxel block 0"), std::string::npos) << what;
-    }
-}
-
 }  // namespace
 }  // namespace pp5

@@ -33,7 +33,7 @@ TEST(RingNetwork, UnloadedMessageTakesHopsTimesLatencyPlusSizeOverWidth) {
             const std::size_t hops = ring.hops(from, to);
             ASSERT_GT(hops, 0u);
             // 100 bits on a 32-bit channel: four words of payload.
-            const RingTransit t = ring.transmit(0, RingMessage{MessageKind::VoxelRequest, from, to, 100, false});
+            const RingTransit t = ring.transmit(0, RingMessage{MessageKind::FetchRequest, from, to, 100, false});
             const std::uint64_t cycles = hops * static_cast<std::uint64_t>(hop_latency) + static_cast<std::uint64_t>(header) + 4;
             EXPECT_EQ(t.start, 0);
             EXPECT_EQ(t.arrival, ring.clock().cycles_to_ticks(cycles)) << "hop latency " << hop_latency << ", header " << header;
@@ -64,7 +64,7 @@ TEST(RingNetwork, SaturatedChannelCarriesItsBandwidthAndNoMore) {
     const int messages = 1000;
     const std::uint64_t payload_bits = 125 * 32;
     RingTransit last;
-    for (int i = 0; i < messages; ++i) last = ring.transmit(0, RingMessage{MessageKind::VoxelReply, from, to, payload_bits, false});
+    for (int i = 0; i < messages; ++i) last = ring.transmit(0, RingMessage{MessageKind::FetchReply, from, to, payload_bits, false});
     // Every message waits for all before it: the channel streams words back to back.
     const std::uint64_t words = ring.message_words(payload_bits);
     EXPECT_EQ(last.start, ring.clock().cycles_to_ticks(words * (messages - 1)));
@@ -78,7 +78,7 @@ TEST(RingNetwork, SaturatedChannelCarriesItsBandwidthAndNoMore) {
 TEST(RingNetwork, MessagesSpreadOverChannelsThenQueue) {
     RingNetwork ring(config_with({"ring.channels=8", "ring.header_words=0", "ring.hop_latency_cycles=0"}), 8, 2);
     std::vector<RingTransit> sent;
-    for (int i = 0; i < 16; ++i) sent.push_back(ring.transmit(0, RingMessage{MessageKind::Pixels, 1, 2, 10 * 32, false}));
+    for (int i = 0; i < 16; ++i) sent.push_back(ring.transmit(0, RingMessage{MessageKind::PixelBlock, 1, 2, 10 * 32, false}));
     for (int i = 0; i < 8; ++i) {
         EXPECT_EQ(sent[static_cast<std::size_t>(i)].channel, i);
         EXPECT_EQ(sent[static_cast<std::size_t>(i)].start, 0);
@@ -89,8 +89,8 @@ TEST(RingNetwork, MessagesSpreadOverChannelsThenQueue) {
         ring.collect_stats(out);
         return out;
     }();
-    EXPECT_EQ(stats["ring"]["messages"]["value"]["pixels"], 16);
-    EXPECT_EQ(stats["ring"]["bytes"]["value"]["pixels"], 16 * 10 * 4);
+    EXPECT_EQ(stats["ring"]["messages"]["value"]["pixel_block"], 16);
+    EXPECT_EQ(stats["ring"]["bytes"]["value"]["pixel_block"], 16 * 10 * 4);
     EXPECT_EQ(stats["ring"]["queueing_delay"]["value"]["samples"], 16);
     EXPECT_DOUBLE_EQ(stats["ring.channel[3]"]["utilisation"]["value"].get<double>(), 1.0);
 }
@@ -98,7 +98,7 @@ TEST(RingNetwork, MessagesSpreadOverChannelsThenQueue) {
 TEST(RingNetwork, BroadcastPassesEveryOtherStation) {
     RingNetwork ring(config_with({"ring.header_words=0", "ring.hop_latency_cycles=2"}), 4, 4);
     const std::size_t n = ring.stations().size();
-    const RingTransit t = ring.transmit(0, RingMessage{MessageKind::Pyramid, 3, 0, 32, true});
+    const RingTransit t = ring.transmit(0, RingMessage{MessageKind::Broadcast, 3, 0, 32, true});
     EXPECT_EQ(t.hops, n - 1);
     EXPECT_EQ(t.arrival, ring.clock().cycles_to_ticks(2 * (n - 1) + 1));
 }

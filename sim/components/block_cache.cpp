@@ -1,18 +1,18 @@
-#include "sim/components/voxel_cache.h"
+#include "sim/components/block_cache.h"
 
 #include <algorithm>
 #include <stdexcept>
 
 namespace pp5 {
 
-VoxelCache::VoxelCache(Component* owner, std::uint64_t capacity_blocks, int associativity)
+BlockCache::BlockCache(Component* owner, std::uint64_t capacity_blocks, int associativity)
     : Component("cache", owner),
       hits(stats().counter("hits", "count", "Block look-ups that found the block")),
       misses(stats().counter("misses", "count", "Block look-ups that did not (each leads to a request unless one is outstanding)")),
       fills(stats().counter("fills", "count", "Blocks stored after arriving")),
       evictions(stats().counter("evictions", "count", "Blocks dropped to make room")),
-      invalidations(stats().counter("invalidations", "count", "Times every block was dropped because voxels changed")) {
-    if (capacity_blocks == 0 || associativity < 1) throw std::invalid_argument("voxel cache needs at least one block and one way");
+      invalidations(stats().counter("invalidations", "count", "Times every block was dropped because the data they copy changed")) {
+    if (capacity_blocks == 0 || associativity < 1) throw std::invalid_argument("block cache needs at least one block and one way");
     ways_ = static_cast<int>(std::min<std::uint64_t>(static_cast<std::uint64_t>(associativity), capacity_blocks));
     sets_ = capacity_blocks / static_cast<std::uint64_t>(ways_);
     tags_.assign(sets_ * static_cast<std::uint64_t>(ways_), kEmpty);
@@ -24,19 +24,19 @@ VoxelCache::VoxelCache(Component* owner, std::uint64_t capacity_blocks, int asso
     });
 }
 
-std::uint64_t VoxelCache::set_of(std::uint64_t block) const {
+std::uint64_t BlockCache::set_of(std::uint64_t block) const {
     // Fibonacci hashing: the high bits of the product mix every bit of the block number.
     return ((block * 0x9E3779B97F4A7C15ull) >> 20) % sets_;
 }
 
-bool VoxelCache::contains(std::uint64_t block) const {
+bool BlockCache::contains(std::uint64_t block) const {
     const std::uint64_t base = set_of(block) * static_cast<std::uint64_t>(ways_);
     for (int w = 0; w < ways_; ++w)
         if (tags_[base + static_cast<std::uint64_t>(w)] == block) return true;
     return false;
 }
 
-bool VoxelCache::lookup(std::uint64_t block) {
+bool BlockCache::lookup(std::uint64_t block) {
     const std::uint64_t base = set_of(block) * static_cast<std::uint64_t>(ways_);
     for (int w = 0; w < ways_; ++w) {
         const std::uint64_t slot = base + static_cast<std::uint64_t>(w);
@@ -50,7 +50,7 @@ bool VoxelCache::lookup(std::uint64_t block) {
     return false;
 }
 
-void VoxelCache::insert(std::uint64_t block) {
+void BlockCache::insert(std::uint64_t block) {
     if (block == kEmpty) throw std::invalid_argument("voxel cache: reserved block number");
     const std::uint64_t base = set_of(block) * static_cast<std::uint64_t>(ways_);
     std::uint64_t victim = base;
@@ -76,7 +76,7 @@ void VoxelCache::insert(std::uint64_t block) {
     ++fills;
 }
 
-void VoxelCache::invalidate() {
+void BlockCache::invalidate() {
     std::fill(tags_.begin(), tags_.end(), kEmpty);
     occupied_ = 0;
     ++invalidations;

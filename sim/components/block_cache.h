@@ -1,11 +1,12 @@
 #pragma once
-// A GP's voxel cache: what Levoy's GPs keep of the voxels they have received, so that the next ray,
-// the next refinement pass or the next frame need not ask the renderers again.
+// A GP's block cache: what a GP keeps of the blocks it has fetched from the renderers (voxels, for
+// Levoy's ray caster), so that the next item, the next group of tasks or the next frame need not ask
+// again.
 //
-// It holds whole blocks (a block is what one voxel request returns), set-associative with least
-// recently used replacement. Sets are chosen by a multiplicative hash of the block number, so blocks
-// that neighbour each other in the volume spread over the sets. Contents survive between frames and
-// refinement passes; invalidate() drops them when the voxels' colours or opacities change.
+// It holds whole blocks (a block is what one fetch returns), set-associative with least recently used
+// replacement. Sets are chosen by a multiplicative hash of the block number, so blocks with
+// neighbouring numbers spread over the sets. Contents survive between frames and groups;
+// invalidate() drops them when the data they copy changes.
 
 #include "sim/core/component.h"
 
@@ -14,10 +15,10 @@
 
 namespace pp5 {
 
-class VoxelCache : public Component {
+class BlockCache : public Component {
 public:
     // capacity_blocks >= 1; an associativity above the capacity makes the cache fully associative.
-    VoxelCache(Component* owner, std::uint64_t capacity_blocks, int associativity);
+    BlockCache(Component* owner, std::uint64_t capacity_blocks, int associativity);
 
     // Whether `block` is held; a hit makes it the most recently used of its set.
     bool lookup(std::uint64_t block);

@@ -1,5 +1,5 @@
 #include "sim/components/graphics_processor.h"
-#include "sim/components/voxel_cache.h"
+#include "sim/components/block_cache.h"
 #include "sim/core/input_error.h"
 #include "sim/machine/machine.h"
 
@@ -12,9 +12,9 @@ struct Owner : Component {
     Owner() : Component("gp[0]", nullptr) {}
 };
 
-TEST(VoxelCache, MissThenHitAfterFill) {
+TEST(BlockCache, MissThenHitAfterFill) {
     Owner owner;
-    VoxelCache cache(&owner, 16, 4);
+    BlockCache cache(&owner, 16, 4);
     EXPECT_FALSE(cache.lookup(7));
     cache.insert(7);
     EXPECT_TRUE(cache.lookup(7));
@@ -24,9 +24,9 @@ TEST(VoxelCache, MissThenHitAfterFill) {
     EXPECT_EQ(cache.occupancy(), 1u);
 }
 
-TEST(VoxelCache, FullyAssociativeEvictsTheLeastRecentlyUsed) {
+TEST(BlockCache, FullyAssociativeEvictsTheLeastRecentlyUsed) {
     Owner owner;
-    VoxelCache cache(&owner, 4, 64);  // associativity above capacity: one set of four
+    BlockCache cache(&owner, 4, 64);  // associativity above capacity: one set of four
     EXPECT_EQ(cache.associativity(), 4);
     for (std::uint64_t b = 0; b < 4; ++b) cache.insert(b);
     EXPECT_TRUE(cache.lookup(0));  // 1 is now the least recently used
@@ -37,9 +37,9 @@ TEST(VoxelCache, FullyAssociativeEvictsTheLeastRecentlyUsed) {
     EXPECT_EQ(cache.occupancy(), 4u);
 }
 
-TEST(VoxelCache, NeverHoldsMoreThanItsCapacity) {
+TEST(BlockCache, NeverHoldsMoreThanItsCapacity) {
     Owner owner;
-    VoxelCache cache(&owner, 64, 8);
+    BlockCache cache(&owner, 64, 8);
     for (std::uint64_t b = 0; b < 1000; ++b) cache.insert(b * 37);
     EXPECT_EQ(cache.occupancy(), 64u);
     std::uint64_t held = 0;
@@ -48,9 +48,9 @@ TEST(VoxelCache, NeverHoldsMoreThanItsCapacity) {
     EXPECT_EQ(cache.evictions.value(), 1000u - 64u);
 }
 
-TEST(VoxelCache, RepeatedFillOfAHeldBlockDoesNotEvict) {
+TEST(BlockCache, RepeatedFillOfAHeldBlockDoesNotEvict) {
     Owner owner;
-    VoxelCache cache(&owner, 2, 2);
+    BlockCache cache(&owner, 2, 2);
     cache.insert(1);
     cache.insert(2);
     cache.insert(1);
@@ -59,9 +59,9 @@ TEST(VoxelCache, RepeatedFillOfAHeldBlockDoesNotEvict) {
     EXPECT_EQ(cache.evictions.value(), 0u);
 }
 
-TEST(VoxelCache, InvalidateDropsEveryBlock) {
+TEST(BlockCache, InvalidateDropsEveryBlock) {
     Owner owner;
-    VoxelCache cache(&owner, 32, 4);
+    BlockCache cache(&owner, 32, 4);
     for (std::uint64_t b = 0; b < 10; ++b) cache.insert(b);
     cache.invalidate();
     EXPECT_EQ(cache.occupancy(), 0u);
@@ -69,18 +69,18 @@ TEST(VoxelCache, InvalidateDropsEveryBlock) {
     EXPECT_EQ(cache.invalidations.value(), 1u);
 }
 
-TEST(VoxelCache, GpCacheCapacityIsCacheBitsOverBlockBits) {
+TEST(BlockCache, GpCacheCapacityIsCacheBitsOverBlockBits) {
     MachineConfig config = Machine::default_config();
     config.apply_override("gp.cache_associativity=4");
     GraphicsProcessor gp(0, config);
     // 16 Mbit over blocks of 5^3 voxels of 32 bits: 4194 blocks, rounded down to whole sets of 4.
-    VoxelCache& cache = gp.cache(125 * 32);
+    BlockCache& cache = gp.cache(125 * 32);
     EXPECT_EQ(cache.capacity_blocks(), (16u * 1024 * 1024 / 4000) / 4 * 4);
     EXPECT_EQ(&gp.cache(125 * 32), &cache);
     EXPECT_THROW(gp.cache(64), std::logic_error);
 }
 
-TEST(VoxelCache, CacheTooSmallForOneBlockNamesTheParameter) {
+TEST(BlockCache, CacheTooSmallForOneBlockNamesTheParameter) {
     MachineConfig config = Machine::default_config();
     config.apply_override("gp.cache_bits=1024");
     GraphicsProcessor gp(0, config);

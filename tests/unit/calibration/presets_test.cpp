@@ -1,0 +1,32 @@
+// The Pixel-planes 5 preset restates every machine parameter's default, the costs of every kernel's
+// GP operations included (gp_cost.<kernel>.*), so that a reader of the file sees the whole machine.
+
+#include "frontends/run_config.h"
+#include "sim/machine/machine.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+
+namespace pp5 {
+namespace {
+
+TEST(Presets, Pxpl5RestatesEveryMachineDefault) {
+    MachineConfig preset(run_param_groups());
+    preset.load_file(std::filesystem::path(PP5_SOURCE_DIR) / "sim/machines/pxpl5.toml");
+    EXPECT_EQ(preset.machine_name(), "pxpl5");
+    const nlohmann::json defaults = MachineConfig(run_param_groups()).to_json()["parameters"];
+    const nlohmann::json loaded = preset.to_json()["parameters"];
+    std::size_t checked = 0;
+    for (const auto& [key, entry] : defaults.items()) {
+        if (key.starts_with("levoy.")) continue;  // a kernel's own settings belong to runs, not machines
+        EXPECT_EQ(loaded[key]["value"], entry["value"]) << key;
+        EXPECT_NE(loaded[key]["origin"], "default") << key << " is missing from pxpl5.toml";
+        ++checked;
+    }
+    EXPECT_GT(checked, 50u);
+}
+
+}  // namespace
+}  // namespace pp5
