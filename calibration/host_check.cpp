@@ -1,7 +1,8 @@
 #include "calibration/host_check.h"
 
-#include "frontends/run_config.h"
-#include "frontends/scenario.h"
+#include "kernels/registry/run_config.h"
+#include "kernels/scenario/scenario_inputs.h"
+#include "kernels/scenario/scenario.h"
 #include "kernels/reference/reference_renderer.h"
 #include "kernels/levoy/levoy_costs.h"
 #include "sim/components/gp_cost_model.h"

@@ -1,6 +1,7 @@
 #include "calibration/timing_model.h"
 
-#include "frontends/run_config.h"
+#include "kernels/levoy/levoy_kernel.h"
+#include "kernels/registry/run_config.h"
 #include "sim/timing/one_processor.h"
 #include "sim/core/input_error.h"
 #include "sim/machine/machine.h"

@@ -7,7 +7,7 @@
 // render on that machine would (tests/unit/calibration), in a fraction of the time.
 
 #include "calibration/targets.h"
-#include "frontends/scenario.h"
+#include "kernels/scenario/scenario.h"
 #include "kernels/levoy/levoy_renderer.h"
 #include "sim/core/calibration.h"
 #include "sim/core/config.h"

@@ -13,7 +13,7 @@
 #include "frontends/cli/commands.h"
 #include "frontends/cli/output_dir.h"
 #include "frontends/plot.h"
-#include "frontends/run_config.h"
+#include "kernels/registry/run_config.h"
 #include "sim/core/input_error.h"
 
 #include <fmt/format.h>

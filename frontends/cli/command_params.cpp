@@ -1,7 +1,7 @@
 // `pp5sim params`: every machine parameter with its value, unit, range, doc and provenance.
 
 #include "frontends/cli/commands.h"
-#include "frontends/run_config.h"
+#include "kernels/registry/run_config.h"
 #include "sim/core/config.h"
 #include "sim/machine/machine.h"
 

@@ -1,7 +1,8 @@
 // `pp5sim render [SCENARIO]`: render every frame of a scenario on a configured machine and write the
 // images, stats.json and config.json.
 //
-// With the levoy kernel the whole frame runs on the simulated machine (kernels/levoy/levoy_renderer.h):
+// The scenario's kernel (kernels/registry) computes each frame and records its work; the timing
+// engine times it on the machine. With the levoy kernel the whole frame runs on the simulated machine:
 // the renderers' PPs classify and shade, the GPs cast rays pass after pass of adaptive refinement with
 // voxels fetched over the ring. Every frame is also rendered by the floating-point reference renderer,
 // and stats.json says how far the two images are apart.
@@ -10,10 +11,12 @@
 #include "frontends/cli/commands.h"
 #include "frontends/cli/output_dir.h"
 #include "frontends/cli/progress.h"
-#include "frontends/run_config.h"
+#include "kernels/registry/run_config.h"
 #include "frontends/image_io.h"
-#include "frontends/scenario.h"
-#include "kernels/levoy/levoy_renderer.h"
+#include "kernels/scenario/scenario.h"
+#include "kernels/registry/registry.h"
+#include "kernels/scenario/scenario_inputs.h"
+#include "sim/timing/frame_engine.h"
 #include "kernels/reference/composite.h"
 #include "kernels/reference/reference_renderer.h"
 #include "sim/core/config.h"
@@ -70,103 +73,20 @@ std::pair<Tick, Tick> parse_trace_window(const std::string& text) {
 
 using Seconds = std::chrono::duration<double>;
 
-nlohmann::json pass_record(const PpProgramPass& pass) {
-    if (!pass.ran) return {{"ran", false}};
-    return {{"ran", true},
-            {"simulated_seconds", static_cast<double>(pass.end_ps - pass.start_ps) / static_cast<double>(kTicksPerSecond)},
-            {"instructions", pass.instructions},
-            {"local_memory_bits_used", pass.local_memory_bits_used},
-            {"slot_cycles", pass.slot_cost.compute_cycles()},
-            {"slot_alu_cycles", pass.slot_cost.alu_cycles},
-            {"slot_controller_cycles", pass.slot_cost.controller_cycles},
-            {"slot_transfer_cycles", pass.slot_cost.transfer_cycles()},
-            {"slots", pass.slots},
-            {"cycles", {{"total", pass.busiest.total},
-                        {"computation", pass.busiest.alu},
-                        {"controller", pass.busiest.controller},
-                        {"backing_store", pass.busiest.backing_store_stall}}}};
-}
-
-// One frame's record in stats.json: what changed, what the reference did, what the machine did.
-double seconds(Tick t) { return ticks_to_seconds(t); }
-
-// The machine's side of a frame: where the time went and what the GPs did.
-nlohmann::json machine_record(const LevoyFrameReport& f, const std::vector<std::string>& pass_images) {
-    const RayCastReport& rc = f.ray_cast;
-    const double cast_seconds = seconds(rc.end - rc.start);
-    const double gps = rc.gp_busy + rc.gp_wait > 0 ? 1.0 : 0.0;
-    nlohmann::json passes = nlohmann::json::array();
-    for (std::size_t i = 0; i < f.passes.size(); ++i) {
-        const RefinementPassReport& p = f.passes[i];
-        passes.push_back({{"pass", i},
-                          {"image", pass_images.at(i)},
-                          {"complete_seconds", seconds(p.end_ps)},
-                          {"rays", p.rays},
-                          {"samples", p.samples},
-                          {"pixels_cast_so_far", p.pixels_cast}});
-    }
-    const std::uint64_t lookups = rc.cache_hits + rc.cache_misses;
-    return {{"simulated_seconds", seconds(f.duration_ps())},
-            {"crude_seconds", f.passes.empty() ? 0.0 : seconds(f.passes.front().end_ps)},
-            {"refined_seconds", seconds(f.duration_ps())},
-            {"phases",
-             {{"pixel_processors_seconds", seconds(f.pixel_processors.duration_ps())},
-              {"pyramid_seconds", seconds(f.pyramid_ps)},
-              {"ray_casting_seconds", cast_seconds}}},
-            {"ray_casting_breakdown",
-             {{"gp_computing_seconds", seconds(rc.gp_busy)},
-              {"gp_waiting_seconds", seconds(rc.gp_wait)},
-              {"ring_busy_seconds", seconds(rc.ring_busy)},
-              {"renderers_answering_seconds", seconds(rc.renderer_busy)},
-              {"note", "each summed over the GPs, channels or renderers; ray_casting_seconds is wall time"},
-              {"gp_busy_fraction", gps > 0 ? static_cast<double>(rc.gp_busy) / static_cast<double>(rc.gp_busy + rc.gp_wait) : 0.0}}},
-            {"pyramid_rebuilt", f.pyramid_rebuilt},
-            {"pyramid_cells_occupied", f.pyramid_cells_occupied},
-            {"caches_invalidated", f.caches_invalidated},
-            {"depth_buffer_used", f.depth_buffer_used},
-            {"rays", rc.rays},
-            {"samples", rc.samples},
-            {"samples_skipped", rc.samples_skipped},
-            {"pyramid_steps", rc.pyramid_steps},
-            {"rays_terminated", rc.rays_terminated},
-            {"pixels_filled", rc.pixels_filled},
-            {"cache", {{"hits", rc.cache_hits}, {"misses", rc.cache_misses},
-                       {"hit_rate", lookups == 0 ? 0.0 : static_cast<double>(rc.cache_hits) / static_cast<double>(lookups)}}},
-            {"voxel_requests", rc.requests},
-            {"context_switches", rc.context_switches},
-            {"events", rc.events},
-            {"passes", passes}};
-}
-
-nlohmann::json frame_record(std::size_t index, const FrameSpec& frame, const std::string& image_name,
-                            const RenderStats& stats, const std::optional<LevoyFrameReport>& machine_work,
-                            const std::vector<std::string>& pass_images,
-                            const std::optional<ImageDifference>& fidelity, double host_seconds, bool polygons) {
+// One frame's record in stats.json: what changed, what the kernel and the machine did, how far the
+// picture is from the reference renderer's.
+nlohmann::json frame_record(std::size_t index, const FrameSpec& frame, const std::string& image_name, const FrameTiming& timing,
+                            nlohmann::json kernel_stats, const std::optional<ImageDifference>& fidelity, double host_seconds,
+                            bool polygons) {
     nlohmann::json record = {
         {"index", index},
         {"label", frame.label},
         {"image", image_name},
         {"changed", {{"camera", frame.camera_changed}, {"lighting", frame.lighting_changed},
                      {"classification", frame.classification_changed}, {"region", frame.region_changed}}},
-        {"simulated_seconds", machine_work ? seconds(machine_work->duration_ps()) : 0.0},
-        {"reference",
-         {{"rays", stats.composite.rays},
-          {"samples", stats.composite.samples},
-          {"samples_skipped", stats.composite.samples_skipped},
-          {"rays_terminated", stats.composite.rays_terminated}}},
+        {"simulated_seconds", ticks_to_seconds(timing.duration_ps())},
         {"host_seconds", host_seconds}};
-    if (machine_work) {
-        record["renderers"] = {{"classification", pass_record(machine_work->pixel_processors.classification)},
-                               {"region_of_interest", pass_record(machine_work->region)},
-                               {"shading", pass_record(machine_work->pixel_processors.shading)}};
-        const GeometryReport& g = machine_work->geometry;
-        record["geometry"] = {{"ran", g.ran},
-                              {"polygons", g.polygons},
-                              {"slot_runs", g.slots},
-                              {"simulated_seconds", seconds(g.end_ps - g.start_ps)},
-                              {"polygons_per_second", g.polygons_per_second()}};
-        record["machine"] = machine_record(*machine_work, pass_images);
-    }
+    for (auto& [key, value] : kernel_stats.items()) record[key] = std::move(value);
     if (fidelity) {
         record["fidelity"] = {{"against", polygons ? "reference renderer, which has no polygons: the difference includes them"
                                                    : "reference renderer"},
@@ -177,28 +97,11 @@ nlohmann::json frame_record(std::size_t index, const FrameSpec& frame, const std
     return record;
 }
 
-std::string describe_frame(const nlohmann::json& f) {
+std::string describe_frame(const nlohmann::json& f, const KernelRun& run) {
     std::string line = fmt::format("  frame {} ({}): host reference {} samples ({} skipped as empty)", f["index"].get<std::size_t>(),
                                    f["label"].get<std::string>(), f["reference"]["samples"].dump(),
                                    f["reference"]["samples_skipped"].dump());
-    if (f.contains("renderers")) {
-        for (const char* pass : {"classification", "region_of_interest", "shading"}) {
-            const auto& p = f["renderers"][pass];
-            if (!p["ran"].get<bool>()) continue;
-            line += fmt::format("; PP {} {:.2f} ms ({} cycles a slot)", pass, p["simulated_seconds"].get<double>() * 1e3,
-                                p["slot_cycles"].dump());
-        }
-        if (f["geometry"]["ran"].get<bool>())
-            line += fmt::format("; {} polygons scan-converted in {:.2f} ms ({:.0f} a second)", f["geometry"]["polygons"].dump(),
-                                f["geometry"]["simulated_seconds"].get<double>() * 1e3,
-                                f["geometry"]["polygons_per_second"].get<double>());
-        const auto& m = f["machine"];
-        line += fmt::format("\n    GPs: {} rays in {} passes, {} samples ({} skipped), cache hit rate {:.1f}%; crude {:.1f} ms, "
-                            "refined {:.1f} ms simulated",
-                            m["rays"].dump(), m["passes"].size(), m["samples"].dump(), m["samples_skipped"].dump(),
-                            100.0 * m["cache"]["hit_rate"].get<double>(), m["crude_seconds"].get<double>() * 1e3,
-                            m["refined_seconds"].get<double>() * 1e3);
-    }
+    line += run.describe(f);
     if (f.contains("fidelity")) {
         const auto& psnr = f["fidelity"]["psnr_db"];
         line += psnr.is_number() ? fmt::format("; PSNR {:.1f} dB against the reference", psnr.get<double>())
@@ -219,12 +122,9 @@ int run_render(const RenderOptions& o) {
                          "a uniprocessor machine is timed from recorded work by `pp5sim fit` and `pp5sim reproduce` (targets "
                          "naming it); `render` simulates Pixel-planes 5 machines only");
     }
-    const bool on_machine = scenario.kernel == ScenarioKernel::Levoy;
-    if (on_machine && scenario.image.resampling != ResamplingOrder::ShadeThenInterpolate) {
-        throw InputError(scenario.file.string(), "image.resampling",
-                         "the levoy kernel shades at the voxels (shade-then-interpolate); use kernel = \"reference\" to "
-                         "interpolate first");
-    }
+    const Kernel& kernel = kernel_for(scenario);
+    kernel.check(scenario);
+    const bool on_machine = kernel.runs_on_machine();
     const ImageFormat format = o.format == "png" ? ImageFormat::Png : ImageFormat::Exr;
     std::optional<TraceRecorder> trace;
     if (!o.trace.empty()) {
@@ -239,15 +139,13 @@ int run_render(const RenderOptions& o) {
                                               : std::max(1u, std::thread::hardware_concurrency());
     tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, threads);
 
-    // The machine's kernel places the volume in the PPs first: a volume that does not fit stops here.
-    std::optional<LevoyRenderer> workstation;
-    if (on_machine) {
-        workstation.emplace(machine, volume, LevoySettings::from(config), levoy_image_settings(scenario.image));
-        workstation->set_polygons(scenario.polygons);
-    }
+    // The kernel sets the scenario up on the machine first: a volume that does not fit stops here.
+    const std::unique_ptr<KernelRun> run = kernel.start(machine, config, scenario, volume);
 
     StagedOutput output(o.out.empty() ? std::filesystem::path("out") / scenario.name : std::filesystem::path(o.out));
-    ReferenceRenderer reference(volume);
+    // The oracle every machine kernel's pictures are compared with.
+    std::optional<ReferenceRenderer> reference;
+    if (on_machine) reference.emplace(volume);
     const RenderSettings settings = reference_render_settings(scenario.image);
     nlohmann::json frames = nlohmann::json::array();
     nlohmann::json simulated = nlohmann::json::array();
@@ -255,45 +153,45 @@ int run_render(const RenderOptions& o) {
     for (std::size_t i = 0; i < scenario.frames.size(); ++i) {
         const FrameSpec& frame = scenario.frames[i];
         const auto frame_start = std::chrono::steady_clock::now();
-        const Camera camera = frame_camera(frame, volume);
-        if (frame.classification_changed) reference.set_classification(frame.classification, frame.colors);
-        if (frame.lighting_changed) reference.set_lighting(frame.lighting);
-        RenderStats stats;
-        Image image = reference.render(camera, settings, &stats);
-        const Image reference_image = on_machine ? image : Image();
-
-        std::optional<LevoyFrameReport> machine_work;
-        std::optional<ImageDifference> fidelity;
-        std::vector<std::string> pass_images;
-        if (workstation) {
-            machine_work = workstation->render(levoy_frame_inputs(frame, volume));
-            for (std::size_t p = 0; p < machine_work->passes.size(); ++p) {
-                pass_images.push_back(fmt::format("frame_{:04}_pass_{}.{}", i, p, o.format));
-                output.add_image(pass_images.back(), std::move(machine_work->passes[p].image), format);
-            }
-            // The last pass's picture is the frame; pass images were moved out, so read it back.
-            image = std::move(machine_work->final_image);
-            fidelity = compare_images(image, reference_image);
+        std::optional<Image> reference_image;
+        RenderStats reference_counts;
+        if (reference) {
+            if (frame.classification_changed) reference->set_classification(frame.classification, frame.colors);
+            if (frame.lighting_changed) reference->set_lighting(frame.lighting);
+            reference_image = reference->render(frame_camera(frame, volume), settings, &reference_counts);
         }
+
+        std::unique_ptr<KernelFrame> recorded = run->record_frame(frame);
+        const FrameTiming timing = on_machine ? time_frame(machine, recorded->work) : FrameTiming{};
+        std::vector<std::string> pass_images;
+        Image image = std::move(recorded->pass_images.back());
+        if (on_machine) {
+            for (std::size_t p = 0; p < recorded->pass_images.size(); ++p) {
+                pass_images.push_back(fmt::format("frame_{:04}_pass_{}.{}", i, p, o.format));
+                output.add_image(pass_images.back(), p + 1 == recorded->pass_images.size() ? Image(image) : std::move(recorded->pass_images[p]),
+                                 format);
+            }
+        }
+        nlohmann::json kernel_stats = run->frame_stats(*recorded, timing, pass_images);
+        if (reference) kernel_stats["reference"] = reference_stats(reference_counts);
+        std::optional<ImageDifference> fidelity;
+        if (reference_image) fidelity = compare_images(image, *reference_image);
         const std::string image_name = fmt::format("frame_{:04}.{}", i, o.format);
         output.add_image(image_name, std::move(image), format);
         const double host = Seconds(std::chrono::steady_clock::now() - frame_start).count();
-        frames.push_back(frame_record(i, frame, image_name, stats, machine_work, pass_images, fidelity, host, !scenario.polygons.empty()));
+        frames.push_back(frame_record(i, frame, image_name, timing, std::move(kernel_stats), fidelity, host, !scenario.polygons.empty()));
         simulated.push_back(frames.back()["simulated_seconds"]);
         progress.update(i + 1);
     }
     const double host_seconds = Seconds(std::chrono::steady_clock::now() - started).count();
 
     nlohmann::json summary = {{"scenario", scenario.name},
-                              {"kernel", on_machine ? "levoy" : "reference"},
+                              {"kernel", kernel.name()},
                               {"machine", config.machine_name()},
                               {"frames", scenario.frames.size()},
                               {"image_size", {scenario.image.width, scenario.image.height}},
                               {"simulated_seconds", simulated},
-                              {"timing_model", on_machine ? "event-driven: PP passes from their programs' operations, the pyramid's "
-                                                            "distribution and building, and the GPs' ray casting with voxel "
-                                                            "requests over the ring; uncalibrated default costs"
-                                                          : "none: the host reference renderer; simulated time is 0"},
+                              {"timing_model", kernel.timing_summary()},
                               {"host_seconds", host_seconds}};
     nlohmann::json stats = {
         {"summary", summary},
@@ -306,18 +204,7 @@ int run_render(const RenderOptions& o) {
         {"frames", frames},
         {"simulation", {{"events_run", machine.events().events_run()}, {"simulated_ticks_ps", machine.events().now()}}},
         {"components", machine.statistics()}};
-    if (workstation) {
-        const VoxelPlacement& p = workstation->pixel_processors().placement();
-        const VoxelQuantization& q = workstation->pixel_processors().quantization();
-        stats["placement"] = {{"policy", to_string(p.policy())},
-                              {"record_bits", p.record_bits()},
-                              {"slots_needed", p.slots_needed()},
-                              {"slots_available", p.slots_available()},
-                              {"backing_store_bits_used", p.backing_store_bits_used()},
-                              {"value_scale", q.value_scale},
-                              {"value_offset", q.value_offset},
-                              {"gradient_scale", q.gradient_scale}};
-    }
+    if (nlohmann::json placement = run->run_stats(); !placement.is_null()) stats["placement"] = std::move(placement);
     output.add_text("stats.json", stats.dump(2) + "\n");
     output.add_text("config.json", config.to_json().dump(2) + "\n");
     auto written = output.commit();
@@ -330,12 +217,11 @@ int run_render(const RenderOptions& o) {
                    trace->dropped() > 0 ? fmt::format(" ({} more past --trace-limit)", trace->dropped()) : std::string(), o.trace);
     }
 
-    fmt::print("pp5sim render: scenario {} on machine {} ({} kernel)\n", scenario.name, config.machine_name(),
-               on_machine ? "levoy" : "reference");
+    fmt::print("pp5sim render: scenario {} on machine {} ({} kernel)\n", scenario.name, config.machine_name(), kernel.name());
     fmt::print("  {}\n", machine.summary());
     fmt::print("  dataset {}: {}x{}x{} {}, values {} to {}\n", volume.name(), volume.dims().x, volume.dims().y,
                volume.dims().z, to_string(volume.source_type()), volume.min_value(), volume.max_value());
-    for (const auto& f : frames) fmt::print("{}\n", describe_frame(f));
+    for (const auto& f : frames) fmt::print("{}\n", describe_frame(f, *run));
     fmt::print("  host time {:.2f} s with {} thread{}\n", host_seconds, threads, threads == 1 ? "" : "s");
     fmt::print("wrote {} files to {}\n", written.size(), output.directory().string());
     return 0;

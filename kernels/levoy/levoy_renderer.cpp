@@ -289,6 +289,24 @@ Phase LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& report) 
 }
 
 LevoyFrameReport LevoyRenderer::render(const LevoyFrameInputs& frame) {
+    LevoyFrameReport report = record(frame);
+    apply_timing(report, time_levoy_frame(machine_, report.work));
+    return report;
+}
+
+void apply_timing(LevoyFrameReport& report, const LevoyFrameTiming& timing) {
+    report.start_ps = timing.start_ps;
+    report.end_ps = timing.end_ps;
+    report.pixel_processors = timing.pixel_processors;
+    report.region = timing.region;
+    report.geometry = timing.geometry;
+    report.pyramid_ps = timing.pyramid_ps;
+    report.ray_cast = timing.ray_cast;
+    for (std::size_t p = 0; p < report.passes.size() && p < timing.ray_cast.pass_end.size(); ++p)
+        report.passes[p].end_ps = timing.ray_cast.pass_end[p] - report.start_ps;
+}
+
+LevoyFrameReport LevoyRenderer::record(const LevoyFrameInputs& frame) {
     LevoyFrameReport report;
     LevoyFrameWork& work = report.work;
     FrameWork& machine_work = work.machine;
@@ -356,18 +374,7 @@ LevoyFrameReport LevoyRenderer::render(const LevoyFrameInputs& frame) {
     machine_work.gp_resident_bits = settings_.pyramid_skipping ? pyramid_.total_cells() : 0;
     machine_work.phases.push_back(cast_frame(frame.camera, report));
     first_frame_ = false;
-
-    // Then time it on this machine.
-    const LevoyFrameTiming timing = time_levoy_frame(machine_, work);
-    report.start_ps = timing.start_ps;
-    report.end_ps = timing.end_ps;
-    report.pixel_processors = timing.pixel_processors;
-    report.region = timing.region;
-    report.geometry = timing.geometry;
-    report.pyramid_ps = timing.pyramid_ps;
     report.caches_invalidated = machine_work.invalidate_gp_caches;
-    report.ray_cast = timing.ray_cast;
-    for (std::size_t p = 0; p < report.passes.size(); ++p) report.passes[p].end_ps = report.ray_cast.pass_end[p] - report.start_ps;
     report.final_image = report.passes.back().image;
     return report;
 }

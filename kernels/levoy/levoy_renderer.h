@@ -159,6 +159,9 @@ public:
     // polygons are matted into fresh voxels exactly once.
     void set_polygons(const std::vector<PolygonSpec>& polygons);
 
+    // Computes the frame and records its work (report.work), untimed.
+    LevoyFrameReport record(const LevoyFrameInputs& frame);
+    // record(), then times the work on this renderer's machine.
     LevoyFrameReport render(const LevoyFrameInputs& frame);
 
     const PpShading& pixel_processors() const { return pixel_processors_; }
@@ -189,6 +192,9 @@ private:
     std::vector<std::uint32_t> depth_;
     bool first_frame_ = true;
 };
+
+// Fills a recorded frame's report with when its work happened.
+void apply_timing(LevoyFrameReport& report, const LevoyFrameTiming& timing);
 
 // Whether voxel colours depend on where the observer is: a headlight, a highlight or depth cueing.
 bool shading_depends_on_view(const PhongLighting& lighting);

@@ -5,7 +5,7 @@
 // on the Sun 4/280 (a sum). A fit evaluates the model a few dozen times per machine.
 
 #include "calibration/timing_model.h"
-#include "frontends/run_config.h"
+#include "kernels/registry/run_config.h"
 
 #include <benchmark/benchmark.h>
 

@@ -1,6 +1,6 @@
 // The scenario files under traces/ and the scenario format's rules.
 
-#include "frontends/scenario.h"
+#include "kernels/scenario/scenario.h"
 #include "sim/core/input_error.h"
 
 #include <glm/geometric.hpp>

@@ -6,7 +6,7 @@
 #include "calibration/targets.h"
 #include "calibration/timing_model.h"
 #include "calibration_support.h"
-#include "frontends/run_config.h"
+#include "kernels/registry/run_config.h"
 #include "sim/core/input_error.h"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 // The Pixel-planes 5 preset restates every machine parameter's default, the costs of every kernel's
 // GP operations included (gp_cost.<kernel>.*), so that a reader of the file sees the whole machine.
 
-#include "frontends/run_config.h"
+#include "kernels/registry/run_config.h"
 #include "sim/machine/machine.h"
 
 #include <gtest/gtest.h>

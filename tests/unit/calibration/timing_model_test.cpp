@@ -3,7 +3,8 @@
 
 #include "calibration/timing_model.h"
 #include "calibration_support.h"
-#include "frontends/run_config.h"
+#include "kernels/levoy/levoy_kernel.h"
+#include "kernels/registry/run_config.h"
 #include "sim/core/input_error.h"
 #include "sim/machine/machine.h"
 

@@ -73,17 +73,11 @@ struct FrameSpec {
     bool region_changed = false;
 };
 
-// Which algorithm renders the frames.
-enum class ScenarioKernel {
-    Levoy,      // Levoy 1989 on the machine: the PPs classify and shade (timed); the host composites
-    Reference,  // the host floating-point renderer alone (no simulated time)
-};
-
 struct Scenario {
     std::filesystem::path file;
     std::string name;
     std::string description;
-    ScenarioKernel kernel = ScenarioKernel::Levoy;
+    std::string kernel = "levoy";  // which algorithm renders the frames: a name in kernels/registry
     DatasetSpec dataset;
     ImageSpec image;
     std::vector<FrameSpec> frames;  // at least one

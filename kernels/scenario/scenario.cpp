@@ -1,4 +1,4 @@
-#include "frontends/scenario.h"
+#include "kernels/scenario/scenario.h"
 
 #include "kernels/volume/datasets.h"
 #include "kernels/volume/phantoms.h"
@@ -440,11 +440,8 @@ Scenario load_scenario(const std::filesystem::path& path) {
     TableReader meta = top.sub("scenario");
     s.name = meta.text("name").value_or(path.stem().string());
     s.description = meta.text("description").value_or("");
-    if (const auto kernel = meta.text("kernel")) {
-        if (*kernel == "levoy") s.kernel = ScenarioKernel::Levoy;
-        else if (*kernel == "reference") s.kernel = ScenarioKernel::Reference;
-        else meta.fail("kernel", "must be \"levoy\" (the simulated machine) or \"reference\" (the host renderer)");
-    }
+    // Checked against the registry when a run starts (this layer lies below the kernels).
+    if (const auto kernel = meta.text("kernel")) s.kernel = *kernel;
     meta.finish();
     if (s.name.empty() || s.name.find_first_of("/\\") != std::string::npos)
         meta.fail("name", "must be a non-empty name without slashes (it names the output folder)");

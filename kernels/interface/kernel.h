@@ -1,0 +1,70 @@
+#pragma once
+// The kernel interface: what every algorithm that runs on (or beside) the simulated machine offers the
+// frontends and the calibration. A kernel describes itself and its parameters, says which scenario
+// features it can render, and runs a scenario frame by frame: for each frame it computes the real
+// pictures and records the machine's work (sim/timing/recorded_work.h) without timing it; whoever runs
+// it times the work (sim/timing/frame_engine.h, or one_processor.h) and hands the timing back for the
+// kernel's own account of the frame in stats.json.
+//
+// Adding a kernel: a folder under kernels/ with a class deriving from Kernel, and one line in
+// kernels/registry/registry.cpp.
+
+#include "kernels/render/image.h"
+#include "kernels/scenario/scenario.h"
+#include "kernels/volume/volume.h"
+#include "sim/core/param.h"
+#include "sim/machine/machine.h"
+#include "sim/timing/frame_timing.h"
+#include "sim/timing/recorded_work.h"
+
+#include <nlohmann/json.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace pp5 {
+
+// One frame as a kernel computed it. Kernels derive from it to keep what their account needs.
+struct KernelFrame {
+    virtual ~KernelFrame() = default;
+    std::vector<Image> pass_images;  // the picture after each stage (refinement pass); the last is the frame
+    FrameWork work;                  // what the frame asks of the machine (empty: nothing to time)
+};
+
+// A scenario being rendered by one kernel on one machine, frame after frame (state carries over:
+// what a frame leaves in the PPs, the caches, a depth buffer).
+class KernelRun {
+public:
+    virtual ~KernelRun() = default;
+    virtual std::unique_ptr<KernelFrame> record_frame(const FrameSpec& frame) = 0;
+    // The kernel's record of a timed frame for stats.json: what the frame did and where its time went
+    // (`pass_images` names the files the frame's pass_images were written to).
+    virtual nlohmann::json frame_stats(const KernelFrame& frame, const FrameTiming& timing,
+                                       const std::vector<std::string>& pass_images) const = 0;
+    // A line for the terminal about that frame.
+    virtual std::string describe(const nlohmann::json& frame_stats) const = 0;
+    // What the run set up once (how data sits in the machine), for stats.json; null when nothing.
+    virtual nlohmann::json run_stats() const { return nullptr; }
+};
+
+class Kernel {
+public:
+    virtual ~Kernel() = default;
+    virtual std::string name() const = 0;
+    virtual std::string description() const = 0;
+    // How its simulated time comes about, for stats.json's summary.
+    virtual std::string timing_summary() const = 0;
+    // The kernel's own parameters ("<kernel>.*") and the machine's costs of its operations
+    // ("gp_cost.<kernel>.*"), set like machine parameters.
+    virtual std::vector<const ParamGroup*> param_groups() const = 0;
+    // False for a kernel that only renders on the host: its frames record no work.
+    virtual bool runs_on_machine() const = 0;
+    // Throws InputError naming the scenario's file and field for a feature the kernel cannot render.
+    virtual void check(const Scenario& scenario) const = 0;
+    // Sets the scenario up on the machine (InputError when the data cannot fit, naming the key).
+    virtual std::unique_ptr<KernelRun> start(Machine& machine, const MachineConfig& config, const Scenario& scenario,
+                                             const Volume& volume) const = 0;
+};
+
+}  // namespace pp5

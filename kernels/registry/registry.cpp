@@ -1,0 +1,41 @@
+#include "kernels/registry/registry.h"
+
+#include "kernels/levoy/levoy_kernel.h"
+#include "kernels/reference_kernel/reference_kernel.h"
+#include "sim/core/input_error.h"
+
+#include <stdexcept>
+
+namespace pp5 {
+
+namespace {
+std::vector<const Kernel*>& registry() {
+    static std::vector<const Kernel*> all = {
+        &levoy_kernel(),      // Levoy 1989: the volume rendering workstation on Pixel-planes 5
+        &reference_kernel(),  // the host's floating-point renderer, no machine
+    };
+    return all;
+}
+}  // namespace
+
+const std::vector<const Kernel*>& kernels() { return registry(); }
+
+const Kernel* find_kernel(const std::string& name) {
+    for (const Kernel* k : registry())
+        if (k->name() == name) return k;
+    return nullptr;
+}
+
+const Kernel& kernel_for(const Scenario& scenario) {
+    if (const Kernel* k = find_kernel(scenario.kernel)) return *k;
+    std::string known;
+    for (const Kernel* k : registry()) known += (known.empty() ? "" : ", ") + k->name();
+    throw InputError(scenario.file.string(), "scenario.kernel", "unknown kernel \"" + scenario.kernel + "\"; the known ones are " + known);
+}
+
+void register_kernel(const Kernel& kernel) {
+    if (find_kernel(kernel.name()) != nullptr) throw std::logic_error("kernel registered twice: " + kernel.name());
+    registry().push_back(&kernel);
+}
+
+}  // namespace pp5

@@ -1,0 +1,22 @@
+#include "kernels/registry/run_config.h"
+
+#include "kernels/registry/registry.h"
+#include "sim/machine/machine.h"
+
+namespace pp5 {
+
+std::vector<const ParamGroup*> run_param_groups() {
+    std::vector<const ParamGroup*> groups = Machine::param_groups();
+    for (const Kernel* kernel : kernels())
+        for (const ParamGroup* group : kernel->param_groups()) groups.push_back(group);
+    return groups;
+}
+
+MachineConfig load_run_config(const std::string& machine, const std::vector<std::string>& overrides) {
+    MachineConfig config(run_param_groups());
+    config.load_file(resolve_machine_file(machine));
+    for (const auto& assignment : overrides) config.apply_override(assignment);
+    return config;
+}
+
+}  // namespace pp5
