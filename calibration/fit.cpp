@@ -416,8 +416,8 @@ nlohmann::json FitReport::to_json() const {
                            {"scenario", r.target.scenario},
                            {"frame", r.target.frame},
                            {"machine", r.target.machine},
-                           {"metric", std::string(to_string(r.target.metric))},
-                           {"unit", std::string(unit_of(r.target.metric))},
+                           {"metric", r.target.metric},
+                           {"unit", r.target.unit},
                            {"reported", r.target.reported},
                            {"exactness", std::string(to_string(r.target.exactness))},
                            {"simulated", r.simulated},
@@ -454,8 +454,8 @@ std::string FitReport::to_markdown() const {
     for (const TargetResult& r : results) {
         std::string loo = r.leave_one_out ? fmt::format("{} ({})", number(*r.leave_one_out), percent(*r.leave_one_out_error)) : "";
         if (!r.leave_one_out_note.empty()) loo += (loo.empty() ? "" : "; ") + r.leave_one_out_note;
-        md << fmt::format("| {} | {} | {} ({}) | {} | {} | {} | {} | {} |\n", r.target.id, r.target.machine, to_string(r.target.metric),
-                          unit_of(r.target.metric), number(r.target.reported), number(r.simulated), percent(r.relative_error),
+        md << fmt::format("| {} | {} | {} ({}) | {} | {} | {} | {} | {} |\n", r.target.id, r.target.machine, r.target.metric,
+                          r.target.unit, number(r.target.reported), number(r.simulated), percent(r.relative_error),
                           r.target.fitted ? "fitted" : "held out", loo);
     }
     md << "\n## Fit quality\n\n| targets | count | mean abs. error | max abs. error | within 10% | within 25% | r (log) |\n"
@@ -470,7 +470,7 @@ std::string FitReport::to_markdown() const {
         if (std::abs(r.relative_error) <= 0.25) continue;
         any = true;
         md << fmt::format("- `{}` ({}): reported {} {}, simulated {} ({})\n", r.target.id, r.target.fitted ? "fitted" : "held out",
-                          number(r.target.reported), unit_of(r.target.metric), number(r.simulated), percent(r.relative_error));
+                          number(r.target.reported), r.target.unit, number(r.simulated), percent(r.relative_error));
     }
     if (!any) md << "None.\n";
     if (!notes.empty()) {

@@ -1,5 +1,6 @@
 #include "calibration/targets.h"
 
+#include "kernels/registry/registry.h"
 #include "kernels/scenario/scenario.h"
 #include "sim/core/config.h"
 #include "sim/core/input_error.h"
@@ -15,27 +16,6 @@ namespace pp5 {
 
 namespace {
 
-struct MetricName {
-    Metric metric;
-    const char* name;
-    const char* unit;
-};
-constexpr MetricName kMetrics[] = {
-    {Metric::CrudeSeconds, "crude_seconds", "s"},
-    {Metric::RefinedSeconds, "refined_seconds", "s"},
-    {Metric::RefinementSeconds, "refinement_seconds", "s"},
-    {Metric::PixelProcessorSeconds, "pp_seconds", "s"},
-    {Metric::PolygonsPerSecond, "polygons_per_second", "1/s"},
-    {Metric::SecondsPerPolygon, "seconds_per_polygon", "s"},
-    {Metric::SpeedupFor30Hz, "speedup_for_30_fps", "factor"},
-};
-
-std::string metric_names() {
-    std::string names;
-    for (const MetricName& m : kMetrics) names += (names.empty() ? "" : ", ") + std::string(m.name);
-    return names;
-}
-
 // Reads one string field of a target, naming it in errors.
 std::string text_field(const toml::table& row, const std::string& file, const std::string& prefix, const char* key, bool required) {
     const toml::node* node = row.get(key);
@@ -49,24 +29,6 @@ std::string text_field(const toml::table& row, const std::string& file, const st
 }
 
 }  // namespace
-
-std::string_view to_string(Metric metric) {
-    for (const MetricName& m : kMetrics)
-        if (m.metric == metric) return m.name;
-    return "?";
-}
-
-std::string_view unit_of(Metric metric) {
-    for (const MetricName& m : kMetrics)
-        if (m.metric == metric) return m.unit;
-    return "?";
-}
-
-std::vector<Metric> all_metrics() {
-    std::vector<Metric> all;
-    for (const MetricName& m : kMetrics) all.push_back(m.metric);
-    return all;
-}
 
 std::string_view to_string(Exactness exactness) {
     switch (exactness) {
@@ -133,15 +95,7 @@ TargetSet load_targets(const std::filesystem::path& path) {
         t.scenario = text_field(*row, file, prefix, "scenario", true);
         t.machine = text_field(*row, file, prefix, "machine", true);
 
-        const std::string metric = text_field(*row, file, prefix, "metric", true);
-        bool found = false;
-        for (const MetricName& m : kMetrics) {
-            if (metric == m.name) {
-                t.metric = m.metric;
-                found = true;
-            }
-        }
-        if (!found) throw InputError(file, prefix + "metric", "unknown metric \"" + metric + "\"; known: " + metric_names());
+        t.metric = text_field(*row, file, prefix, "metric", true);
 
         const toml::node* reported = row->get("reported");
         if (!reported) throw InputError(file, prefix + "reported", "is missing");
@@ -167,10 +121,17 @@ TargetSet load_targets(const std::filesystem::path& path) {
         } catch (const InputError& e) {
             throw InputError(file, prefix + "scenario", std::string("\"") + t.scenario + "\": " + e.what());
         }
-        // The targets' metrics are Levoy's: calibration re-times recorded Levoy frames.
-        if (scenario.kernel != "levoy")
-            throw InputError(file, prefix + "scenario",
-                             "\"" + t.scenario + "\" runs kernel \"" + scenario.kernel + "\"; the calibration's metrics are the levoy kernel's");
+        // The metric is one the scenario's kernel measures its frames by.
+        const Kernel* kernel = find_kernel(scenario.kernel);
+        if (kernel == nullptr) throw InputError(file, prefix + "scenario", "\"" + t.scenario + "\" names an unknown kernel \"" + scenario.kernel + "\"");
+        std::string metrics;
+        for (const KernelMetric& m : kernel->metrics()) {
+            if (m.name == t.metric) t.unit = m.unit;
+            metrics += (metrics.empty() ? "" : ", ") + m.name;
+        }
+        if (t.unit.empty())
+            throw InputError(file, prefix + "metric",
+                             "unknown metric \"" + t.metric + "\" for kernel " + kernel->name() + (metrics.empty() ? " (it has none)" : "; known: " + metrics));
         const toml::node* frame = row->get("frame");
         if (frame) {
             const auto index = frame->value<std::int64_t>();

@@ -12,21 +12,6 @@
 
 namespace pp5 {
 
-// What a target measures, from one frame of a scenario.
-enum class Metric {
-    CrudeSeconds,            // the frame's first refinement pass on screen
-    RefinedSeconds,          // the frame fully refined
-    RefinementSeconds,       // refined minus crude: "a further 57 s"
-    PixelProcessorSeconds,   // classification and shading of the volume
-    PolygonsPerSecond,       // 3D scan-conversion rate
-    SecondsPerPolygon,
-    SpeedupFor30Hz,          // how much faster the crude frame must get for 30 frames/s
-};
-std::string_view to_string(Metric metric);
-std::string_view unit_of(Metric metric);
-// All metrics, for error messages and documentation.
-std::vector<Metric> all_metrics();
-
 // How exact the source is: it sets the target's weight in the fit (its relative uncertainty).
 enum class Exactness {
     Measured,          // timed on a real machine ("6 seconds on a Sun 4/280"): 10%
@@ -43,7 +28,8 @@ struct Target {
     std::string scenario;  // a scenario name or file
     int frame = 0;         // index into the scenario's frames
     std::string machine;   // preset name or machine file
-    Metric metric = Metric::CrudeSeconds;
+    std::string metric;  // one of the scenario's kernel's metrics (Kernel::metrics)
+    std::string unit;
     double reported = 0.0;
     Exactness exactness = Exactness::Estimate;
     bool fitted = true;  // false: held out, predicted only
@@ -56,8 +42,9 @@ struct TargetSet {
     std::vector<Target> targets;
 };
 
-// Reads and checks a target file: unknown metrics, exactness or use, scenarios or machines that do not
-// resolve, frames outside the scenario, non-positive values and repeated ids are errors.
+// Reads and checks a target file: metrics the scenario's kernel does not offer, unknown exactness or
+// use, scenarios or machines that do not resolve, frames outside the scenario, non-positive values and
+// repeated ids are errors.
 TargetSet load_targets(const std::filesystem::path& file);
 // A path, or the name of a shipped target file (traces/calibration/NAME.toml).
 std::filesystem::path resolve_targets_file(const std::string& name_or_path);

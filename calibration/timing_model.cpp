@@ -1,6 +1,7 @@
 #include "calibration/timing_model.h"
 
-#include "kernels/levoy/levoy_kernel.h"
+#include "kernels/registry/registry.h"
+#include "sim/timing/frame_engine.h"
 #include "kernels/registry/run_config.h"
 #include "sim/timing/one_processor.h"
 #include "sim/core/input_error.h"
@@ -10,21 +11,11 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace pp5 {
 
 namespace {
-
-FrameTimes frame_times(const LevoyFrameTiming& t) {
-    FrameTimes times;
-    times.crude_seconds = ticks_to_seconds(t.crude_ps());
-    times.refined_seconds = ticks_to_seconds(t.refined_ps());
-    times.pp_seconds = ticks_to_seconds(t.pixel_processors.duration_ps());
-    times.scan_converted = t.geometry.ran;
-    times.polygons = static_cast<double>(t.geometry.polygons);
-    times.scan_conversion_seconds = ticks_to_seconds(t.geometry.end_ps - t.geometry.start_ps);
-    return times;
-}
 
 // Only these parameters may differ between the recording machine and the machine that re-times.
 constexpr const char* kTimingGroups[] = {"gp.", "gp_cost.", "pp.", "ring.", "calibration."};
@@ -38,41 +29,28 @@ bool is_timing_parameter(const std::string& key) {
     return std::find(std::begin(kTimingKeys), std::end(kTimingKeys), key) != std::end(kTimingKeys);
 }
 
-double metric_value(Metric metric, const FrameTimes& t, const std::string& file, const std::string& field) {
-    const auto need_polygons = [&] {
-        if (!t.scan_converted || t.polygons == 0.0 || t.scan_conversion_seconds <= 0.0)
-            throw InputError(file, field, "the frame scan-converts no polygons, so it has no polygon rate");
-    };
-    switch (metric) {
-        case Metric::CrudeSeconds: return t.crude_seconds;
-        case Metric::RefinedSeconds: return t.refined_seconds;
-        case Metric::RefinementSeconds: return t.refined_seconds - t.crude_seconds;
-        case Metric::PixelProcessorSeconds:
-            if (t.pp_seconds <= 0.0) throw InputError(file, field, "the frame runs no classification or shading pass");
-            return t.pp_seconds;
-        case Metric::PolygonsPerSecond: need_polygons(); return t.polygons / t.scan_conversion_seconds;
-        case Metric::SecondsPerPolygon: need_polygons(); return t.scan_conversion_seconds / t.polygons;
-        case Metric::SpeedupFor30Hz: return t.crude_seconds * 30.0;
-    }
-    return 0.0;
-}
-
 RecordedScenario::RecordedScenario(const Scenario& scenario, const MachineConfig& functional, int frames)
-    : scenario_(scenario), functional_(functional) {
-    const Volume volume = load_dataset(scenario);
+    : scenario_(scenario), kernel_(kernel_for(scenario)), functional_(functional) {
+    kernel_.check(scenario_);
+    const Volume volume = load_dataset(scenario_);
     Machine machine(functional);
-    LevoyRenderer workstation(machine, volume, LevoySettings::from(functional), levoy_image_settings(scenario.image));
-    workstation.set_polygons(scenario.polygons);
-    const int count = std::min(frames, static_cast<int>(scenario.frames.size()));
+    const std::unique_ptr<KernelRun> run = kernel_.start(machine, functional, scenario_, volume);
+    const int count = std::min(frames, static_cast<int>(scenario_.frames.size()));
     for (int i = 0; i < count; ++i) {
-        const FrameSpec& frame = scenario.frames[static_cast<std::size_t>(i)];
-        LevoyFrameReport report = workstation.render(levoy_frame_inputs(frame, volume));
-        frames_.push_back(RecordedFrame{frame.label, std::move(report.work), std::move(report.passes.front().image),
-                                        std::move(report.final_image)});
+        const FrameSpec& spec = scenario_.frames[static_cast<std::size_t>(i)];
+        RecordedFrame recorded{spec.label, run->record_frame(spec), {}, {}};
+        recorded.crude_image = recorded.frame->pass_images.front();
+        recorded.refined_image = recorded.frame->pass_images.back();
+        recorded.frame->pass_images.clear();  // kept once, above
+        frames_.push_back(std::move(recorded));
     }
 }
 
-std::vector<FrameTimes> RecordedScenario::time_on(const MachineConfig& machine) const {
+double RecordedScenario::metric(const std::string& name, std::size_t frame, const FrameTiming& timing) const {
+    return kernel_.metric(name, *frames_.at(frame).frame, timing);
+}
+
+std::vector<FrameTiming> RecordedScenario::time_on(const MachineConfig& machine) const {
     const nlohmann::json recorded = functional_.to_json()["parameters"];
     const nlohmann::json timing = machine.to_json()["parameters"];
     for (const auto& [key, entry] : recorded.items()) {
@@ -83,14 +61,13 @@ std::vector<FrameTimes> RecordedScenario::time_on(const MachineConfig& machine) 
                                          timing[key]["value"].dump(), entry["value"].dump()));
         }
     }
-    std::vector<FrameTimes> times;
+    std::vector<FrameTiming> times;
     if (machine.machine_kind() == MachineKind::Uniprocessor) {
-        for (const RecordedFrame& frame : frames_)
-            times.push_back(frame_times(levoy_frame_timing(frame.work, time_frame_on_one_processor(machine, frame.work.machine))));
+        for (const RecordedFrame& frame : frames_) times.push_back(time_frame_on_one_processor(machine, frame.frame->work));
         return times;
     }
     Machine timed(machine);
-    for (const RecordedFrame& frame : frames_) times.push_back(frame_times(time_levoy_frame(timed, frame.work)));
+    for (const RecordedFrame& frame : frames_) times.push_back(time_frame(timed, frame.frame->work));
     return times;
 }
 
@@ -135,13 +112,17 @@ const RecordedScenario& CalibrationModel::recording(const std::string& scenario)
 std::vector<double> CalibrationModel::simulate(const std::string& machine, const CalibrationScales& scales,
                                                const std::vector<const Target*>& targets) const {
     const MachineConfig config = machine_config(machine, scales);
-    std::map<std::string, std::vector<FrameTimes>> timed;  // each scenario timed once per call
+    std::map<std::string, std::vector<FrameTiming>> timed;  // each scenario timed once per call
     std::vector<double> values;
     for (const Target* t : targets) {
         auto it = timed.find(t->scenario);
         if (it == timed.end()) it = timed.emplace(t->scenario, recording(t->scenario).time_on(config)).first;
-        values.push_back(metric_value(t->metric, it->second[static_cast<std::size_t>(t->frame)], targets_.file.string(),
-                                      "target \"" + t->id + "\" metric"));
+        const auto frame = static_cast<std::size_t>(t->frame);
+        try {
+            values.push_back(recording(t->scenario).metric(t->metric, frame, it->second[frame]));
+        } catch (const std::domain_error& e) {
+            throw InputError(targets_.file.string(), "target \"" + t->id + "\" metric", e.what());
+        }
     }
     return values;
 }

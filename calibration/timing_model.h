@@ -2,13 +2,13 @@
 // The calibration's model: each target scenario is rendered once (the functional layer: images and the
 // work every frame asks of the machine), and then timed again, as often as the fit needs, on machines
 // that differ only in timing parameters (costs, clocks, counts of GPs, the calibration's scales). A
-// Pixel-planes 5 machine times the work event by event (levoy_renderer.h); a uniprocessor (the Sun
+// Pixel-planes 5 machine times the work event by event (sim/timing/frame_engine.h); a uniprocessor (the Sun
 // 4/280) times it as one processor's sum (sim/timing/one_processor.h). Re-timing gives exactly what a fresh
 // render on that machine would (tests/unit/calibration), in a fraction of the time.
 
 #include "calibration/targets.h"
 #include "kernels/scenario/scenario.h"
-#include "kernels/levoy/levoy_renderer.h"
+#include "kernels/interface/kernel.h"
 #include "sim/core/calibration.h"
 #include "sim/core/config.h"
 
@@ -20,27 +20,15 @@
 
 namespace pp5 {
 
-// One frame's times on one machine, from which every metric is read.
-struct FrameTimes {
-    double crude_seconds = 0.0;
-    double refined_seconds = 0.0;
-    double pp_seconds = 0.0;  // classification and shading
-    bool scan_converted = false;
-    double polygons = 0.0;
-    double scan_conversion_seconds = 0.0;
-};
-// The metric's value; throws InputError(targets file, field) when the frame cannot give it (no
-// polygons for a polygon rate, no PP pass for pp_seconds).
-double metric_value(Metric metric, const FrameTimes& times, const std::string& file, const std::string& field);
-
 struct RecordedFrame {
     std::string label;
-    LevoyFrameWork work;
-    Image crude_image;    // after the first refinement pass
-    Image refined_image;  // fully refined
+    std::unique_ptr<KernelFrame> frame;  // the kernel's record, with the machine's work
+    Image crude_image;                   // after the first stage (refinement pass)
+    Image refined_image;                 // the finished frame
 };
 
-// A scenario's frames rendered once on `functional` (a Pixel-planes 5 configuration), kept as work.
+// A scenario's frames rendered once by its kernel on `functional` (a Pixel-planes 5 configuration),
+// kept as work.
 class RecordedScenario {
 public:
     RecordedScenario(const Scenario& scenario, const MachineConfig& functional, int frames);
@@ -48,13 +36,18 @@ public:
     // Every recorded frame's times on `machine`, frames in order (caches carry over between frames on
     // a multicomputer). Throws InputError naming the machine file's key if `machine` differs from the
     // recording machine in anything but timing.
-    std::vector<FrameTimes> time_on(const MachineConfig& machine) const;
+    std::vector<FrameTiming> time_on(const MachineConfig& machine) const;
+    // A recorded frame's value of one of its kernel's metrics, timed as `timing`; throws
+    // std::domain_error when the frame cannot give it.
+    double metric(const std::string& name, std::size_t frame, const FrameTiming& timing) const;
 
     const Scenario& scenario() const { return scenario_; }
+    const Kernel& kernel() const { return kernel_; }
     const std::vector<RecordedFrame>& frames() const { return frames_; }
 
 private:
     Scenario scenario_;
+    const Kernel& kernel_;
     MachineConfig functional_;
     std::vector<RecordedFrame> frames_;
 };

@@ -218,7 +218,7 @@ int run_reproduce(const CalibrateOptions& o) {
     const Target* scaling = nullptr;  // the first Pixel-planes 5 frame-time target sets the scenario and frame
     for (const Target& t : model->targets().targets) {
         if (!scaling && model->base_config(t.machine).machine_kind() == MachineKind::Multicomputer &&
-            (t.metric == Metric::CrudeSeconds || t.metric == Metric::RefinedSeconds))
+            (t.metric == "crude_seconds" || t.metric == "refined_seconds"))
             scaling = &t;
     }
     nlohmann::json sweep = nlohmann::json::array();
@@ -240,12 +240,16 @@ int run_reproduce(const CalibrateOptions& o) {
             say(fmt::format("GP sweep: {} GPs", n));
             MachineConfig config = model->machine_config(scaling->machine, scales);
             config.set("gp.count", static_cast<std::int64_t>(n), "--gp-counts");
-            const FrameTimes times = model->recording(scaling->scenario).time_on(config)[static_cast<std::size_t>(scaling->frame)];
+            const RecordedScenario& recording = model->recording(scaling->scenario);
+            const auto frame = static_cast<std::size_t>(scaling->frame);
+            const FrameTiming timing = recording.time_on(config)[frame];
+            const double crude_seconds = recording.metric("crude_seconds", frame, timing);
+            const double refined_seconds = recording.metric("refined_seconds", frame, timing);
             crude.x.push_back(n);
-            crude.y.push_back(times.crude_seconds);
+            crude.y.push_back(crude_seconds);
             refined.x.push_back(n);
-            refined.y.push_back(times.refined_seconds);
-            sweep.push_back({{"gps", n}, {"crude_seconds", times.crude_seconds}, {"refined_seconds", times.refined_seconds}});
+            refined.y.push_back(refined_seconds);
+            sweep.push_back({{"gps", n}, {"crude_seconds", crude_seconds}, {"refined_seconds", refined_seconds}});
         }
         // Perfect speed-up from the fewest GPs, for comparison.
         PlotSeries ideal{"refined, perfect speed-up", {}, {}, "lines dt 2 lc rgb 'gray'"};
@@ -257,7 +261,7 @@ int run_reproduce(const CalibrateOptions& o) {
         // Levoy's estimates for 32 GPs, where the frame's targets give them.
         for (const Target& t : model->targets().targets) {
             if (t.scenario != scaling->scenario || t.frame != scaling->frame || t.machine != scaling->machine) continue;
-            if (t.metric != Metric::CrudeSeconds && t.metric != Metric::RefinedSeconds) continue;
+            if (t.metric != "crude_seconds" && t.metric != "refined_seconds") continue;
             const double gps = static_cast<double>(model->base_config(t.machine).integer("gp.count"));
             spec.series.push_back(PlotSeries{"reported: " + t.id, {gps}, {t.reported}, "points pt 9 ps 2.5"});
         }

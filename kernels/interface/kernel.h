@@ -48,6 +48,13 @@ public:
     virtual nlohmann::json run_stats() const { return nullptr; }
 };
 
+// A figure a kernel's frame can be measured by (a calibration target's metric).
+struct KernelMetric {
+    std::string name;  // "crude_seconds"
+    std::string unit;  // "s"
+    std::string description;
+};
+
 class Kernel {
 public:
     virtual ~Kernel() = default;
@@ -62,6 +69,11 @@ public:
     virtual bool runs_on_machine() const = 0;
     // Throws InputError naming the scenario's file and field for a feature the kernel cannot render.
     virtual void check(const Scenario& scenario) const = 0;
+    // What its frames can be measured by, and one frame's value of a metric once timed. Throws
+    // std::domain_error saying why when the frame cannot give it (a polygon rate of a frame without
+    // polygons).
+    virtual std::vector<KernelMetric> metrics() const { return {}; }
+    virtual double metric(const std::string& name, const KernelFrame& frame, const FrameTiming& timing) const;
     // Sets the scenario up on the machine (InputError when the data cannot fit, naming the key).
     virtual std::unique_ptr<KernelRun> start(Machine& machine, const MachineConfig& config, const Scenario& scenario,
                                              const Volume& volume) const = 0;

@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include <stdexcept>
+
 namespace pp5 {
 
 LevoyImageSettings levoy_image_settings(const ImageSpec& spec) {
@@ -117,9 +119,7 @@ public:
                                const std::vector<std::string>& pass_images) const override {
         const auto& frame = static_cast<const LevoyKernelFrame&>(kernel_frame);
         LevoyFrameReport f = frame.report;
-        LevoyFrameWork work = f.work;
-        work.machine = frame.work;
-        apply_timing(f, levoy_frame_timing(work, timing));
+        apply_timing(f, levoy_frame_timing(f.work, timing));
         const GeometryReport& g = f.geometry;
         return {{"renderers",
                  {{"classification", pass_record(f.pixel_processors.classification)},
@@ -195,6 +195,43 @@ public:
     std::unique_ptr<KernelRun> start(Machine& machine, const MachineConfig& config, const Scenario& scenario,
                                      const Volume& volume) const override {
         return std::make_unique<LevoyRun>(machine, config, scenario, volume);
+    }
+
+    std::vector<KernelMetric> metrics() const override {
+        return {{"crude_seconds", "s", "the frame's first refinement pass on screen"},
+                {"refined_seconds", "s", "the frame fully refined"},
+                {"refinement_seconds", "s", "refined minus crude: \"a further 57 s\""},
+                {"pp_seconds", "s", "classification and shading of the volume by the PPs"},
+                {"polygons_per_second", "1/s", "3D scan-conversion rate"},
+                {"seconds_per_polygon", "s", "3D scan-conversion time per polygon"},
+                {"speedup_for_30_fps", "factor", "how much faster the crude frame must get for 30 frames a second"}};
+    }
+
+    double metric(const std::string& name, const KernelFrame& kernel_frame, const FrameTiming& timing) const override {
+        const auto& frame = static_cast<const LevoyKernelFrame&>(kernel_frame);
+        const LevoyFrameTiming t = levoy_frame_timing(frame.report.work, timing);
+        const double crude = ticks_to_seconds(t.crude_ps());
+        const double refined = ticks_to_seconds(t.refined_ps());
+        const double scan = ticks_to_seconds(t.geometry.end_ps - t.geometry.start_ps);
+        const auto polygons = static_cast<double>(t.geometry.polygons);
+        const auto need_polygons = [&] {
+            if (!t.geometry.ran || polygons == 0.0 || scan <= 0.0)
+                throw std::domain_error("the frame scan-converts no polygons, so it has no polygon rate");
+        };
+        if (name == "crude_seconds") return crude;
+        if (name == "refined_seconds") return refined;
+        if (name == "refinement_seconds") return refined - crude;
+        if (name == "pp_seconds") {
+            const double pp = ticks_to_seconds(t.pixel_processors.duration_ps());
+            if (pp <= 0.0) throw std::domain_error("the frame runs no classification or shading pass");
+            return pp;
+        }
+        if (name == "polygons_per_second" || name == "seconds_per_polygon") {
+            need_polygons();
+            return name == "polygons_per_second" ? polygons / scan : scan / polygons;
+        }
+        if (name == "speedup_for_30_fps") return crude * 30.0;
+        return Kernel::metric(name, kernel_frame, timing);
     }
 };
 

@@ -38,7 +38,7 @@ void BM_RetimePxpl5(benchmark::State& state) {
     const pp5::RecordedScenario& recorded = recording();
     const pp5::MachineConfig config = pp5::load_run_config("pxpl5", {"calibration.gp_flops_scale=1.7", "calibration.pp_cycles_scale=0.8"});
     double refined = 0;
-    for (auto _ : state) refined = recorded.time_on(config).back().refined_seconds;
+    for (auto _ : state) refined = pp5::ticks_to_seconds(recorded.time_on(config).back().duration_ps());
     state.counters["last_frame_refined_ms"] = 1e3 * refined;
     state.SetLabel("6 frames re-timed");
 }
@@ -48,7 +48,7 @@ void BM_RetimeSun(benchmark::State& state) {
     const pp5::RecordedScenario& recorded = recording();
     const pp5::MachineConfig config = pp5::load_run_config("sun4-280", {});
     double crude = 0;
-    for (auto _ : state) crude = recorded.time_on(config)[1].crude_seconds;
+    for (auto _ : state) crude = recorded.metric("crude_seconds", 1, recorded.time_on(config)[1]);
     state.counters["orbit_crude_s"] = crude;
 }
 BENCHMARK(BM_RetimeSun)->Unit(benchmark::kMillisecond);
