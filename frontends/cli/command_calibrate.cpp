@@ -11,7 +11,7 @@
 #include "calibration/targets.h"
 #include "calibration/timing_model.h"
 #include "frontends/cli/commands.h"
-#include "frontends/cli/output_dir.h"
+#include "frontends/staged_output.h"
 #include "frontends/plot.h"
 #include "kernels/registry/run_config.h"
 #include "sim/core/input_error.h"

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace pp5::cli {
+namespace pp5 {
 
 class StagedOutput {
 public:
@@ -31,8 +31,10 @@ private:
         ImageFormat format = ImageFormat::Png;
         bool is_image = false;
     };
+    void claim(const std::string& name) const;  // a name may be staged once
+
     std::filesystem::path directory_;
     std::vector<Entry> entries_;
 };
 
-}  // namespace pp5::cli
+}  // namespace pp5

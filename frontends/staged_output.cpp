@@ -1,18 +1,25 @@
-#include "frontends/cli/output_dir.h"
+#include "frontends/staged_output.h"
 
 #include <fstream>
 #include <stdexcept>
 #include <system_error>
 
-namespace pp5::cli {
+namespace pp5 {
 
 namespace fs = std::filesystem;
 
+void StagedOutput::claim(const std::string& name) const {
+    for (const Entry& e : entries_)
+        if (e.name == name) throw std::logic_error("staged output: " + name + " staged twice");
+}
+
 void StagedOutput::add_image(std::string name, Image image, ImageFormat format) {
+    claim(name);
     entries_.push_back(Entry{std::move(name), {}, std::move(image), format, true});
 }
 
 void StagedOutput::add_text(std::string name, std::string text) {
+    claim(name);
     entries_.push_back(Entry{std::move(name), std::move(text), {}, ImageFormat::Png, false});
 }
 
@@ -53,4 +60,4 @@ std::vector<fs::path> StagedOutput::commit() {
     return written;
 }
 
-}  // namespace pp5::cli
+}  // namespace pp5

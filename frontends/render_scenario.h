@@ -1,0 +1,39 @@
+#pragma once
+// Rendering a scenario on a configured machine, as every frontend does it (the CLI's `render`, and the
+// Python module and browser tool to come): the scenario's kernel computes each frame and records its
+// work, the timing engine times it on the machine, the reference renderer gives the oracle picture,
+// and the images, stats.json and config.json are staged to appear whole or not at all.
+
+#include "frontends/image_io.h"
+#include "frontends/staged_output.h"
+#include "kernels/scenario/scenario.h"
+#include "sim/core/config.h"
+#include "sim/core/trace_recorder.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace pp5 {
+
+struct ScenarioRenderOptions {
+    ImageFormat format = ImageFormat::Png;
+    TraceRecorder* trace = nullptr;                                 // records the run when given
+    std::function<void(std::size_t done, std::size_t total)> progress;  // after each frame
+};
+
+struct ScenarioRender {
+    nlohmann::json stats;               // what stats.json holds
+    std::vector<std::string> lines;     // a summary for a terminal: the machine, the dataset, each frame
+};
+
+// Renders every frame of `scenario` on `config` into `output` (staged; the caller commits it). Throws
+// InputError for what the kernel or the machine cannot do, before any frame runs where it can tell.
+ScenarioRender render_scenario(const Scenario& scenario, const MachineConfig& config, StagedOutput& output,
+                               const ScenarioRenderOptions& options = {});
+
+}  // namespace pp5
