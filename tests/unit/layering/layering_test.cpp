@@ -1,0 +1,108 @@
+// Layers only point down: every project include in sim/, ring/, kernels/, calibration/ and frontends/
+// names a file of its own folder or of a lower layer. Kernels do not include one another, the ring
+// depends on the event core alone, and the machine (sim/, ring/) includes no kernel.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Folders and their layers, lowest first. A file may include from its own folder or from a folder of
+// a lower layer; folders of one layer may not include each other. Any other folder under kernels/ is
+// a kernel.
+struct Layer {
+    const char* folder;
+    int rank;
+};
+constexpr Layer kLayers[] = {
+    {"sim/core", 0},          {"ring", 1},           {"sim/renderer", 1},       {"kernels/volume", 1},
+    {"kernels/render", 1},    {"sim/components", 2}, {"kernels/reference", 2},  {"sim/machine", 3},
+    {"kernels/scenario", 3},  {"sim/timing", 4},     {"kernels/interface", 5},  {"kernels/registry", 7},
+    {"calibration", 8},       {"frontends", 9},
+};
+constexpr int kKernelRank = 6;
+
+struct Place {
+    std::string folder;
+    int rank = -1;  // -1: not a project folder
+};
+
+Place place_of(const std::string& path) {
+    Place best;
+    for (const Layer& layer : kLayers) {
+        const std::string folder = layer.folder;
+        if (path.rfind(folder + "/", 0) == 0 && folder.size() > best.folder.size()) best = Place{folder, layer.rank};
+    }
+    if (best.rank < 0 && path.rfind("kernels/", 0) == 0) {
+        const auto slash = path.find('/', 8);
+        if (slash != std::string::npos) best = Place{path.substr(0, slash), kKernelRank};
+    }
+    return best;
+}
+
+struct Include {
+    std::string file;      // relative to the source tree
+    std::string included;  // as written
+};
+
+// Every violation as "file includes header: why".
+std::vector<std::string> violations(const std::vector<Include>& includes) {
+    std::vector<std::string> out;
+    for (const Include& inc : includes) {
+        const Place from = place_of(inc.file);
+        const Place to = place_of(inc.included);
+        if (from.rank < 0 || to.rank < 0 || from.folder == to.folder) continue;
+        if (to.rank >= from.rank)
+            out.push_back(inc.file + " includes " + inc.included + ": " + to.folder + " is not below " + from.folder);
+    }
+    return out;
+}
+
+std::vector<Include> project_includes() {
+    const fs::path root = PP5_SOURCE_DIR;
+    const std::regex include_line(R"re(^\s*#\s*include\s*"([^"]+)")re");
+    std::vector<Include> all;
+    for (const char* top : {"sim", "ring", "kernels", "calibration", "frontends"}) {
+        for (const auto& entry : fs::recursive_directory_iterator(root / top)) {
+            const std::string ext = entry.path().extension().string();
+            if (!entry.is_regular_file() || (ext != ".h" && ext != ".cpp")) continue;
+            const std::string file = fs::relative(entry.path(), root).generic_string();
+            std::ifstream in(entry.path());
+            std::string line;
+            std::smatch m;
+            while (std::getline(in, line))
+                if (std::regex_search(line, m, include_line)) all.push_back(Include{file, m[1].str()});
+        }
+    }
+    return all;
+}
+
+TEST(Layering, EveryIncludePointsDown) {
+    const std::vector<Include> includes = project_includes();
+    ASSERT_GT(includes.size(), 300u);  // the scan found the tree
+    std::string report;
+    for (const std::string& v : violations(includes)) report += v + "\n";
+    EXPECT_TRUE(report.empty()) << report;
+}
+
+TEST(Layering, TheCheckCatchesWhatItForbids) {
+    const std::vector<std::string> found = violations({
+        {"sim/components/renderer.cpp", "kernels/levoy/pp_shading.h"},   // the machine naming a kernel
+        {"ring/ring_network.cpp", "sim/components/renderer.h"},          // the ring above the event core
+        {"kernels/levoy/ray_caster.cpp", "kernels/yuan/splat.h"},        // a kernel including another
+        {"calibration/fit.cpp", "frontends/plot.h"},                     // calibration above the frontends
+        {"frontends/cli/main.cpp", "calibration/fit.h"},                 // fine
+        {"kernels/levoy/ray_caster.cpp", "kernels/reference/trilinear.h"},  // fine: shared maths
+        {"sim/timing/frame_engine.cpp", "sim/timing/frame_engine.h"},    // fine: its own folder
+    });
+    EXPECT_EQ(found.size(), 4u);
+}
+
+}  // namespace
