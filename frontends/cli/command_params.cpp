@@ -1,6 +1,8 @@
-// `pp5sim params`: every machine parameter with its value, unit, range, doc and provenance.
+// `pp5sim params`: the kernels, and every machine and kernel parameter with its value, unit, range, doc
+// and provenance.
 
 #include "frontends/cli/commands.h"
+#include "kernels/registry/registry.h"
 #include "kernels/registry/run_config.h"
 #include "sim/core/config.h"
 #include "sim/machine/machine.h"
@@ -49,6 +51,13 @@ int run_params(const ParamsOptions& options) {
         fmt::print("{}\n", out.dump(2));
         return 0;
     }
+    fmt::print("Kernels ([scenario] kernel = \"...\"); each adds its parameter groups below:\n");
+    for (const Kernel* kernel : kernels()) {
+        std::string groups;
+        for (const ParamGroup* g : kernel->param_groups()) groups += (groups.empty() ? "" : ", ") + g->prefix() + ".*";
+        fmt::print("  {:<10} {}{}\n", kernel->name(), kernel->description(), groups.empty() ? "" : " [" + groups + "]");
+    }
+    fmt::print("\n");
     for (const ParamGroup* group : config.groups()) {
         fmt::print("[{}]  {}\n", group->prefix(), group->description());
         for (const ParamSpec& spec : group->specs()) {
