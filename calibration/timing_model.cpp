@@ -19,7 +19,8 @@ namespace {
 
 // Only these parameters may differ between the recording machine and the machine that re-times.
 constexpr const char* kTimingGroups[] = {"gp.", "gp_cost.", "pp.", "ring.", "calibration."};
-constexpr const char* kTimingKeys[] = {"renderer.clock_mhz", "renderer.fetch_setup_cycles", "renderer.fetch_cycles_per_unit"};
+constexpr const char* kTimingKeys[] = {"renderer.clock_mhz", "renderer.fetch_setup_cycles", "renderer.fetch_cycles_per_unit",
+                                       "frame_buffer.bits_per_pixel"};
 
 }  // namespace
 

@@ -68,6 +68,7 @@ ScenarioRender render_scenario(const Scenario& scenario, const MachineConfig& co
     const char* extension = format == ImageFormat::Png ? "png" : "exr";
     Machine machine(config);
     if (options.trace != nullptr) machine.attach_trace(options.trace);
+    if (on_machine) check_picture_fits(machine, scenario.image.width, scenario.image.height);
     const Volume volume = load_dataset(scenario);
 
     // The kernel sets the scenario up on the machine first: a volume that does not fit stops here.

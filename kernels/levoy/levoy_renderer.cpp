@@ -38,12 +38,7 @@ LevoyRenderer::LevoyRenderer(Machine& machine, const Volume& volume, const Levoy
 
 namespace {
 
-// Appends `count` operations of `kind` to `ops` (none when the count is 0).
-void add_op(std::vector<GpOp>& ops, LevoyOp kind, std::uint64_t count) {
-    if (count == 0) return;
-    if (count > std::numeric_limits<std::uint32_t>::max()) throw std::logic_error("levoy: an operation count overflows its record");
-    ops.push_back(GpOp{kind, static_cast<std::uint32_t>(count)});
-}
+void add_op(std::vector<GpOp>& ops, LevoyOp kind, std::uint64_t count) { append_ops(ops, kind, count); }
 
 PpProgramPass pass_of(const PhaseTiming* phase) {
     return phase != nullptr && !phase->passes.empty() ? PpProgramPass(phase->passes.front()) : PpProgramPass();
@@ -89,12 +84,7 @@ LevoyFrameTiming levoy_frame_timing(const LevoyFrameWork& work, const FrameTimin
         rc.ring_busy = cast->gp.ring_busy;
         rc.events = cast->gp.events;
     }
-    rc.rays = work.rays.rays;
-    rc.samples = work.rays.samples;
-    rc.samples_skipped = work.rays.samples_skipped;
-    rc.pyramid_steps = work.rays.pyramid_steps;
-    rc.rays_terminated = work.rays.rays_terminated;
-    rc.pixels_filled = work.rays.pixels_filled;
+    static_cast<RayCastCounts&>(rc) = work.rays;
     return t;
 }
 

@@ -40,18 +40,22 @@ struct LevoyFrameInputs {
     std::optional<RegionOfInterest> region;  // the volume-of-interest tool, when in use
 };
 
-// What the ray casting of one frame did: the rays' own counts (from the functional layer) and the
-// machine's (from the timing engine), summed over the GPs.
-struct RayCastReport {
-    Tick start = 0;
-    Tick end = 0;
-    std::vector<Tick> pass_end;  // when each refinement pass's last tile reached the frame buffer
+// The rays' counts, which no timing parameter changes.
+struct RayCastCounts {
     std::uint64_t rays = 0;
     std::uint64_t samples = 0;
     std::uint64_t samples_skipped = 0;
     std::uint64_t pyramid_steps = 0;
     std::uint64_t rays_terminated = 0;
     std::uint64_t pixels_filled = 0;
+};
+
+// What the ray casting of one frame did: the rays' own counts (from the functional layer) and the
+// machine's (from the timing engine), summed over the GPs.
+struct RayCastReport : RayCastCounts {
+    Tick start = 0;
+    Tick end = 0;
+    std::vector<Tick> pass_end;  // when each refinement pass's last tile reached the frame buffer
     std::uint64_t cache_hits = 0;
     std::uint64_t cache_misses = 0;
     std::uint64_t requests = 0;  // fetch requests to renderers
@@ -61,16 +65,6 @@ struct RayCastReport {
     Tick renderer_busy = 0;
     Tick ring_busy = 0;
     std::uint64_t events = 0;
-};
-
-// The rays' counts, which no timing parameter changes.
-struct RayCastCounts {
-    std::uint64_t rays = 0;
-    std::uint64_t samples = 0;
-    std::uint64_t samples_skipped = 0;
-    std::uint64_t pyramid_steps = 0;
-    std::uint64_t rays_terminated = 0;
-    std::uint64_t pixels_filled = 0;
 };
 
 // What a frame asks of the machine, recorded by the functional layer, with what Levoy's metrics need

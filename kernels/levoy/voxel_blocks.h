@@ -18,11 +18,6 @@ namespace pp5 {
 
 class VoxelBlocks {
 public:
-    struct Part {
-        int renderer = 0;
-        std::uint32_t voxels = 0;
-    };
-
     // block_cells >= 1; voxel_bits: what a voxel's colour and opacity take on the ring and in the cache.
     VoxelBlocks(const VoxelPlacement& placement, int block_cells, int voxel_bits);
 
@@ -37,10 +32,9 @@ public:
     std::uint32_t block_of(glm::ivec3 cell) const {
         return x_part_[static_cast<std::size_t>(cell.x)] + y_part_[static_cast<std::size_t>(cell.y)] + z_part_[static_cast<std::size_t>(cell.z)];
     }
-    // Renderers holding the block's voxels, with how many each; computed on first use.
-    std::span<const Part> parts(std::uint32_t block);
-    // Every block's parts, for the timing engine: a unit is one voxel's colour and opacity.
-    std::shared_ptr<const BlockDirectory> directory();
+    // Every block's parts (the renderers holding its voxels, with how many each, in renderer order),
+    // for the timing engine: a unit is one voxel's colour and opacity.
+    std::shared_ptr<const BlockDirectory> directory() const;
 
 private:
     const VoxelPlacement& placement_;
@@ -48,9 +42,6 @@ private:
     int voxel_bits_;
     glm::ivec3 blocks_;
     std::vector<std::uint32_t> x_part_, y_part_, z_part_;  // a cell coordinate's share of its block number
-    std::vector<std::uint32_t> first_part_;  // per block: index into parts_, or kUnknown
-    std::vector<std::uint16_t> part_count_;
-    std::vector<Part> parts_;
 };
 
 }  // namespace pp5

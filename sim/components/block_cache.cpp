@@ -51,7 +51,7 @@ bool BlockCache::lookup(std::uint64_t block) {
 }
 
 void BlockCache::insert(std::uint64_t block) {
-    if (block == kEmpty) throw std::invalid_argument("voxel cache: reserved block number");
+    if (block == kEmpty) throw std::invalid_argument("block cache: reserved block number");
     const std::uint64_t base = set_of(block) * static_cast<std::uint64_t>(ways_);
     std::uint64_t victim = base;
     for (int w = 0; w < ways_; ++w) {

@@ -50,8 +50,8 @@ Renderer::Renderer(std::size_t index, const MachineConfig& config)
       cost_model_(config),
       fetch_setup_cycles_(static_cast<std::uint64_t>(config.integer("renderer.fetch_setup_cycles"))),
       fetch_cycles_per_unit_(config.real("renderer.fetch_cycles_per_unit")),
-      passes_(stats().counter("passes", "count", "PP program runs over voxel slots")),
-      slots_(stats().counter("slots", "count", "Voxel slots processed, summed over passes")),
+      passes_(stats().counter("passes", "count", "PP program runs over data slots (a record in every PP's backing store)")),
+      slots_(stats().counter("slots", "count", "Data slots processed, summed over passes")),
       busy_cycles_(stats().counter("busy_cycles", "cycles", "PP clock cycles spent in passes")),
       alu_cycles_(stats().counter("alu_cycles", "cycles", "Of busy_cycles, the PPs computing")),
       controller_cycles_(stats().counter("controller_cycles", "cycles", "Of busy_cycles, the controller issuing instructions")),
@@ -73,7 +73,7 @@ Renderer::Renderer(std::size_t index, const MachineConfig& config)
                     [this] { return static_cast<double>(local_memory_bits_peak_); });
     stats().formula("backing_store_bits_used", "bits", "Backing store per PP holding placed data",
                     [this] { return static_cast<double>(backing_store_bits_used_); });
-    stats().formula("slot_cycles", "cycles", "Cycles of one voxel slot (computation and issue) in the last pass",
+    stats().formula("slot_cycles", "cycles", "Cycles of one data slot (computation and issue) in the last pass",
                     [this] { return static_cast<double>(last_slot_cycles_); });
 }
 

@@ -31,9 +31,12 @@ public:
     EventQueue& events() { return events_; }
     Host& host() { return host_; }
     FrameBuffer& frame_buffer() { return frame_buffer_; }
+    const FrameBuffer& frame_buffer() const { return frame_buffer_; }
     RingNetwork& ring() { return ring_; }
     std::vector<std::unique_ptr<GraphicsProcessor>>& gps() { return gps_; }
+    const std::vector<std::unique_ptr<GraphicsProcessor>>& gps() const { return gps_; }
     std::vector<std::unique_ptr<Renderer>>& renderers() { return renderers_; }
+    const std::vector<std::unique_ptr<Renderer>>& renderers() const { return renderers_; }
 
     // Records the run into `trace` from now on (nullptr stops): renderers' passes and requests, ring
     // messages; the kernels' timing layers record the GPs through trace(). The recorder must outlive

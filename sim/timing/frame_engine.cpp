@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <deque>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 
@@ -18,6 +19,11 @@ BlockDirectory::BlockDirectory(std::uint64_t block_bits, std::uint32_t unit_bits
     : block_bits_(block_bits), unit_bits_(unit_bits), first_part_(std::move(first_part)), parts_(std::move(parts)) {
     if (block_bits_ == 0 || unit_bits_ == 0 || first_part_.empty() || first_part_.back() != parts_.size())
         throw std::invalid_argument("block directory: inconsistent sizes");
+}
+
+void append_ops(std::vector<GpOp>& ops, std::uint32_t kind, std::uint64_t count) {
+    constexpr std::uint64_t kMost = std::numeric_limits<std::uint32_t>::max();
+    for (; count > 0; count -= std::min(count, kMost)) ops.push_back(GpOp{kind, static_cast<std::uint32_t>(std::min(count, kMost))});
 }
 
 const PhaseTiming* FrameTiming::phase(const std::string& name) const {
@@ -544,7 +550,6 @@ GpPhaseRun::GpPhaseRun(FrameRun& frame_in, Machine& machine_in, const GpPhase& p
         ++open_tasks.at(phase.tasks[i].group);
     }
     while (groups_done < open_tasks.size() && open_tasks[groups_done] == 0) ++groups_done;
-    timing.group_end_ps.assign(phase.groups, 0);
     RingNetwork& ring = machine.ring();
     for (auto& gp : machine.gps())
         gps.push_back(std::make_unique<GpAgent>(*this, *gp, ring.position(StationKind::GraphicsProcessor, gp->index())));
@@ -562,6 +567,7 @@ void GpPhaseRun::start(Tick t) {
     renderer_busy_before = renderers_answering(machine);
     ring_busy_before = static_cast<Tick>(machine.ring().busy_ps());
     events_before = machine.events().events_run();
+    timing.group_end_ps.assign(phase.groups, t);  // a group that sends no pixels ends where the phase began
     if (phase.assignment == TaskAssignment::Static) {
         const std::size_t g = gps.size();
         for (std::uint32_t i = 0; i < phase.tasks.size(); ++i) gps[phase.tasks[i].key % g]->give_task(i);
@@ -592,6 +598,9 @@ void GpPhaseRun::maybe_complete(Tick now) {
     timing.gp.renderer_busy = renderers_answering(machine) - renderer_busy_before;
     timing.gp.ring_busy = static_cast<Tick>(machine.ring().busy_ps()) - ring_busy_before;
     timing.gp.events = machine.events().events_run() - events_before;
+    // The phase ends when its last pixels reach the frame buffer (the picture is complete); a phase
+    // that sends none ends when its GPs have finished.
+    if (timing.gp.pixels_sent == 0) timing.end_ps = now;
     frame.end_phase_at(std::max(now, timing.end_ps));
 }
 
@@ -607,13 +616,7 @@ std::string GpPhaseRun::describe_stall() const {
 // The frame
 
 void FrameRun::check_machine_fits() const {
-    const FrameBuffer& fb = machine_.frame_buffer();
-    if (work_.image_width > fb.width())
-        throw InputError(kMachineFile, "frame_buffer.width",
-                         fmt::format("the frame buffer is {} pixels wide, the picture {}", fb.width(), work_.image_width));
-    if (work_.image_height > fb.height())
-        throw InputError(kMachineFile, "frame_buffer.height",
-                         fmt::format("the frame buffer is {} pixels high, the picture {}", fb.height(), work_.image_height));
+    check_picture_fits(machine_, work_.image_width, work_.image_height);
     std::uint64_t cache_bits = 0;
     for (const Phase& p : work_.phases)
         if (const auto* gp = std::get_if<GpPhase>(&p.work); gp != nullptr && gp->blocks) cache_bits = machine_.gps().front()->cache_bits();
@@ -627,7 +630,52 @@ void FrameRun::check_machine_fits() const {
     }
 }
 
+// Recorded work is a kernel's output: an index out of range is the kernel's bug, said before it runs.
+void check_recorded_work(const FrameWork& work, const Machine& machine) {
+    const auto fail = [](const std::string& phase, const std::string& what) {
+        throw std::logic_error("recorded work, phase '" + phase + "': " + what);
+    };
+    const auto check_ops = [&](const std::string& phase, const std::vector<GpOp>& ops, std::uint64_t first, std::uint64_t count) {
+        if (first + count > ops.size()) fail(phase, "operations out of range");
+        for (std::uint64_t i = first; i < first + count; ++i)
+            if (ops[i].kind >= work.op_kinds.size()) fail(phase, "an operation of an undeclared kind");
+    };
+    for (const Phase& phase : work.phases) {
+        if (const auto* pp = std::get_if<PpPhase>(&phase.work)) {
+            for (const PpPhase::Pass& pass : pp->passes) {
+                if (pass.work.slots.size() != machine.renderers().size() || pass.work.counts.size() != machine.renderers().size())
+                    fail(phase.name, "a pass recorded for another renderer count");
+                check_ops(phase.name, pass.on_one_processor, 0, pass.on_one_processor.size());
+            }
+        } else if (const auto* broadcast = std::get_if<BroadcastPhase>(&phase.work)) {
+            if (broadcast->messages_per_renderer.size() != machine.renderers().size()) fail(phase.name, "messages for another renderer count");
+            check_ops(phase.name, broadcast->then_each_gp, 0, broadcast->then_each_gp.size());
+        } else {
+            const GpPhase& gp = std::get<GpPhase>(phase.work);
+            for (const GpTask& task : gp.tasks) {
+                if (task.group >= gp.groups) fail(phase.name, "a task in no group");
+                if (std::uint64_t{task.first_item} + task.item_count > gp.items.size()) fail(phase.name, "items out of range");
+                check_ops(phase.name, gp.ops, task.first_op, task.op_count);
+                check_ops(phase.name, gp.ops, task.first_finish_op, task.finish_op_count);
+            }
+            for (const GpItem& item : gp.items)
+                if (std::uint64_t{item.first_step} + item.step_count > gp.steps.size()) fail(phase.name, "steps out of range");
+            for (const GpStep& step : gp.steps) {
+                check_ops(phase.name, gp.ops, step.first_op, step.op_count);
+                if (step.block == kNoFetch) continue;
+                if (!gp.blocks) fail(phase.name, "a fetch without a block directory");
+                if (step.block >= gp.blocks->block_count()) fail(phase.name, "a fetch of a block the directory lacks");
+            }
+            if (gp.blocks)
+                for (std::uint64_t b = 0; b < gp.blocks->block_count(); ++b)
+                    for (const BlockPart& part : gp.blocks->parts(b))
+                        if (part.renderer >= machine.renderers().size()) fail(phase.name, "a block part on a renderer the machine lacks");
+        }
+    }
+}
+
 FrameTiming FrameRun::run(const EngineOptions& options) {
+    check_recorded_work(work_, machine_);
     check_machine_fits();
     for (const Phase& p : work_.phases)
         if (const auto* gp = std::get_if<GpPhase>(&p.work); gp != nullptr && gp->blocks)
@@ -641,8 +689,13 @@ FrameTiming FrameRun::run(const EngineOptions& options) {
     timing_.end_ps = timing_.start_ps;
     timing_.phases.resize(work_.phases.size());
     for (std::size_t i = 0; i < work_.phases.size(); ++i) timing_.phases[i].name = work_.phases[i].name;
-    if (!work_.phases.empty()) start_phase(0, timing_.start_ps);
-    events.run_until(timing_.start_ps + options.watchdog_limit);
+    try {
+        if (!work_.phases.empty()) start_phase(0, timing_.start_ps);
+        events.run_until(timing_.start_ps + options.watchdog_limit);
+    } catch (...) {
+        events.clear();  // the agents handling them are about to go
+        throw;
+    }
 
     if (current_ < work_.phases.size()) {
         const bool timed_out = !events.empty();
@@ -744,6 +797,14 @@ void FrameRun::start_broadcast_phase(const BroadcastPhase& phase, PhaseTiming& t
 }
 
 }  // namespace
+
+void check_picture_fits(const Machine& machine, int width, int height) {
+    const FrameBuffer& fb = machine.frame_buffer();
+    if (width > fb.width())
+        throw InputError(kMachineFile, "frame_buffer.width", fmt::format("the frame buffer is {} pixels wide, the picture {}", fb.width(), width));
+    if (height > fb.height())
+        throw InputError(kMachineFile, "frame_buffer.height", fmt::format("the frame buffer is {} pixels high, the picture {}", fb.height(), height));
+}
 
 FrameTiming time_frame(Machine& machine, const FrameWork& work, const EngineOptions& options) {
     FrameRun run(machine, work);

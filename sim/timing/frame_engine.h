@@ -34,6 +34,10 @@ struct EngineOptions {
 // cache smaller than one block), and std::runtime_error from the watchdog (pending events dropped).
 FrameTiming time_frame(Machine& machine, const FrameWork& work, const EngineOptions& options = {});
 
+// InputError naming frame_buffer.width or .height when a picture of that size does not fit the frame
+// buffer (time_frame checks every frame; a frontend can ask before any work).
+void check_picture_fits(const Machine& machine, int width, int height);
+
 // The cost of one operation of each of `kinds` on a GP of `config`, in picoseconds: the sum of its
 // cost parameters, each at the GP's flop rate or clock (per its unit), times the calibration scales.
 std::vector<Tick> gp_op_costs(const MachineConfig& config, const std::vector<GpOpKind>& kinds);

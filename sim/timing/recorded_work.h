@@ -44,6 +44,8 @@ struct GpOp {
     std::uint32_t kind = 0;
     std::uint32_t count = 0;
 };
+// Appends `count` operations of `kind` (none when 0), in as many GpOps as a 32-bit count needs.
+void append_ops(std::vector<GpOp>& ops, std::uint32_t kind, std::uint64_t count);
 
 // A kernel's PP program over slots of every renderer: the program, and per renderer how many slots it
 // ran over and what it did there (from the functional run, so instruction counts are real).

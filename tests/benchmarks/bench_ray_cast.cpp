@@ -8,6 +8,7 @@
 //
 // Argument: host threads.
 
+#include "kernels/registry/run_config.h"
 #include "kernels/levoy/levoy_renderer.h"
 #include "kernels/reference/composite.h"
 #include "kernels/volume/phantoms.h"
@@ -23,9 +24,7 @@
 namespace {
 
 pp5::MachineConfig pxpl5(const char* threshold) {
-    std::vector<const pp5::ParamGroup*> groups = pp5::Machine::param_groups();
-    groups.push_back(&pp5::LevoySettings::params());
-    pp5::MachineConfig config(groups);
+    pp5::MachineConfig config(pp5::run_param_groups());  // the machine's and every kernel's parameters
     config.load_file(pp5::resolve_machine_file("pxpl5"));
     config.apply_override(std::string("levoy.refinement_threshold=") + threshold);
     return config;

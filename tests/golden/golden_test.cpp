@@ -7,6 +7,8 @@
 // PP5SIM=path runs another pp5sim binary (an older build, to record what it gave).
 
 #include <OpenImageIO/imageio.h>
+#include "tests/support/run_files.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -22,16 +24,12 @@
 namespace {
 
 namespace fs = std::filesystem;
+using pp5::test::read_file;
+using pp5::test::without_host_fields;
 
 const fs::path kSource = PP5_SOURCE_DIR;
 const fs::path kGolden = kSource / "tests/golden/scenarios";
 
-std::string read_file(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 
 void write_file(const fs::path& path, const std::string& text) {
     fs::create_directories(path.parent_path());
@@ -43,16 +41,6 @@ bool refreshing() {
     return flag != nullptr && std::string(flag) == "1";
 }
 
-// Host timings differ from run to run; everything else must not.
-nlohmann::json without_host_fields(nlohmann::json j) {
-    if (j.is_object()) {
-        j.erase("host_seconds");
-        for (auto& [k, v] : j.items()) v = without_host_fields(v);
-    } else if (j.is_array()) {
-        for (auto& v : j) v = without_host_fields(v);
-    }
-    return j;
-}
 
 // FNV-1a over an image's size and decoded 8-bit pixels: the same picture gives the same digest
 // whatever the PNG encoder's choices.

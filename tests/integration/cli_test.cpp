@@ -1,6 +1,8 @@
 // Runs the pp5sim binary as a user would: good runs write whole outputs, bad input gets one clear
 // error line, exit code 2 and no output, and the thread count changes nothing.
 
+#include "tests/support/run_files.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -14,6 +16,8 @@
 namespace {
 
 namespace fs = std::filesystem;
+using pp5::test::read_file;
+using pp5::test::without_host_fields;
 
 struct RunResult {
     int exit_code;
@@ -27,12 +31,6 @@ fs::path scratch(const std::string& name) {
     return dir;
 }
 
-std::string read_file(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 
 RunResult run(const std::string& args, const fs::path& log_dir) {
     const fs::path log = log_dir / "log.txt";
@@ -43,16 +41,6 @@ RunResult run(const std::string& args, const fs::path& log_dir) {
 
 std::string scenario(const std::string& name) { return std::string(PP5_SOURCE_DIR) + "/traces/scenarios/" + name; }
 
-// Host timings differ from run to run; everything else in stats.json must not.
-nlohmann::json without_host_fields(nlohmann::json j) {
-    if (j.is_object()) {
-        j.erase("host_seconds");
-        for (auto& [k, v] : j.items()) v = without_host_fields(v);
-    } else if (j.is_array()) {
-        for (auto& v : j) v = without_host_fields(v);
-    }
-    return j;
-}
 
 // Without a scenario, render runs the shipped default (the MR head, from the mricron-data package);
 // a shipped scenario can also be named without its path.

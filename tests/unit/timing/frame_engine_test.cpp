@@ -302,6 +302,82 @@ TEST(FrameEngine, PhasesRunOneAfterAnotherInOneEventLoop) {
     EXPECT_EQ(t.phase("nothing"), nullptr);
 }
 
+TEST(FrameEngine, APhaseThatSendsNoPixelsEndsWhenItsGpsFinish) {
+    Machine machine(latency_machine(2));
+    const FrameTiming t = time_frame(machine, hand_frame({{HandItem{{0}}, HandItem{{}, 1, 40}}}, /*pixels=*/0));
+    const PhaseTiming& p = t.phases.front();
+    EXPECT_GT(p.duration_ps(), 0);
+    EXPECT_EQ(p.end_ps, machine.events().now());
+    ASSERT_EQ(p.group_end_ps.size(), 1u);
+    EXPECT_EQ(p.group_end_ps[0], p.start_ps);  // no pixels arrived for it
+    EXPECT_EQ(machine.frame_buffer().pixels_written.value(), 0u);
+}
+
+TEST(FrameEngine, InconsistentRecordedWorkIsRefusedBeforeItRuns) {
+    Machine machine(latency_machine(1));
+    FrameWork no_directory = hand_frame({{HandItem{{0}}}});
+    std::get<GpPhase>(no_directory.phases.front().work).blocks.reset();
+    EXPECT_THROW((void)time_frame(machine, no_directory), std::logic_error);
+    FrameWork unknown_block = hand_frame({{HandItem{{100000}}}});
+    EXPECT_THROW((void)time_frame(machine, unknown_block), std::logic_error);
+    FrameWork undeclared_kind = hand_frame({{HandItem{{0}}}});
+    std::get<GpPhase>(undeclared_kind.phases.front().work).ops.front().kind = 7;
+    EXPECT_THROW((void)time_frame(machine, undeclared_kind), std::logic_error);
+    EXPECT_TRUE(machine.events().empty());
+    EXPECT_EQ(machine.events().now(), 0);
+}
+
+TEST(FrameEngine, ACacheLargerThanTheGpsMemoryIsRefusedNamingTheKey) {
+    MachineConfig config = latency_machine(1);
+    config.apply_override("gp.cache_bits=1048576");   // 128 KiB
+    config.apply_override("gp.memory_bytes=65536");   // 64 KiB
+    Machine machine(config);
+    try {
+        (void)time_frame(machine, hand_frame({{HandItem{{0}}}}));
+        FAIL() << "expected an InputError";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.field(), "gp.memory_bytes");
+        EXPECT_NE(std::string(e.what()).find("131072 byte cache"), std::string::npos) << e.what();
+    }
+    // Asked for directly (as a kernel sizing its caches at start does), the cache names its own key.
+    Machine again(config);
+    try {
+        (void)again.gps().front()->cache(256);
+        FAIL() << "expected an InputError";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.field(), "gp.cache_bits");
+    }
+}
+
+TEST(FrameEngine, ACacheTooBigToSimulateIsRefusedSayingWhatItWouldNeed) {
+    MachineConfig config = latency_machine(1);
+    config.apply_override("gp.cache_bits=1099511627776");  // 2^40 bits
+    config.apply_override("gp.memory_bytes=1099511627776");
+    Machine machine(config);
+    try {
+        (void)machine.gps().front()->cache(32);
+        FAIL() << "expected an InputError";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.field(), "gp.cache_bits");
+        EXPECT_NE(std::string(e.what()).find("MiB"), std::string::npos) << e.what();
+    }
+}
+
+TEST(RecordedWork, LargeCountsSplitIntoSeveralOperations) {
+    std::vector<GpOp> ops;
+    append_ops(ops, 3, 0);
+    EXPECT_TRUE(ops.empty());
+    const std::uint64_t big = 10'000'000'000ull;
+    append_ops(ops, 3, big);
+    std::uint64_t total = 0;
+    for (const GpOp& op : ops) {
+        EXPECT_EQ(op.kind, 3u);
+        total += op.count;
+    }
+    EXPECT_EQ(total, big);
+    EXPECT_EQ(ops.size(), 3u);
+}
+
 TEST(OneProcessor, SumsEveryOperationOfEveryPhaseInGroupOrder) {
     MachineConfig config = latency_machine(1);
     FrameWork frame = hand_frame({{HandItem{{0, 1}, 5, 2}, HandItem{{}, 1, 3}}, {HandItem{{2}, 7, 0}}});
