@@ -4,7 +4,7 @@
 #include "kernels/scenario/scenario_inputs.h"
 #include "kernels/scenario/scenario.h"
 #include "kernels/reference/reference_renderer.h"
-#include "kernels/levoy/levoy_costs.h"
+#include "kernels/reference/reference_costs.h"
 #include "sim/components/gp_cost_model.h"
 #include "sim/timing/frame_engine.h"
 #include "sim/core/time.h"
@@ -49,7 +49,8 @@ HostCheckReport run_host_check(const MachineConfig& host, const HostCheckOptions
     // One thread: the model prices one processor's work.
     const tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
     const GpCostModel costs = GpCostModel::from(host);
-    const std::vector<Tick> ray_costs = gp_op_costs(host, levoy_op_kinds());  // the ray caster's, which the reference's loop matches
+    const std::vector<Tick> loop_costs =
+        gp_op_costs(host, {{"ray_setup", reference_ray_setup_cost_keys()}, {"sample", reference_sample_cost_keys()}});
     int index = 0;
     for (const std::string& name : options.scenarios) {
         const Scenario scenario = load_scenario(resolve_scenario_file(name));
@@ -76,7 +77,7 @@ HostCheckReport run_host_check(const MachineConfig& host, const HostCheckOptions
             c.rays = stats.composite.rays;
             c.samples = stats.composite.samples;
             c.samples_skipped = stats.composite.samples_skipped;
-            c.flop_seconds = ticks_to_seconds(static_cast<Tick>(c.rays) * ray_costs[kRaySetup] + static_cast<Tick>(c.samples) * ray_costs[kSample]);
+            c.flop_seconds = ticks_to_seconds(static_cast<Tick>(c.rays) * loop_costs[0] + static_cast<Tick>(c.samples) * loop_costs[1]);
             c.voxels = static_cast<std::uint64_t>(volume.voxel_count());
             c.cycle_seconds = ticks_to_seconds(static_cast<Tick>(c.voxels) * costs.receive_per_word);
             if (options.progress)

@@ -1,9 +1,9 @@
 #pragma once
 // The model checked against a real machine, this one. pp5sim's reference renderer (kernels/reference)
 // is timed on a set of cases (volumes, image sizes, transfer functions), one thread, best of a few
-// runs. The same cost model that times the GPs (gp_cost.*, on the `host` preset's rates) prices each
-// case's counted work: a ray's setup per ray; a sample's step, interpolation and compositing per
-// sample (flops); and, as a GP pays to copy each received word into its cache, each voxel of the
+// runs. The cost model that times the GPs (on the `host` preset's rates) prices each case's counted
+// work: a ray's setup per ray; a sample's step, interpolation and compositing per sample (flops,
+// gp_cost.reference.*, whose defaults are Levoy's ray caster's counts); and, as a GP pays to copy each received word into its cache, each voxel of the
 // volume brought through the host's memory hierarchy once a frame (cycles; a small image of a large
 // volume touches as much memory as a large one). Skipped empty space is left unpriced: the reference
 // renderer leaps whole empty blocks. Ceres fits the host's two scales (flops and cycles) to half the

@@ -285,13 +285,7 @@ LevoyFrameReport LevoyRenderer::render(const LevoyFrameInputs& frame) {
 }
 
 void apply_timing(LevoyFrameReport& report, const LevoyFrameTiming& timing) {
-    report.start_ps = timing.start_ps;
-    report.end_ps = timing.end_ps;
-    report.pixel_processors = timing.pixel_processors;
-    report.region = timing.region;
-    report.geometry = timing.geometry;
-    report.pyramid_ps = timing.pyramid_ps;
-    report.ray_cast = timing.ray_cast;
+    static_cast<LevoyFrameTiming&>(report) = timing;
     for (std::size_t p = 0; p < report.passes.size() && p < timing.ray_cast.pass_end.size(); ++p)
         report.passes[p].end_ps = timing.ray_cast.pass_end[p] - report.start_ps;
 }

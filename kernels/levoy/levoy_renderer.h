@@ -104,12 +104,13 @@ struct LevoyFrameTiming {
     Tick start_ps = 0;
     Tick end_ps = 0;
     PpFrameReport pixel_processors;
-    PpProgramPass region;
+    PpProgramPass region;  // the volume-of-interest pass, when it ran
     GeometryReport geometry;
-    Tick pyramid_ps = 0;
+    Tick pyramid_ps = 0;   // distributing the emptiness bits and building
     RayCastReport ray_cast;
     Tick crude_ps() const { return ray_cast.pass_end.empty() ? end_ps - start_ps : ray_cast.pass_end.front() - start_ps; }
     Tick refined_ps() const { return end_ps - start_ps; }
+    Tick duration_ps() const { return end_ps - start_ps; }
 };
 
 // Levoy's view of a frame's timing on any machine (the engine's, or one processor's).
@@ -117,18 +118,12 @@ LevoyFrameTiming levoy_frame_timing(const LevoyFrameWork& work, const FrameTimin
 // Times `work` on `machine` from its current time; GP caches carry over from earlier frames.
 LevoyFrameTiming time_levoy_frame(Machine& machine, const LevoyFrameWork& work);
 
-struct LevoyFrameReport {
-    Tick start_ps = 0;
-    Tick end_ps = 0;
-    PpFrameReport pixel_processors;
-    PpProgramPass region;  // the volume-of-interest pass, when it ran
-    GeometryReport geometry;
+// A frame: what it computed and recorded, and (once timed) when its work happened.
+struct LevoyFrameReport : LevoyFrameTiming {
     bool pyramid_rebuilt = false;
-    Tick pyramid_ps = 0;  // distributing the emptiness bits and building
     std::uint64_t pyramid_cells_occupied = 0;
     bool caches_invalidated = false;
     bool depth_buffer_used = false;
-    RayCastReport ray_cast;
     std::vector<RefinementPassReport> passes;
     Image final_image;  // the last pass's picture
     LevoyFrameWork work;  // what the frame asked of the machine, to time again elsewhere

@@ -1,5 +1,6 @@
 #include "kernels/reference_kernel/reference_kernel.h"
 
+#include "kernels/reference/reference_costs.h"
 #include "kernels/reference/reference_renderer.h"
 #include "kernels/scenario/scenario_inputs.h"
 
@@ -39,7 +40,7 @@ public:
     std::string name() const override { return "reference"; }
     std::string description() const override { return "the host floating-point renderer alone (no simulated time)"; }
     std::string timing_summary() const override { return "none: the host reference renderer; simulated time is 0"; }
-    std::vector<const ParamGroup*> param_groups() const override { return {}; }
+    std::vector<const ParamGroup*> param_groups() const override { return {&reference_cost_params()}; }
     bool runs_on_machine() const override { return false; }
     void check(const Scenario&) const override {}
     std::unique_ptr<KernelRun> start(Machine&, const MachineConfig&, const Scenario& scenario, const Volume& volume) const override {
