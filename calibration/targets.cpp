@@ -28,6 +28,43 @@ std::string text_field(const toml::table& row, const std::string& file, const st
     return s->get();
 }
 
+// [[figures]]: name, scenario, frame, picture ("final" or "first"); the scenario and frame must be
+// recorded for some target.
+void read_figures(const toml::table& root, const std::string& file, TargetSet& set) {
+    const toml::array* rows = root["figures"].as_array();
+    if (rows == nullptr) return;
+    for (std::size_t i = 0; i < rows->size(); ++i) {
+        const std::string prefix = fmt::format("figures[{}].", i);
+        const toml::table* row = (*rows)[i].as_table();
+        if (!row) throw InputError(file, prefix.substr(0, prefix.size() - 1), "must be a table");
+        for (const auto& [k, v] : *row) {
+            const std::string key(k.str());
+            if (key != "name" && key != "scenario" && key != "frame" && key != "picture")
+                throw InputError(file, prefix + key, "unknown field; a figure has name, scenario, frame and picture");
+        }
+        Figure f;
+        f.name = text_field(*row, file, prefix, "name", true);
+        if (f.name.empty() || f.name.find_first_of("/\\.") != std::string::npos)
+            throw InputError(file, prefix + "name", "must be a plain file name without slashes or dots");
+        f.scenario = text_field(*row, file, prefix, "scenario", true);
+        if (const toml::node* frame = row->get("frame")) {
+            const auto index = frame->value<std::int64_t>();
+            if (!index || *index < 0) throw InputError(file, prefix + "frame", "must be a frame index from 0");
+            f.frame = static_cast<int>(*index);
+        }
+        const std::string picture = text_field(*row, file, prefix, "picture", false);
+        if (!picture.empty() && picture != "final" && picture != "first")
+            throw InputError(file, prefix + "picture", "must be final (the finished frame) or first (its first stage)");
+        f.final = picture != "first";
+        bool recorded = false;
+        for (const Target& t : set.targets) recorded = recorded || (t.scenario == f.scenario && t.frame >= f.frame);
+        if (!recorded)
+            throw InputError(file, prefix + "scenario",
+                             fmt::format("no target records frame {} of \"{}\" (figures show frames the targets render)", f.frame, f.scenario));
+        set.figures.push_back(f);
+    }
+}
+
 }  // namespace
 
 std::string_view to_string(Exactness exactness) {
@@ -69,8 +106,8 @@ TargetSet load_targets(const std::filesystem::path& path) {
         set.description = text_field(*head, file, "calibration.", "description", false);
     }
     for (const auto& [key, node] : root) {
-        if (key.str() != "calibration" && key.str() != "targets")
-            throw InputError(file, std::string(key.str()), "unknown table; a target file holds [calibration] and [[targets]]");
+        if (key.str() != "calibration" && key.str() != "targets" && key.str() != "figures")
+            throw InputError(file, std::string(key.str()), "unknown table; a target file holds [calibration], [[targets]] and [[figures]]");
     }
     const toml::array* rows = root["targets"].as_array();
     if (!rows || rows->empty()) throw InputError(file, "targets", "needs at least one [[targets]] row");
@@ -147,6 +184,7 @@ TargetSet load_targets(const std::filesystem::path& path) {
         }
         set.targets.push_back(std::move(t));
     }
+    read_figures(root, file, set);
     return set;
 }
 

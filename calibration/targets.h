@@ -35,11 +35,20 @@ struct Target {
     bool fitted = true;  // false: held out, predicted only
 };
 
+// A picture `pp5sim reproduce` writes beside the table: a recorded frame of a target's scenario.
+struct Figure {
+    std::string name;      // images/<name>.png
+    std::string scenario;  // a scenario some target names, whose frame `frame` it records
+    int frame = 0;
+    bool final = true;     // the finished frame, or (false) its first stage (the crude pass)
+};
+
 struct TargetSet {
     std::filesystem::path file;
     std::string name;
     std::string description;
     std::vector<Target> targets;
+    std::vector<Figure> figures;
 };
 
 // Reads and checks a target file: metrics the scenario's kernel does not offer, unknown exactness or

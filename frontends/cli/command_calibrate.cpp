@@ -193,34 +193,27 @@ int run_reproduce(const CalibrateOptions& o) {
     output.add_text("reproduction.md", report.to_markdown());
 
     // Figure-like images from the recorded frames (what is computed does not depend on the machine's timing).
-    struct Figure {
-        const char* name;
-        const char* scenario;
-        int frame;
-        bool refined;
-    };
-    constexpr Figure figures[] = {{"figure3_mr_head_crude", "mr-head-sequence", 1, false},
-                                  {"figure4_mr_head_refined", "mr-head-sequence", 1, true},
-                                  {"figure5_ct_head_polygons", "ct-head-polygons", 0, true},
-                                  {"region_of_interest_mr_head", "mr-head-region", 1, true}};
+    // The target file's [[figures]].
     int images = 0;
-    for (const Figure& f : figures) {
-        bool present = false;
-        for (const Target& t : model->targets().targets) present = present || (t.scenario == f.scenario && t.frame >= f.frame);
-        if (!present) continue;
+    for (const Figure& f : model->targets().figures) {
         const RecordedFrame& frame = model->recording(f.scenario).frames()[static_cast<std::size_t>(f.frame)];
-        output.add_image(std::string("images/") + f.name + ".png", f.refined ? frame.refined_image : frame.crude_image, ImageFormat::Png);
+        output.add_image("images/" + f.name + ".png", f.final ? frame.refined_image : frame.crude_image, ImageFormat::Png);
         ++images;
     }
 
     // Plots.
     stage_plot(output, reported_vs_simulated(report), "reported_vs_simulated");
-    const Target* scaling = nullptr;  // the first Pixel-planes 5 frame-time target sets the scenario and frame
-    for (const Target& t : model->targets().targets) {
-        if (!scaling && model->base_config(t.machine).machine_kind() == MachineKind::Multicomputer &&
-            (t.metric == "crude_seconds" || t.metric == "refined_seconds"))
-            scaling = &t;
-    }
+    // The first Pixel-planes 5 target timed in seconds sets the scenario, frame and machine; every
+    // seconds metric the targets give for that frame is swept.
+    const Target* scaling = nullptr;
+    for (const Target& t : model->targets().targets)
+        if (!scaling && model->base_config(t.machine).machine_kind() == MachineKind::Multicomputer && t.unit == "s") scaling = &t;
+    std::vector<std::string> swept;
+    if (scaling)
+        for (const Target& t : model->targets().targets)
+            if (t.scenario == scaling->scenario && t.frame == scaling->frame && t.machine == scaling->machine && t.unit == "s" &&
+                std::find(swept.begin(), swept.end(), t.metric) == swept.end())
+                swept.push_back(t.metric);
     nlohmann::json sweep = nlohmann::json::array();
     if (scaling) {
         PlotSpec spec;
@@ -233,8 +226,9 @@ int run_reproduce(const CalibrateOptions& o) {
         const int fewest = *std::min_element(o.gp_counts.begin(), o.gp_counts.end());
         spec.extra_commands = {"set xtics (1,2,4,8,16,32,64,128,256,512,1024)",
                                fmt::format("set xrange [{}:{}]", 0.8 * fewest, 1.25 * most)};
-        PlotSeries crude{"crude (first pass)", {}, {}, "linespoints pt 7 lw 2"};
-        PlotSeries refined{"fully refined", {}, {}, "linespoints pt 5 lw 2"};
+        std::vector<PlotSeries> series;
+        for (std::size_t m = 0; m < swept.size(); ++m)
+            series.push_back(PlotSeries{swept[m], {}, {}, fmt::format("linespoints pt {} lw 2", 7 - 2 * static_cast<int>(m % 3))});
         const CalibrationScales scales = report.scales(scaling->machine);
         for (const int n : o.gp_counts) {
             say(fmt::format("GP sweep: {} GPs", n));
@@ -243,25 +237,28 @@ int run_reproduce(const CalibrateOptions& o) {
             const RecordedScenario& recording = model->recording(scaling->scenario);
             const auto frame = static_cast<std::size_t>(scaling->frame);
             const FrameTiming timing = recording.time_on(config)[frame];
-            const double crude_seconds = recording.metric("crude_seconds", frame, timing);
-            const double refined_seconds = recording.metric("refined_seconds", frame, timing);
-            crude.x.push_back(n);
-            crude.y.push_back(crude_seconds);
-            refined.x.push_back(n);
-            refined.y.push_back(refined_seconds);
-            sweep.push_back({{"gps", n}, {"crude_seconds", crude_seconds}, {"refined_seconds", refined_seconds}});
+            nlohmann::json point = {{"gps", n}};
+            for (std::size_t m = 0; m < swept.size(); ++m) {
+                const double seconds = recording.metric(swept[m], frame, timing);
+                series[m].x.push_back(n);
+                series[m].y.push_back(seconds);
+                point[swept[m]] = seconds;
+            }
+            sweep.push_back(point);
         }
-        // Perfect speed-up from the fewest GPs, for comparison.
-        PlotSeries ideal{"refined, perfect speed-up", {}, {}, "lines dt 2 lc rgb 'gray'"};
-        for (std::size_t i = 0; i < refined.x.size(); ++i) {
-            ideal.x.push_back(refined.x[i]);
-            ideal.y.push_back(refined.y.front() * refined.x.front() / refined.x[i]);
+        // Perfect speed-up of the last metric from the fewest GPs, for comparison.
+        const PlotSeries& last = series.back();
+        PlotSeries ideal{last.title + ", perfect speed-up", {}, {}, "lines dt 2 lc rgb 'gray'"};
+        for (std::size_t i = 0; i < last.x.size(); ++i) {
+            ideal.x.push_back(last.x[i]);
+            ideal.y.push_back(last.y.front() * last.x.front() / last.x[i]);
         }
-        spec.series = {crude, refined, ideal};
-        // Levoy's estimates for 32 GPs, where the frame's targets give them.
+        spec.series = series;
+        spec.series.push_back(ideal);
+        // The reported figures for the machine's GP count, where the frame's targets give them.
         for (const Target& t : model->targets().targets) {
             if (t.scenario != scaling->scenario || t.frame != scaling->frame || t.machine != scaling->machine) continue;
-            if (t.metric != "crude_seconds" && t.metric != "refined_seconds") continue;
+            if (std::find(swept.begin(), swept.end(), t.metric) == swept.end()) continue;
             const double gps = static_cast<double>(model->base_config(t.machine).integer("gp.count"));
             spec.series.push_back(PlotSeries{"reported: " + t.id, {gps}, {t.reported}, "points pt 9 ps 2.5"});
         }

@@ -6,6 +6,7 @@
 #include "calibration/targets.h"
 #include "calibration/timing_model.h"
 #include "calibration_support.h"
+#include "tests/support/run_files.h"
 #include "kernels/registry/run_config.h"
 #include "sim/core/input_error.h"
 
@@ -155,9 +156,36 @@ TEST(Targets, BadRowsNameTheFieldAndTheReason) {
     EXPECT_EQ(good.targets[0].frame, 1);
 }
 
+TEST(Targets, FiguresShowFramesTheTargetsRecord) {
+    const test::CalibrationFiles files = test::write_calibration_files("figures");
+    const std::filesystem::path path = target_file(files, "id", "\"fine\"");
+    const auto with_figure = [&](const std::string& figure) {
+        const std::filesystem::path out = files.dir / "targets-figures.toml";
+        std::ofstream(out) << pp5::test::read_file(path) << "\n[[figures]]\n" << figure;
+        return out;
+    };
+    const TargetSet good = load_targets(with_figure("name = \"crude\"\nscenario = \"" + files.scenario.string() + "\"\nframe = 1\npicture = \"first\"\n"));
+    ASSERT_EQ(good.figures.size(), 1u);
+    EXPECT_EQ(good.figures[0].name, "crude");
+    EXPECT_FALSE(good.figures[0].final);
+    const auto expect_error = [&](const std::string& figure, const std::string& field) {
+        try {
+            (void)load_targets(with_figure(figure));
+            ADD_FAILURE() << figure << " was accepted";
+        } catch (const InputError& e) {
+            EXPECT_EQ(e.field(), field) << e.what();
+        }
+    };
+    expect_error("name = \"late\"\nscenario = \"" + files.scenario.string() + "\"\nframe = 2\n", "figures[0].scenario");  // no target records frame 2
+    expect_error("name = \"../up\"\nscenario = \"" + files.scenario.string() + "\"\n", "figures[0].name");
+    expect_error("name = \"x\"\nscenario = \"" + files.scenario.string() + "\"\npicture = \"middle\"\n", "figures[0].picture");
+    expect_error("name = \"x\"\nscenario = \"" + files.scenario.string() + "\"\ncolour = 1\n", "figures[0].colour");
+}
+
 TEST(Targets, TheShippedLevoyFileLoads) {
     const TargetSet set = load_targets(resolve_targets_file(kDefaultTargets));
     EXPECT_GE(set.targets.size(), 15u);
+    EXPECT_EQ(set.figures.size(), 4u);
     int fitted = 0, sun = 0;
     for (const Target& t : set.targets) {
         fitted += t.fitted;
