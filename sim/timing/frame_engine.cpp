@@ -607,7 +607,7 @@ void GpPhaseRun::maybe_complete(Tick now) {
 std::string GpPhaseRun::describe_stall() const {
     std::string why;
     for (const auto& gp : gps)
-        if (!gp->finished()) why += " " + gp->describe_stall();
+        if (!gp->finished()) why.append(1, ' ').append(gp->describe_stall());
     if (pixel_messages_in_flight > 0) why += fmt::format(" {} pixel message(s) on their way;", pixel_messages_in_flight);
     return why;
 }

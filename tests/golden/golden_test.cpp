@@ -108,8 +108,8 @@ TEST_P(Golden, StatisticsAndImagesMatchTheRecordedRun) {
 }
 
 INSTANTIATE_TEST_SUITE_P(ShippedScenarios, Golden, ::testing::ValuesIn(shipped_scenarios()),
-                         [](const ::testing::TestParamInfo<std::string>& info) {
-                             std::string id = info.param;
+                         [](const ::testing::TestParamInfo<std::string>& scenario) {
+                             std::string id = scenario.param;
                              for (char& c : id)
                                  if (c == '-') c = '_';
                              return id;
