@@ -227,8 +227,11 @@ int run_reproduce(const CalibrateOptions& o) {
         spec.extra_commands = {"set xtics (1,2,4,8,16,32,64,128,256,512,1024)",
                                fmt::format("set xrange [{}:{}]", 0.8 * fewest, 1.25 * most)};
         std::vector<PlotSeries> series;
-        for (std::size_t m = 0; m < swept.size(); ++m)
-            series.push_back(PlotSeries{swept[m], {}, {}, fmt::format("linespoints pt {} lw 2", 7 - 2 * static_cast<int>(m % 3))});
+        for (std::size_t m = 0; m < swept.size(); ++m) {
+            std::string title = swept[m];  // gnuplot would read an underscore as a subscript
+            std::replace(title.begin(), title.end(), '_', ' ');
+            series.push_back(PlotSeries{title, {}, {}, fmt::format("linespoints pt {} lw 2", 7 - 2 * static_cast<int>(m % 3))});
+        }
         const CalibrationScales scales = report.scales(scaling->machine);
         for (const int n : o.gp_counts) {
             say(fmt::format("GP sweep: {} GPs", n));
