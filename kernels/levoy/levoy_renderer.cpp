@@ -57,16 +57,13 @@ LevoyFrameTiming levoy_frame_timing(const LevoyFrameWork& work, const FrameTimin
     t.pixel_processors.start_ps = classification ? classification->start_ps : shading ? shading->start_ps : timing.start_ps;
     t.pixel_processors.end_ps = shading ? shading->end_ps : classification ? classification->end_ps : timing.start_ps;
     t.region = pass_of(timing.phase("region_of_interest"));
-    if (const PhaseTiming* scan = timing.phase("scan_conversion"); scan != nullptr || work.scan_converted) {
+    // A frame that scan-converts records the phase, even when every polygon is degenerate.
+    if (const PhaseTiming* scan = timing.phase("scan_conversion")) {
         t.geometry.ran = true;
         t.geometry.polygons = work.polygons;
-        const PhaseTiming* before = scan;
-        if (before == nullptr) before = timing.phase("region_of_interest");
-        if (before == nullptr) before = shading;
-        t.geometry.start_ps = scan != nullptr ? scan->start_ps : before != nullptr ? before->end_ps : timing.start_ps;
-        t.geometry.end_ps = scan != nullptr ? scan->end_ps : t.geometry.start_ps;
-        if (scan != nullptr)
-            for (const PpPassTiming& p : scan->passes) t.geometry.slots += p.slots;
+        t.geometry.start_ps = scan->start_ps;
+        t.geometry.end_ps = scan->end_ps;
+        for (const PpPassTiming& p : scan->passes) t.geometry.slots += p.slots;
     }
     if (const PhaseTiming* pyramid = timing.phase("pyramid")) t.pyramid_ps = pyramid->duration_ps();
     RayCastReport& rc = t.ray_cast;
@@ -333,7 +330,6 @@ LevoyFrameReport LevoyRenderer::record(const LevoyFrameInputs& frame) {
         machine_work.phases.push_back(voxel_pass("region_of_interest", pass, kVoxelRegion));
     }
     if (!polygons_.empty() && reshade) {
-        work.scan_converted = true;
         work.polygons = polygons_.size();
         machine_work.phases.push_back(scan_convert());
     }

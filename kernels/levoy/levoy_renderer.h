@@ -74,7 +74,6 @@ struct RayCastReport : RayCastCounts {
 // scan_conversion, pyramid, ray_casting (each only when the frame needs it).
 struct LevoyFrameWork {
     FrameWork machine;
-    bool scan_converted = false;
     std::uint64_t polygons = 0;  // including degenerate ones, which need no pass
     RayCastCounts rays;
 };

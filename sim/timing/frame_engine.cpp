@@ -291,6 +291,10 @@ void GpAgent::perform(Tick now) {
         case Action::None: break;
         case Action::Request:
             for (const BlockPart& part : run_.phase.blocks->parts(action_value_)) {
+                // Checked here, where a block is first asked for, not over the whole directory every frame.
+                if (part.renderer >= run_.renderers.size())
+                    throw std::logic_error(fmt::format("recorded work: block {} has a part on renderer {}, which the machine lacks",
+                                                       action_value_, part.renderer));
                 const std::size_t to = ring.position(StationKind::Renderer, part.renderer);
                 ring.send(events, now, RingMessage{MessageKind::FetchRequest, station_, to, run_.phase.fetch_request_bits, false},
                           *run_.renderers[part.renderer], pack(Signal::Arrival, gp_.index(), action_value_));
@@ -666,10 +670,6 @@ void check_recorded_work(const FrameWork& work, const Machine& machine) {
                 if (!gp.blocks) fail(phase.name, "a fetch without a block directory");
                 if (step.block >= gp.blocks->block_count()) fail(phase.name, "a fetch of a block the directory lacks");
             }
-            if (gp.blocks)
-                for (std::uint64_t b = 0; b < gp.blocks->block_count(); ++b)
-                    for (const BlockPart& part : gp.blocks->parts(b))
-                        if (part.renderer >= machine.renderers().size()) fail(phase.name, "a block part on a renderer the machine lacks");
         }
     }
 }
