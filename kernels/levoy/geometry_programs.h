@@ -9,8 +9,8 @@
 //   a_p = coverage x polygon opacity,  a = a_p + a_v (1 - a_p),  c = (c_p a_p + c_v a_v (1 - a_p)) / a.
 // Full coverage of an opaque polygon gives the polygon's colour and opacity; no coverage changes nothing.
 
-#include "kernels/levoy/shading_programs.h"
-#include "kernels/levoy/voxel_placement.h"
+#include "kernels/pp_volume/shading_programs.h"
+#include "kernels/pp_volume/voxel_placement.h"
 #include "kernels/render/polygon.h"
 #include "kernels/render/region_of_interest.h"
 #include "sim/renderer/pp_array.h"

@@ -1,7 +1,7 @@
 #include "kernels/levoy/levoy_kernel.h"
 
 #include "kernels/levoy/levoy_costs.h"
-#include "kernels/levoy/pp_shading.h"
+#include "kernels/pp_volume/pp_shading.h"
 #include "kernels/scenario/scenario_inputs.h"
 #include "sim/core/input_error.h"
 
@@ -184,7 +184,7 @@ public:
         return "event-driven: PP passes from their programs' operations, the pyramid's distribution and building, and the GPs' "
                "ray casting with voxel requests over the ring; uncalibrated default costs";
     }
-    std::vector<const ParamGroup*> param_groups() const override { return {&LevoySettings::params(), &levoy_cost_params()}; }
+    std::vector<const ParamGroup*> param_groups() const override { return {&VoxelStoreSettings::params(), &LevoySettings::params(), &levoy_cost_params()}; }
     bool runs_on_machine() const override { return true; }
     void check(const Scenario& scenario) const override {
         if (scenario.image.resampling != ResamplingOrder::ShadeThenInterpolate)

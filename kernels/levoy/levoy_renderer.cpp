@@ -28,8 +28,8 @@ LevoyRenderer::LevoyRenderer(Machine& machine, const Volume& volume, const Levoy
       image_(image),
       dims_(volume.dims()),
       spacing_(volume.spacing()),
-      pixel_processors_(machine, volume, settings),
-      blocks_(pixel_processors_.placement(), settings.block_cells, voxel_bits_of(settings.layout)),
+      pixel_processors_(machine, volume, settings.store),
+      blocks_(pixel_processors_.placement(), settings.block_cells, voxel_bits_of(settings.store.layout)),
       directory_(blocks_.directory()) {
     if (image.width < 1 || image.height < 1) throw InputError("scenario", "image.width", "the image needs at least one pixel");
     for (auto& gp : machine.gps()) gp->cache(blocks_.block_bits());  // InputError if one block does not fit, before any frame
@@ -124,7 +124,7 @@ Phase LevoyRenderer::scan_convert() {
         const auto bits = static_cast<std::uint64_t>(program.expressions) * 3 * 32;
         PpPhase::Pass pass{pixel_processors_.execute(
                                program, [&](const SlotFrame& frame) { return polygon_reaches_slot(polygon, frame, dims_, placement.shape()); },
-                               [&](const SlotFrame& frame) { return polygon_expressions(polygon, offsets, frame, settings_.layout); }),
+                               [&](const SlotFrame& frame) { return polygon_expressions(polygon, offsets, frame, settings_.store.layout); }),
                            bits, {}};
         const auto visited = static_cast<std::uint64_t>(std::llround(kSequentialVoxelsPerUnitArea * polygon.area));
         const auto tests = static_cast<std::uint64_t>(settings_.jitter_samples) * (polygon.edge_normals.size() + 1);

@@ -15,7 +15,7 @@
 // non-empty set stay, rays start at the depth buffer's first non-empty sample.
 
 #include "kernels/levoy/binary_pyramid.h"
-#include "kernels/levoy/pp_shading.h"
+#include "kernels/levoy/levoy_settings.h"
 #include "kernels/levoy/levoy_costs.h"
 #include "kernels/levoy/voxel_blocks.h"
 #include "kernels/render/camera.h"

@@ -3,12 +3,16 @@
 #include "kernels/registry/registry.h"
 #include "sim/machine/machine.h"
 
+#include <algorithm>
+
 namespace pp5 {
 
 std::vector<const ParamGroup*> run_param_groups() {
     std::vector<const ParamGroup*> groups = Machine::param_groups();
+    // Kernels that share a building block (the PP voxel store) list its group each; it is declared once.
     for (const Kernel* kernel : kernels())
-        for (const ParamGroup* group : kernel->param_groups()) groups.push_back(group);
+        for (const ParamGroup* group : kernel->param_groups())
+            if (std::find(groups.begin(), groups.end(), group) == groups.end()) groups.push_back(group);
     return groups;
 }
 

@@ -6,7 +6,7 @@
 // Argument: host threads.
 
 #include "kernels/registry/run_config.h"
-#include "kernels/levoy/pp_shading.h"
+#include "kernels/pp_volume/pp_shading.h"
 #include "kernels/volume/phantoms.h"
 #include "sim/machine/machine.h"
 
@@ -26,7 +26,7 @@ void BM_PpShadingPass256(benchmark::State& state) {
     static const pp5::Volume volume = pp5::make_head_phantom(256);
     const pp5::MachineConfig config = pxpl5();
     pp5::Machine machine(config);
-    pp5::PpShading pps(machine, volume, pp5::LevoySettings::from(config));
+    pp5::PpShading pps(machine, volume, pp5::VoxelStoreSettings::from(config));
 
     pp5::Classification classification;
     classification.contours = {{40.0f, 0.9f, 1.5f}, {120.0f, 1.0f, 1.0f}};

@@ -220,7 +220,7 @@ TEST(Cli, BadMachineIsRejected) {
     // A machine too small for the volume: the error says what it would need.
     expect_rejected("machine_small", "render " + scenario("sphere.toml") + " --set renderer.count=1 --set renderer.backing_store_bits=512",
                     "renderer.backing_store_bits");
-    expect_rejected("kernel_setting", "render " + scenario("sphere.toml") + " --set levoy.placement=diagonal", "levoy.placement");
+    expect_rejected("kernel_setting", "render " + scenario("sphere.toml") + " --set voxel_store.placement=diagonal", "voxel_store.placement");
 }
 
 TEST(Cli, BadVolumeIsRejected) {

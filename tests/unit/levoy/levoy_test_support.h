@@ -3,7 +3,7 @@
 // parameters, small by default so that tests run in milliseconds.
 
 #include "kernels/levoy/levoy_costs.h"
-#include "kernels/levoy/pp_shading.h"
+#include "kernels/levoy/levoy_settings.h"
 #include "sim/machine/machine.h"
 
 #include <initializer_list>
@@ -14,6 +14,7 @@ namespace pp5::test {
 // The default machine and levoy settings, then `base` and `overrides` applied in order.
 inline MachineConfig levoy_config(std::initializer_list<std::string_view> base, std::initializer_list<std::string_view> overrides) {
     std::vector<const ParamGroup*> groups = Machine::param_groups();
+    groups.push_back(&VoxelStoreSettings::params());
     groups.push_back(&LevoySettings::params());
     groups.push_back(&levoy_cost_params());
     MachineConfig config(groups);

@@ -3,7 +3,7 @@
 // the cost model, determinism across thread counts, and the errors for a machine too small.
 
 #include "frontends/image_io.h"
-#include "kernels/levoy/pp_shading.h"
+#include "kernels/pp_volume/pp_shading.h"
 #include "kernels/reference/composite.h"
 #include "kernels/reference/reference_renderer.h"
 #include "kernels/reference/voxel_opacity.h"
@@ -65,7 +65,7 @@ struct Rendered {
 Rendered render_both(const Volume& volume, const Classification& classification, const ColorMap& colors,
                      const PhongLighting& lighting, const MachineConfig& config) {
     Machine machine(config);
-    PpShading pps(machine, volume, LevoySettings::from(config));
+    PpShading pps(machine, volume, VoxelStoreSettings::from(config));
     const Camera camera = oblique_camera(volume);
     RenderSettings settings;
     settings.width = 96;
@@ -112,7 +112,7 @@ TEST(PpShading, VoxelColoursAndOpacitiesMatchTheReference) {
     const Classification ramp = test::piecewise({{50.0f, 0.0f}, {150.0f, 0.8f}});
     const MachineConfig config = small_machine();
     Machine machine(config);
-    PpShading pps(machine, sphere, LevoySettings::from(config));
+    PpShading pps(machine, sphere, VoxelStoreSettings::from(config));
     const ShadingView view = make_shading_view(oblique_camera(sphere), sphere.dims(), sphere.spacing());
     pps.update(ramp, kWarm, phong(), view, true, true);
     const ShadedVolume machine_colours = pps.shaded_volume();
@@ -139,7 +139,7 @@ TEST(PpShading, EachChangeRerunsOnlyItsPass) {
     const Volume ball = test::ball_volume(glm::ivec3(24), glm::vec3(11.5f), 8.0f);
     const MachineConfig config = small_machine();
     Machine machine(config);
-    PpShading pps(machine, ball, LevoySettings::from(config));
+    PpShading pps(machine, ball, VoxelStoreSettings::from(config));
     const Camera camera = oblique_camera(ball);
     const ShadingView view = make_shading_view(camera, ball.dims(), ball.spacing());
     pps.update(skin_contour(), kWarm, phong(), view, true, true);
@@ -177,7 +177,7 @@ TEST(PpShading, SimulatedTimeIsTheCostModelsPassOnTheBusiestRenderer) {
     const Volume ball = test::ball_volume(glm::ivec3(64, 64, 16), glm::vec3(31.5f, 31.5f, 7.5f), 20.0f);
     const MachineConfig config = small_machine();
     Machine machine(config);
-    PpShading pps(machine, ball, LevoySettings::from(config));
+    PpShading pps(machine, ball, VoxelStoreSettings::from(config));
     // 64x64 in x, y is 2x2 tiles of 32x32, 16 slices: 64 units over 4 renderers, 16 slots each.
     EXPECT_EQ(pps.placement().slots_needed(), 16);
     const Camera camera = oblique_camera(ball);
@@ -197,9 +197,9 @@ TEST(PpShading, SameResultsAtOneAndTwoThreads) {
     const Volume lumpy = test::lumpy_volume(glm::ivec3(45, 38, 21));
     auto run = [&](int threads) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
-        const MachineConfig config = small_machine({"levoy.placement=slices"});
+        const MachineConfig config = small_machine({"voxel_store.placement=slices"});
         Machine machine(config);
-        PpShading pps(machine, lumpy, LevoySettings::from(config));
+        PpShading pps(machine, lumpy, VoxelStoreSettings::from(config));
         const Camera camera = oblique_camera(lumpy);
         const PpFrameReport report =
             pps.update(skin_contour(), kWarm, phong(), make_shading_view(camera, lumpy.dims(), lumpy.spacing()), true, true);
@@ -217,7 +217,7 @@ TEST(PpShading, AVolumeTooLargeIsAnErrorSayingWhatWouldFit) {
     const MachineConfig config = small_machine();
     Machine machine(config);
     try {
-        PpShading pps(machine, big, LevoySettings::from(config));
+        PpShading pps(machine, big, VoxelStoreSettings::from(config));
         FAIL() << "a 64x64x40 volume needs 40 slots of 64 bits; the small machine has 32";
     } catch (const InputError& e) {
         EXPECT_EQ(e.field(), "renderer.backing_store_bits");
@@ -229,7 +229,7 @@ TEST(PpShading, AProgramTooLargeForLocalMemoryIsAnError) {
     const Volume ball = test::ball_volume(glm::ivec3(16), glm::vec3(7.5f), 5.0f);
     const MachineConfig config = small_machine({"renderer.local_memory_bits=48"});
     Machine machine(config);
-    PpShading pps(machine, ball, LevoySettings::from(config));
+    PpShading pps(machine, ball, VoxelStoreSettings::from(config));
     const Camera camera = oblique_camera(ball);
     try {
         pps.update(skin_contour(), kWarm, phong(), make_shading_view(camera, ball.dims(), ball.spacing()), true, true);

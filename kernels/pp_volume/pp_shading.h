@@ -1,7 +1,8 @@
 #pragma once
-// Levoy's first stage on the machine: the renderers' pixel processors hold the volume (value and
-// gradient of every voxel, placed by voxel_placement.h) and classify and shade all of it in parallel,
-// leaving a colour and an opacity in every voxel slot for the ray casters to fetch.
+// The renderers' pixel processors as a voxel store, Levoy's first stage and shared by every kernel that
+// keeps the volume in the PPs: they hold the value and gradient of every voxel (placed by
+// voxel_placement.h) and classify and shade all of it in parallel, leaving a colour and an opacity in
+// every voxel slot for the GPs to fetch (ray casting) or stream out (splatting).
 //
 // PpShading places and loads the volume once, then for each frame reruns only what changed: the
 // classification program when the classification changed, the shading program when the colours,
@@ -12,10 +13,9 @@
 // Not modelled yet: moving the volume into the backing stores (the ring brings it once, before any
 // frame) and the commands that start each pass (they arrive over the ring from a GP).
 
-#include "kernels/levoy/adaptive_refinement.h"
-#include "kernels/levoy/shading_programs.h"
-#include "kernels/levoy/voxel_placement.h"
-#include "kernels/levoy/voxel_record.h"
+#include "kernels/pp_volume/shading_programs.h"
+#include "kernels/pp_volume/voxel_placement.h"
+#include "kernels/pp_volume/voxel_record.h"
 #include "kernels/reference/gradient_field.h"
 #include "kernels/reference/shaded_volume.h"
 #include "kernels/reference/shading_view.h"
@@ -36,20 +36,14 @@
 
 namespace pp5 {
 
-// The kernel's own parameters ("levoy.*"): how the volume sits in the PPs, how the GPs cast rays.
-struct LevoySettings {
+// How the volume sits in the renderers' backing stores ("voxel_store.*"), for every kernel whose pixel
+// processors hold the voxels: where each voxel goes and how many bits each of its fields takes.
+struct VoxelStoreSettings {
     PlacementPolicy placement = PlacementPolicy::Bricks;
     VoxelRecordLayout layout;
-    int block_cells = 4;
-    TaskAssignment ray_assignment = TaskAssignment::Static;  // tiles dealt round-robin, or from the host's queue
-    int tile_pixels = 16;
-    RefinementSettings refinement;
-    bool pyramid_skipping = true;
-    bool depth_buffer = true;
-    int jitter_samples = 16;
 
     static const ParamGroup& params();
-    static LevoySettings from(const MachineConfig& config);
+    static VoxelStoreSettings from(const MachineConfig& config);
 };
 
 // One program's pass as a frame's report shows it: whether it ran, and its timing.
@@ -77,7 +71,7 @@ class PpShading {
 public:
     // Places and loads the volume. Throws InputError(machine configuration, "renderer.backing_store_bits",
     // what it would need) if it does not fit, and InputError for a layout the programs cannot use.
-    PpShading(Machine& machine, const Volume& volume, const LevoySettings& settings);
+    PpShading(Machine& machine, const Volume& volume, const VoxelStoreSettings& settings);
 
     // Runs the passes this frame needs and times them on the machine from its current time (the
     // classification, then the shading); returns what they did.
@@ -106,7 +100,7 @@ private:
     void load_volume(const Volume& volume);
 
     Machine& machine_;
-    LevoySettings settings_;
+    VoxelStoreSettings settings_;
     glm::ivec3 dims_;
     glm::vec3 spacing_;
     GradientField gradients_;

@@ -1,4 +1,4 @@
-#include "kernels/levoy/voxel_placement.h"
+#include "kernels/pp_volume/voxel_placement.h"
 
 #include <fmt/format.h>
 

@@ -9,8 +9,8 @@
 //   shading:        value, gradient -> red, green, blue (changes with colours, lights and the view)
 // so changing the light reruns only shading, and changing the classification only classification.
 
-#include "kernels/levoy/voxel_placement.h"
-#include "kernels/levoy/voxel_record.h"
+#include "kernels/pp_volume/voxel_placement.h"
+#include "kernels/pp_volume/voxel_record.h"
 #include "kernels/reference/shading_view.h"
 #include "kernels/render/classification.h"
 #include "kernels/render/shading.h"

@@ -1,4 +1,4 @@
-#include "kernels/levoy/voxel_record.h"
+#include "kernels/pp_volume/voxel_record.h"
 
 #include <algorithm>
 #include <cmath>

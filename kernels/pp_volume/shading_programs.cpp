@@ -1,4 +1,4 @@
-#include "kernels/levoy/shading_programs.h"
+#include "kernels/pp_volume/shading_programs.h"
 
 #include <glm/geometric.hpp>
 

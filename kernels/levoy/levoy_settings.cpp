@@ -1,0 +1,49 @@
+#include "kernels/levoy/levoy_settings.h"
+
+namespace pp5 {
+
+const ParamGroup& LevoySettings::params() {
+    static const ParamGroup group = [] {
+        ParamGroup g("levoy", "Levoy's volume rendering kernel: the GPs' ray casting over the voxels the pixel processors hold");
+        g.integer("block_cells", 4, "cells", 1, 64,
+                     "Cells along each edge of the block one voxel request asks for ((n+1)^3 voxels)", Provenance::Default,
+                     "Levoy 1989: GPs 'request sets of voxels', size not given")
+            .text("ray_assignment", "static_tiles", {"static_tiles", "work_queue"},
+                  "Which GP casts which rays: tiles dealt round-robin, or handed out by the host as GPs ask",
+                  Provenance::Default, "Levoy 1989: 'each is assigned a set of rays', policy not given")
+            .integer("tile_pixels", 16, "pixels", 1, 4096, "Edge of the square tiles of rays a GP works on",
+                     Provenance::Default, "pp5sim")
+            .integer("refinement_spacing", 8, "pixels", 1, 1024, "Pixels between the rays of the first, sparse pass",
+                     Provenance::Paper, "Levoy 1990 (adaptive refinement): one ray per 4x4 or 8x8 pixels first")
+            .real("refinement_threshold", 0.1, "colour", -1, 1,
+                  "A square splits when its corners differ by more than this in r, g or b (0-1); below 0 every pixel is cast",
+                  Provenance::Default, "Levoy 1990 uses a colour-difference threshold; its value is ours")
+            .boolean("pyramid_skipping", true, "Skip empty space with the pyramid of binary volumes", Provenance::Paper,
+                     "Levoy 1989 and 1990: hierarchical spatial enumeration")
+            .boolean("depth_buffer", true,
+                     "While the observer and the set of non-empty voxels stay, start rays at the first non-empty sample "
+                     "found in an earlier frame",
+                     Provenance::Paper, "Levoy 1989: record the depth of the first non-empty voxel along each ray")
+            .integer("jitter_samples", 16, "count", 1, 1024,
+                     "Subvoxel translations of each polygon in 3D scan-conversion (1: binary voxelisation)", Provenance::Default,
+                     "Levoy 1989: 'moved through a set of subvoxel-sized translations', count not given");
+        return g;
+    }();
+    return group;
+}
+
+LevoySettings LevoySettings::from(const MachineConfig& config) {
+    LevoySettings s;
+    s.store = VoxelStoreSettings::from(config);
+    s.block_cells = static_cast<int>(config.integer("levoy.block_cells"));
+    s.ray_assignment = config.text("levoy.ray_assignment") == "work_queue" ? TaskAssignment::WorkQueue : TaskAssignment::Static;
+    s.tile_pixels = static_cast<int>(config.integer("levoy.tile_pixels"));
+    s.refinement.initial_spacing = static_cast<int>(config.integer("levoy.refinement_spacing"));
+    s.refinement.threshold = static_cast<float>(config.real("levoy.refinement_threshold"));
+    s.pyramid_skipping = config.boolean("levoy.pyramid_skipping");
+    s.depth_buffer = config.boolean("levoy.depth_buffer");
+    s.jitter_samples = static_cast<int>(config.integer("levoy.jitter_samples"));
+    return s;
+}
+
+}  // namespace pp5

@@ -1,0 +1,27 @@
+#pragma once
+// Levoy's kernel's own parameters ("levoy.*"): how the GPs cast rays over the voxels the pixel
+// processors hold ("voxel_store.*", kernels/pp_volume/pp_shading.h), and how polygons are scan-converted.
+
+#include "kernels/levoy/adaptive_refinement.h"
+#include "kernels/pp_volume/pp_shading.h"
+#include "sim/core/config.h"
+#include "sim/core/param.h"
+#include "sim/timing/recorded_work.h"
+
+namespace pp5 {
+
+struct LevoySettings {
+    VoxelStoreSettings store;
+    int block_cells = 4;
+    TaskAssignment ray_assignment = TaskAssignment::Static;  // tiles dealt round-robin, or from the host's queue
+    int tile_pixels = 16;
+    RefinementSettings refinement;
+    bool pyramid_skipping = true;
+    bool depth_buffer = true;
+    int jitter_samples = 16;
+
+    static const ParamGroup& params();
+    static LevoySettings from(const MachineConfig& config);
+};
+
+}  // namespace pp5
