@@ -28,7 +28,13 @@ const ParamGroup& Renderer::params() {
                      "not published: a few dozen controller instructions")
             .real("fetch_cycles_per_unit", 4.0, "cycles", 0, 1 << 20,
                   "Cycles to read one unit of a fetched block (a 32-bit word: one of Levoy's shaded voxels) out of the PPs onto the ring port",
-                  Provenance::Default, "not published: a 32-bit word through the renderer's port in a few cycles");
+                  Provenance::Default, "not published: a 32-bit word through the renderer's port in a few cycles")
+            .integer("write_setup_cycles", 64, "cycles", 0, 1 << 24,
+                     "Controller cycles to set up writing a block of words that arrived over the ring into the PPs (a pixel block)",
+                     Provenance::Default, "not published: taken as the fetch set-up, the same port the other way")
+            .real("write_cycles_per_word", 4.0, "cycles", 0, 1 << 20,
+                  "Cycles to write one 32-bit word that arrived over the ring into the PP it is for",
+                  Provenance::Default, "not published: taken as the fetch rate, the same port the other way");
         return g;
     }();
     return group;
@@ -36,11 +42,14 @@ const ParamGroup& Renderer::params() {
 
 Renderer::Renderer(std::size_t index, const MachineConfig& config)
     : Component(indexed("renderer", index), nullptr),
-      busy_ps(stats().counter("busy_time", "ps", "Simulated time busy: PP passes and fetches")),
+      busy_ps(stats().counter("busy_time", "ps", "Simulated time busy: PP passes, fetches and drawing")),
       fetches(stats().counter("fetches", "count", "GPs' fetch requests answered")),
       units_sent(stats().counter("units_sent", "count", "Units (words) read out in answer to fetches")),
       fetch_busy_ps(stats().counter("fetch_busy_time", "ps", "Simulated time spent answering fetches")),
       fetch_wait_ps(stats().counter("fetch_wait_time", "ps", "Time fetch requests waited for the renderer to be free")),
+      primitives_drawn(stats().counter("primitives_drawn", "count", "Primitives drawn over the renderer's screen region (program runs)")),
+      draw_busy_ps(stats().counter("draw_busy_time", "ps", "Simulated time spent drawing primitives over the screen region")),
+      words_written(stats().counter("words_written", "count", "Words that arrived over the ring written into the PPs (pixel blocks)")),
       index_(index),
       clock_(ClockDomain::from_megahertz(name() + ".clock", config.real("renderer.clock_mhz"))),
       columns_(static_cast<std::uint64_t>(config.integer("renderer.pp_columns"))),
@@ -50,9 +59,11 @@ Renderer::Renderer(std::size_t index, const MachineConfig& config)
       cost_model_(config),
       fetch_setup_cycles_(static_cast<std::uint64_t>(config.integer("renderer.fetch_setup_cycles"))),
       fetch_cycles_per_unit_(config.real("renderer.fetch_cycles_per_unit")),
+      write_setup_cycles_(static_cast<std::uint64_t>(config.integer("renderer.write_setup_cycles"))),
+      write_cycles_per_word_(config.real("renderer.write_cycles_per_word")),
       passes_(stats().counter("passes", "count", "PP program runs over data slots (a record in every PP's backing store)")),
       slots_(stats().counter("slots", "count", "Data slots processed, summed over passes")),
-      busy_cycles_(stats().counter("busy_cycles", "cycles", "PP clock cycles spent in passes")),
+      busy_cycles_(stats().counter("busy_cycles", "cycles", "PP clock cycles spent in passes and drawing")),
       alu_cycles_(stats().counter("alu_cycles", "cycles", "Of busy_cycles, the PPs computing")),
       controller_cycles_(stats().counter("controller_cycles", "cycles", "Of busy_cycles, the controller issuing instructions")),
       backing_store_stall_cycles_(stats().counter("backing_store_stall_cycles", "cycles",
@@ -121,6 +132,28 @@ Tick Renderer::serve_fetch(Tick arrival, std::uint64_t units) {
     fetch_wait_ps += static_cast<std::uint64_t>(begin - arrival);
     busy_ps += static_cast<std::uint64_t>(duration);
     if (trace_ != nullptr) trace_->slice(trace_track_, "answering a fetch", begin, busy_until_);
+    return busy_until_;
+}
+
+Tick Renderer::draw(Tick ready, const std::string& program, const PpProgramCost& cost, std::uint64_t runs,
+                     std::uint64_t write_words, int local_memory_bits_used) {
+    const Tick begin = clock_.next_edge(std::max(ready, busy_until_));
+    const PpPassCycles cycles = cost_model_.pass(cost, runs);
+    const std::uint64_t write_cycles =
+        write_words == 0 ? 0
+                         : write_setup_cycles_ + static_cast<std::uint64_t>(std::ceil(write_cycles_per_word_ * static_cast<double>(write_words)));
+    const Tick duration = clock_.cycles_to_ticks(cycles.total + write_cycles);
+    busy_until_ = begin + duration;
+    primitives_drawn += runs;
+    words_written += write_words;
+    busy_cycles_ += cycles.total + write_cycles;
+    alu_cycles_ += cycles.alu;
+    controller_cycles_ += cycles.controller;
+    backing_store_stall_cycles_ += cycles.backing_store_stall;
+    draw_busy_ps += static_cast<std::uint64_t>(duration);
+    busy_ps += static_cast<std::uint64_t>(duration);
+    local_memory_bits_peak_ = std::max(local_memory_bits_peak_, static_cast<std::uint64_t>(local_memory_bits_used));
+    if (trace_ != nullptr) trace_->slice(trace_track_, program, begin, busy_until_);
     return busy_until_;
 }
 

@@ -54,6 +54,12 @@ public:
     // Answers a GP's fetch of `units` units (words of the PPs' data) that arrived at `arrival`: fetches
     // and passes are served one at a time in the order they come. Returns when the reply is ready to leave.
     Tick serve_fetch(Tick arrival, std::uint64_t units);
+    // Screen work (a renderer owning a region of the picture): `runs` runs of one PP program over the
+    // whole array, one per primitive (every PP evaluates the primitive at once), after the controller
+    // has written `write_words` words from the ring into the PPs. Starts at `ready` or when the
+    // renderer is next free; returns when it ends.
+    Tick draw(Tick ready, const std::string& program, const PpProgramCost& cost, std::uint64_t runs, std::uint64_t write_words,
+              int local_memory_bits_used);
     // Bits of each PP's backing store holding data, as the kernel that placed it reports.
     void set_backing_store_bits_used(std::uint64_t bits) { backing_store_bits_used_ = bits; }
     // Records passes and requests as slices on this renderer's track (nullptr: no trace).
@@ -64,6 +70,9 @@ public:
     Counter& units_sent;
     Counter& fetch_busy_ps;
     Counter& fetch_wait_ps;
+    Counter& primitives_drawn;
+    Counter& draw_busy_ps;
+    Counter& words_written;
 
 private:
     void handle_event(Tick now, std::uint64_t payload) override;
@@ -77,6 +86,8 @@ private:
     PpCostModel cost_model_;
     std::uint64_t fetch_setup_cycles_;
     double fetch_cycles_per_unit_;
+    std::uint64_t write_setup_cycles_;
+    double write_cycles_per_word_;
     std::unique_ptr<PpArray> array_;
     TraceRecorder* trace_ = nullptr;
     int trace_track_ = 0;

@@ -57,6 +57,8 @@ constexpr Signal signal_of(std::uint64_t p) { return static_cast<Signal>(p >> 62
 constexpr std::uint64_t gp_of(std::uint64_t p) { return (p >> 40) & ((1ull << 22) - 1); }
 constexpr std::uint64_t value_of(std::uint64_t p) { return p & ((1ull << 40) - 1); }
 constexpr std::uint64_t kNoTask = (1ull << 40) - 1;
+// A frame-buffer message that is a renderer's region read-out (the renderer's index below it), not a task's pixels.
+constexpr std::uint64_t kReadout = 1ull << 63;
 
 class GpPhaseRun;
 
@@ -88,7 +90,12 @@ private:
         std::uint32_t block;
         int parts_left;
     };
-    enum class Action { None, Request, Pixels, AskTask };
+    enum class Action { None, Request, AskTask, Send };
+    // What a finished task sends, one message at a time: its batches in order, then its pixels.
+    struct Outgoing {
+        bool pixels = false;
+        std::uint32_t index = 0;  // the task (pixels) or the batch
+    };
 
     void run(Tick now);
     void perform(Tick now);
@@ -99,8 +106,10 @@ private:
     bool advance(int c, Tick& t);
     // Charges and counts `count` ops from `first` of the phase's op list.
     Tick charge(std::uint32_t first, std::uint32_t count);
-    // Closes a task whose items are done: its finishing work, then its pixels (true: send them).
+    // Closes a task whose items are done: its finishing work, then what it sends (true: send the first).
     bool finish_task(std::uint32_t task, Tick& t);
+    // Composes the next message of the outbox, if any (true: send it at t).
+    bool queue_send(Tick& t);
     void schedule_resume(Tick t);
 
     GpPhaseRun& run_;
@@ -117,6 +126,7 @@ private:
     bool no_more_tasks_ = false;
     std::vector<Outstanding> outstanding_;
     std::vector<std::uint32_t> arrived_;
+    std::deque<Outgoing> outbox_;
     Tick receive_cost_owed_ = 0;
     Action action_ = Action::None;
     std::uint32_t action_value_ = 0;
@@ -128,17 +138,29 @@ private:
     int last_context_ = -1;
 };
 
-// A renderer answering fetches: queued behind its passes, read out, sent back.
+// A renderer answering fetches (queued behind its passes, read out, sent back) and, when it owns part
+// of the screen, working through its region steps in order as their batches arrive.
 class RendererAgent final : public EventHandler {
 public:
-    RendererAgent(GpPhaseRun& run, Renderer& renderer, std::size_t station) : run_(run), renderer_(renderer), station_(station) {}
+    RendererAgent(GpPhaseRun& run, Renderer& renderer, std::size_t station);
     void handle_event(Tick now, std::uint64_t payload) override;
+    void begin(Tick start);
+    bool region_done() const { return next_step_ >= steps() && !drawing_; }
+    std::string describe_stall() const;
 
 private:
     std::uint32_t units_of(std::uint32_t block) const;
+    std::size_t steps() const;
+    // Starts the next region step if its batch is in; at the end, sends the region's pixels.
+    void draw_next(Tick now);
     GpPhaseRun& run_;
     Renderer& renderer_;
     std::size_t station_;
+    const RegionWork* region_ = nullptr;
+    std::size_t next_step_ = 0;
+    bool drawing_ = false;
+    bool read_out_ = false;
+    std::vector<std::uint8_t> arrived_;  // per batch of the phase (only this renderer's are set)
 };
 
 // The frame buffer: counts the pixels that arrive and when each group's last ones did.
@@ -176,6 +198,8 @@ public:
     void items_done(std::uint32_t task, Tick t);
     void pixels_arrived(std::uint32_t task, Tick now);
     void gp_finished(Tick now) { ++gps_finished; maybe_complete(now); }
+    void region_finished(Tick now) { ++regions_finished; maybe_complete(now); }
+    void readout_arrived(std::size_t renderer, Tick now);
     void maybe_complete(Tick now);
     std::string describe_stall() const;
 
@@ -190,6 +214,8 @@ public:
     std::uint32_t groups_done = 0;          // groups whose every task has run its items
     std::uint64_t pixel_messages_in_flight = 0;
     std::size_t gps_finished = 0;
+    std::size_t regions_finished = 0;
+    std::vector<std::vector<PpProgramCost>> region_costs;  // per renderer, per region program
     bool complete = false;
     std::vector<std::unique_ptr<GpAgent>> gps;
     std::vector<std::unique_ptr<RendererAgent>> renderers;
@@ -302,13 +328,25 @@ void GpAgent::perform(Tick now) {
                 ++run_.timing.gp.fetch_requests;
             }
             break;
-        case Action::Pixels: {
-            const GpTask& task = run_.task(action_value_);
-            ++run_.pixel_messages_in_flight;
-            ring.send(events, now,
-                      RingMessage{MessageKind::PixelBlock, station_, run_.frame_buffer_station,
-                                  static_cast<std::uint64_t>(task.pixels) * static_cast<std::uint64_t>(run_.pixel_bits), false},
-                      *run_.frame_buffer, action_value_);
+        case Action::Send: {
+            const Outgoing out = outbox_.front();
+            outbox_.pop_front();
+            if (out.pixels) {
+                const GpTask& task = run_.task(out.index);
+                ++run_.pixel_messages_in_flight;
+                ring.send(events, now,
+                          RingMessage{MessageKind::PixelBlock, station_, run_.frame_buffer_station,
+                                      static_cast<std::uint64_t>(task.pixels) * static_cast<std::uint64_t>(run_.pixel_bits), false},
+                          *run_.frame_buffer, out.index);
+            } else {
+                const PrimitiveBatch& batch = run_.phase.batches[out.index];
+                ring.send(events, now,
+                          RingMessage{MessageKind::PrimitiveBatch, station_, ring.position(StationKind::Renderer, batch.renderer),
+                                      batch.bits, false},
+                          *run_.renderers[batch.renderer], pack(Signal::Task, gp_.index(), out.index));
+                ++run_.timing.gp.batches_sent;
+                run_.timing.gp.batch_bits += batch.bits;
+            }
             break;
         }
         case Action::AskTask:
@@ -362,10 +400,15 @@ bool GpAgent::finish_task(std::uint32_t task_index, Tick& t) {
     run_.items_done(task_index, t);
     t += charge(task.first_finish_op, task.finish_op_count);
     ++gp_.tasks;
-    if (task.pixels == 0) return false;
+    for (std::uint32_t b = task.first_batch; b < task.first_batch + task.batch_count; ++b) outbox_.push_back(Outgoing{false, b});
+    if (task.pixels > 0) outbox_.push_back(Outgoing{true, task_index});
+    return queue_send(t);
+}
+
+bool GpAgent::queue_send(Tick& t) {
+    if (outbox_.empty()) return false;
     t += gp_.costs().message_send;
-    action_ = Action::Pixels;
-    action_value_ = task_index;
+    action_ = Action::Send;
     return true;
 }
 
@@ -444,20 +487,23 @@ void GpAgent::run(Tick now) {
     }
     perform(now);
     Tick t = now + take_in_replies();
-    for (;;) {
-        // At a switch, replies or a task that arrived meanwhile are taken in: stop here and let the
-        // events before t run first.
-        if (t > now && (!outstanding_.empty() || asked_for_task_) && run_.machine.events().next_time() <= t) break;
-        int c = pick_ready_context();
-        if (c < 0) c = start_item(t);
-        if (c < 0) break;
-        if (last_context_ >= 0 && c != last_context_) {
-            t += gp_.costs().context_switch;
-            ++gp_.context_switches;
-            ++run_.timing.gp.context_switches;
+    // A finished task's messages go out one by one before any other work.
+    if (!queue_send(t)) {
+        for (;;) {
+            // At a switch, replies or a task that arrived meanwhile are taken in: stop here and let the
+            // events before t run first.
+            if (t > now && (!outstanding_.empty() || asked_for_task_) && run_.machine.events().next_time() <= t) break;
+            int c = pick_ready_context();
+            if (c < 0) c = start_item(t);
+            if (c < 0) break;
+            if (last_context_ >= 0 && c != last_context_) {
+                t += gp_.costs().context_switch;
+                ++gp_.context_switches;
+                ++run_.timing.gp.context_switches;
+            }
+            last_context_ = c;
+            if (advance(c, t)) break;
         }
-        last_context_ = c;
-        if (advance(c, t)) break;
     }
     gp_.busy_ps += static_cast<std::uint64_t>(t - now);
     run_.timing.gp.gp_busy += t - now;
@@ -500,7 +546,68 @@ std::uint32_t RendererAgent::units_of(std::uint32_t block) const {
     throw std::logic_error(fmt::format("{}: asked for a block it holds no part of", renderer_.name()));
 }
 
+RendererAgent::RendererAgent(GpPhaseRun& run, Renderer& renderer, std::size_t station)
+    : run_(run), renderer_(renderer), station_(station) {
+    if (renderer.index() < run.phase.regions.size()) region_ = &run.phase.regions[renderer.index()];
+    if (region_ != nullptr && !region_->steps.empty()) arrived_.assign(run.phase.batches.size(), 0);
+}
+
+std::size_t RendererAgent::steps() const { return region_ == nullptr ? 0 : region_->steps.size(); }
+
+void RendererAgent::begin(Tick start) {
+    if (region_ == nullptr) run_.region_finished(start);  // no screen work here this phase
+    else draw_next(start);
+}
+
+void RendererAgent::draw_next(Tick now) {
+    if (drawing_) return;
+    if (next_step_ < steps()) {
+        const RegionStep& step = region_->steps[next_step_];
+        if (step.batch != kNoBatch && !arrived_[step.batch]) return;  // the batch it draws is not in yet
+        ++next_step_;
+        const PpProgram& program = run_.phase.region_programs[step.program];
+        const auto busy_before = renderer_.draw_busy_ps.value();
+        const Tick end = renderer_.draw(now, program.name, run_.region_costs[renderer_.index()][step.program], step.runs,
+                                        step.write_words, program.local_memory_bits_used);
+        run_.timing.gp.primitives_drawn += step.runs;
+        run_.timing.gp.renderer_drawing[renderer_.index()] += static_cast<Tick>(renderer_.draw_busy_ps.value() - busy_before);
+        drawing_ = true;
+        run_.machine.events().schedule(end, *this, pack(Signal::Resume, 0, 0));
+        return;
+    }
+    if (read_out_) return;
+    read_out_ = true;
+    if (region_->readout_pixels > 0) {
+        ++run_.pixel_messages_in_flight;
+        RingNetwork& ring = run_.machine.ring();
+        ring.send(run_.machine.events(), std::max(now, renderer_.busy_until()),
+                  RingMessage{MessageKind::PixelBlock, station_, run_.frame_buffer_station,
+                              region_->readout_pixels * static_cast<std::uint64_t>(run_.pixel_bits), false},
+                  *run_.frame_buffer, kReadout | renderer_.index());
+    }
+    run_.region_finished(now);
+}
+
+std::string RendererAgent::describe_stall() const {
+    if (region_done()) return {};
+    if (drawing_) return fmt::format(" {} is drawing step {};", renderer_.name(), next_step_ - 1);
+    return fmt::format(" {} waits for batch {} (region step {} of {});", renderer_.name(), region_->steps[next_step_].batch,
+                       next_step_, steps());
+}
+
 void RendererAgent::handle_event(Tick now, std::uint64_t payload) {
+    if (signal_of(payload) == Signal::Task) {  // a batch for this renderer's region has arrived
+        const auto batch = static_cast<std::uint32_t>(value_of(payload));
+        if (arrived_.empty()) throw std::logic_error(fmt::format("{}: a primitive batch for a renderer with no region work", renderer_.name()));
+        arrived_[batch] = 1;
+        draw_next(now);
+        return;
+    }
+    if (signal_of(payload) == Signal::Resume) {  // a region step is done
+        drawing_ = false;
+        draw_next(now);
+        return;
+    }
     const auto gp = gp_of(payload);
     const auto block = static_cast<std::uint32_t>(value_of(payload));
     if (signal_of(payload) == Signal::Arrival) {  // a request has arrived: queue it
@@ -517,6 +624,12 @@ void RendererAgent::handle_event(Tick now, std::uint64_t payload) {
 }
 
 void FrameBufferAgent::handle_event(Tick now, std::uint64_t payload) {
+    if ((payload & kReadout) != 0) {
+        const std::size_t renderer = payload & ~kReadout;
+        frame_buffer_.pixels_written += run_.phase.regions[renderer].readout_pixels;
+        run_.readout_arrived(renderer, now);
+        return;
+    }
     const auto task = static_cast<std::uint32_t>(payload);
     frame_buffer_.pixels_written += run_.task(task).pixels;
     run_.pixels_arrived(task, now);
@@ -563,6 +676,12 @@ GpPhaseRun::GpPhaseRun(FrameRun& frame_in, Machine& machine_in, const GpPhase& p
     frame_buffer_station = ring.position(StationKind::FrameBuffer, 0);
     host_station = ring.position(StationKind::Host, 0);
     pixel_bits = machine.frame_buffer().bits_per_pixel();
+    for (auto& r : machine.renderers()) {
+        std::vector<PpProgramCost> costs;
+        for (const PpProgram& program : phase.region_programs) costs.push_back(r->cost_model().cost(program));
+        region_costs.push_back(std::move(costs));
+    }
+    timing.gp.renderer_drawing.assign(machine.renderers().size(), 0);
 }
 
 void GpPhaseRun::start(Tick t) {
@@ -577,6 +696,13 @@ void GpPhaseRun::start(Tick t) {
         for (std::uint32_t i = 0; i < phase.tasks.size(); ++i) gps[phase.tasks[i].key % g]->give_task(i);
     }
     for (auto& gp : gps) gp->begin(t);
+    for (auto& r : renderers) r->begin(t);
+}
+
+void GpPhaseRun::readout_arrived(std::size_t, Tick now) {
+    timing.end_ps = std::max(timing.end_ps, now);
+    --pixel_messages_in_flight;
+    maybe_complete(now);
 }
 
 void GpPhaseRun::items_done(std::uint32_t task, Tick t) {
@@ -597,14 +723,16 @@ void GpPhaseRun::pixels_arrived(std::uint32_t task, Tick now) {
 }
 
 void GpPhaseRun::maybe_complete(Tick now) {
-    if (complete || gps_finished < gps.size() || pixel_messages_in_flight > 0) return;
+    if (complete || gps_finished < gps.size() || regions_finished < renderers.size() || pixel_messages_in_flight > 0) return;
     complete = true;
     timing.gp.renderer_busy = renderers_answering(machine) - renderer_busy_before;
     timing.gp.ring_busy = static_cast<Tick>(machine.ring().busy_ps()) - ring_busy_before;
     timing.gp.events = machine.events().events_run() - events_before;
     // The phase ends when its last pixels reach the frame buffer (the picture is complete); a phase
     // that sends none ends when its GPs have finished.
-    if (timing.gp.pixels_sent == 0) timing.end_ps = now;
+    if (timing.gp.pixels_sent == 0 && !std::any_of(phase.regions.begin(), phase.regions.end(),
+                                                   [](const RegionWork& r) { return r.readout_pixels > 0; }))
+        timing.end_ps = now;
     frame.end_phase_at(std::max(now, timing.end_ps));
 }
 
@@ -612,6 +740,7 @@ std::string GpPhaseRun::describe_stall() const {
     std::string why;
     for (const auto& gp : gps)
         if (!gp->finished()) why.append(1, ' ').append(gp->describe_stall());
+    for (const auto& r : renderers) why += r->describe_stall();
     if (pixel_messages_in_flight > 0) why += fmt::format(" {} pixel message(s) on their way;", pixel_messages_in_flight);
     return why;
 }
@@ -664,6 +793,20 @@ void check_recorded_work(const FrameWork& work, const Machine& machine) {
             }
             for (const GpItem& item : gp.items)
                 if (std::uint64_t{item.first_step} + item.step_count > gp.steps.size()) fail(phase.name, "steps out of range");
+            for (const GpTask& task : gp.tasks)
+                if (std::uint64_t{task.first_batch} + task.batch_count > gp.batches.size()) fail(phase.name, "batches out of range");
+            check_ops(phase.name, gp.regions_on_one_processor, 0, gp.regions_on_one_processor.size());
+            if (!gp.regions.empty() && gp.regions.size() != machine.renderers().size()) fail(phase.name, "regions for another renderer count");
+            for (const PrimitiveBatch& batch : gp.batches)
+                if (batch.renderer >= gp.regions.size() || gp.regions[batch.renderer].steps.empty())
+                    fail(phase.name, "a batch for a renderer with no region steps");
+            for (std::size_t r = 0; r < gp.regions.size(); ++r) {
+                for (const RegionStep& step : gp.regions[r].steps) {
+                    if (step.program >= gp.region_programs.size()) fail(phase.name, "a region step of an unknown program");
+                    if (step.batch != kNoBatch && (step.batch >= gp.batches.size() || gp.batches[step.batch].renderer != r))
+                        fail(phase.name, "a region step drawing another renderer's batch");
+                }
+            }
             for (const GpStep& step : gp.steps) {
                 check_ops(phase.name, gp.ops, step.first_op, step.op_count);
                 if (step.block == kNoFetch) continue;

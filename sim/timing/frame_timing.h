@@ -34,6 +34,10 @@ struct GpPhaseCounts {
     Tick gp_busy = 0;
     Tick gp_wait = 0;        // work left, nothing to run (fetches outstanding, or the next group not open)
     Tick renderer_busy = 0;  // answering fetches
+    std::uint64_t batches_sent = 0;      // primitive batches and pixel blocks to renderers
+    std::uint64_t batch_bits = 0;
+    std::uint64_t primitives_drawn = 0;  // region program runs on the renderers
+    std::vector<Tick> renderer_drawing;  // per renderer: time spent on its screen region (writes and draws)
     Tick ring_busy = 0;
     std::uint64_t events = 0;
 };

@@ -43,6 +43,9 @@ FrameTiming time_frame_on_one_processor(const MachineConfig& config, const Frame
                 group_work.at(task.group) += w;
                 p.gp.items += task.item_count;
             }
+            // A lone processor also draws what the renderers would have drawn, after the last group.
+            if (!group_work.empty()) group_work.back() += sum_all(gp.regions_on_one_processor);
+            else t += sum_all(gp.regions_on_one_processor);
             for (const Tick w : group_work) p.group_end_ps.push_back(t += w);
             p.gp.gp_busy = t - p.start_ps;
         }

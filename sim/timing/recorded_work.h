@@ -13,7 +13,10 @@
 //   - GpPhase: tasks for the GPs, each a list of items (a ray, a primitive batch) run in ray contexts
 //     as steps of operations and fetches of blocks from the renderers through the GP's cache, ending
 //     with pixels sent to the frame buffer. Tasks are in groups: a group's tasks start only when every
-//     task of the groups before has run its items (refinement passes).
+//     task of the groups before has run its items (refinement passes). A task may instead end by
+//     sending primitive batches to renderers that own regions of the screen (sort-middle): each
+//     renderer then works through its own list of region steps in order, each waiting for the batch it
+//     draws, and finally sends its region's pixels to the frame buffer.
 // GP operations are kinds the kernel declares (GpOpKind), each costed as a sum of cost parameters the
 // kernel declares too ("gp_cost.<kernel>.*", in flops or cycles); the machine adds its own costs for
 // messages, cache look-ups and context switches.
@@ -118,6 +121,32 @@ struct GpTask {
     std::uint32_t first_op = 0, op_count = 0;          // before its items (deciding what to cast)
     std::uint32_t first_finish_op = 0, finish_op_count = 0;  // after its last item (filling pixels)
     std::uint32_t pixels = 0;    // then sent to the frame buffer (0: nothing is sent)
+    std::uint32_t first_batch = 0, batch_count = 0;    // then sent to renderers, in order (GpPhase::batches)
+};
+
+// A message of primitives (or a block of pixels) a GP sends to the renderer that owns part of the screen.
+struct PrimitiveBatch {
+    std::uint32_t renderer = 0;
+    std::uint64_t bits = 0;  // payload on the ring
+};
+
+inline constexpr std::uint32_t kNoBatch = std::numeric_limits<std::uint32_t>::max();
+
+// One step of a renderer's screen work: once batch `batch` has arrived (kNoBatch: nothing to wait
+// for), the controller writes `write_words` of its words into the PPs, then runs region program
+// `program` `runs` times over the whole array (one run per primitive).
+struct RegionStep {
+    std::uint32_t batch = kNoBatch;
+    std::uint32_t program = 0;  // into GpPhase::region_programs
+    std::uint32_t runs = 0;
+    std::uint64_t write_words = 0;
+};
+
+// A renderer's screen work in a GP phase, in the order it must be done (the order that makes the
+// picture), then the pixels it sends to the frame buffer.
+struct RegionWork {
+    std::vector<RegionStep> steps;
+    std::uint64_t readout_pixels = 0;
 };
 
 enum class TaskAssignment { Static, WorkQueue };
@@ -132,6 +161,11 @@ struct GpPhase {
     TaskAssignment assignment = TaskAssignment::Static;
     std::shared_ptr<const BlockDirectory> blocks;  // for the fetches (none needed when no step fetches)
     std::uint32_t fetch_request_bits = 64;         // a request's payload: block number and return address
+    // Sort-middle screen work (empty when the GPs send pixels themselves):
+    std::vector<PrimitiveBatch> batches;
+    std::vector<PpProgram> region_programs;
+    std::vector<RegionWork> regions;  // per renderer
+    std::vector<GpOp> regions_on_one_processor;  // the renderers' screen work done by a lone processor
 };
 
 struct Phase {

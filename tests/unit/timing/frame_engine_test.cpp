@@ -393,5 +393,76 @@ TEST(OneProcessor, SumsEveryOperationOfEveryPhaseInGroupOrder) {
     EXPECT_EQ(t.end_ps, gp.group_end_ps[1]);
 }
 
+// Sort-middle screen work: two GPs each send one batch to one renderer, which must draw them in the
+// order its region steps give (the second GP's first), whatever order they arrive in; then it reads
+// its region out to the frame buffer, and the phase ends when that arrives.
+
+PpProgram one_add_program(const std::string& name) {
+    PpProgramBuilder b(name, 64);
+    const PpField x = b.set_const("x", 3);
+    b.add_const("y", x, 1);
+    return b.finish();
+}
+
+FrameWork region_frame(std::uint32_t slow_ops) {
+    GpPhase phase;
+    phase.groups = 1;
+    for (std::uint32_t t = 0; t < 2; ++t) {
+        phase.ops.push_back(GpOp{0, t == 1 ? slow_ops : 1});
+        GpTask task;
+        task.key = t;  // GP t
+        task.first_op = t;
+        task.op_count = 1;
+        task.first_batch = t;
+        task.batch_count = 1;
+        phase.tasks.push_back(task);
+        phase.batches.push_back(PrimitiveBatch{0, 640});
+    }
+    phase.region_programs = {one_add_program("draw")};
+    RegionWork region;
+    region.steps = {RegionStep{1, 0, 5, 0}, RegionStep{0, 0, 7, 20}, RegionStep{kNoBatch, 0, 1, 0}};
+    region.readout_pixels = 256;
+    phase.regions = {region};
+    FrameWork frame;
+    frame.op_kinds = kinds();
+    frame.phases.push_back(Phase{"screen", std::move(phase)});
+    return frame;
+}
+
+TEST(FrameEngineRegions, RendererDrawsInItsOwnOrderThenReadsOut) {
+    MachineConfig config = latency_machine(1);
+    config.apply_override("gp.count=2");
+    config.apply_override("ring.hop_latency_cycles=1");
+    Machine machine(config);
+    const FrameTiming timing = time_frame(machine, region_frame(100000));
+    const PhaseTiming& screen = timing.phases.at(0);
+    EXPECT_EQ(screen.gp.batches_sent, 2u);
+    EXPECT_EQ(screen.gp.batch_bits, 1280u);
+    EXPECT_EQ(screen.gp.primitives_drawn, 13u);
+    Renderer& renderer = *machine.renderers().front();
+    EXPECT_EQ(renderer.primitives_drawn.value(), 13u);
+    EXPECT_EQ(renderer.words_written.value(), 20u);
+    EXPECT_EQ(machine.frame_buffer().pixels_written.value(), 256u);
+    EXPECT_EQ(static_cast<std::uint64_t>(screen.gp.renderer_drawing.at(0)), renderer.draw_busy_ps.value());
+    // GP 1's batch (drawn first) leaves only after its 100000 slow operations; the renderer cannot draw
+    // anything before that, so the phase lasts longer than those operations plus all the drawing.
+    const Tick slow = 100000 * GpCostModel::cost_of(config, "gp_cost.cache_lookup_cycles");
+    EXPECT_GT(screen.duration_ps(), slow + static_cast<Tick>(renderer.draw_busy_ps.value()));
+    // With a fast GP 1 the same work ends sooner: the order waited for the slow batch, not the fast one.
+    Machine quick(config);
+    EXPECT_LT(time_frame(quick, region_frame(1)).phases.at(0).duration_ps(), slow);
+}
+
+TEST(FrameEngineRegions, RefusesAStepDrawingAnotherRenderersBatch) {
+    MachineConfig config = latency_machine(1);
+    config.apply_override("renderer.count=2");
+    Machine machine(config);
+    FrameWork frame = region_frame(1);
+    GpPhase& phase = std::get<GpPhase>(frame.phases.front().work);
+    phase.regions.push_back(RegionWork{});
+    phase.batches[0].renderer = 1;
+    EXPECT_THROW(time_frame(machine, frame), std::logic_error);
+}
+
 }  // namespace
 }  // namespace pp5
