@@ -13,10 +13,6 @@
 
 namespace pp5 {
 
-bool shading_depends_on_view(const PhongLighting& lighting) {
-    return lighting.light_follows_camera || lighting.specular > 0.0f || lighting.depth_cue_k2 != 0.0f;
-}
-
 namespace {
 int voxel_bits_of(const VoxelRecordLayout& layout) { return 3 * layout.color_bits + layout.opacity_bits; }
 }  // namespace

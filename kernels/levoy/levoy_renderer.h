@@ -184,7 +184,4 @@ private:
 // Fills a recorded frame's report with when its work happened.
 void apply_timing(LevoyFrameReport& report, const LevoyFrameTiming& timing);
 
-// Whether voxel colours depend on where the observer is: a headlight, a highlight or depth cueing.
-bool shading_depends_on_view(const PhongLighting& lighting);
-
 }  // namespace pp5

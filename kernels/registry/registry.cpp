@@ -2,6 +2,7 @@
 
 #include "kernels/levoy/levoy_kernel.h"
 #include "kernels/reference_kernel/reference_kernel.h"
+#include "kernels/yuan/yuan_kernel.h"
 #include "sim/core/input_error.h"
 
 #include <stdexcept>
@@ -12,6 +13,7 @@ namespace {
 std::vector<const Kernel*>& registry() {
     static std::vector<const Kernel*> all = {
         &levoy_kernel(),      // Levoy 1989: the volume rendering workstation on Pixel-planes 5
+        &yuan_kernel(),       // Yuan et al. 2003: hybrid point/splat splatting over the renderers' screen regions
         &reference_kernel(),  // the host's floating-point renderer, no machine
     };
     return all;

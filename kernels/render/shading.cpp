@@ -35,4 +35,8 @@ glm::vec3 phong_shade(const PhongLighting& lighting, glm::vec3 base, glm::vec3 n
     return PhongShader(lighting).shade(base, normal, to_light, to_viewer, depth);
 }
 
+bool shading_depends_on_view(const PhongLighting& lighting) {
+    return lighting.light_follows_camera || lighting.specular > 0.0f || lighting.depth_cue_k2 != 0.0f;
+}
+
 }  // namespace pp5

@@ -35,6 +35,9 @@ struct PhongLighting {
 // over d in [0,1].
 void validate_lighting(const PhongLighting& lighting);
 
+// Whether voxel colours depend on where the observer is: a headlight, a highlight or depth cueing.
+bool shading_depends_on_view(const PhongLighting& lighting);
+
 // Shade one voxel. base = c_p; normal may be zero (no gradient); to_light and to_viewer are unit.
 glm::vec3 phong_shade(const PhongLighting& lighting, glm::vec3 base, glm::vec3 normal,
                       glm::vec3 to_light, glm::vec3 to_viewer, float depth);

@@ -1,0 +1,518 @@
+#include "kernels/yuan/hybrid_splatter.h"
+
+#include "kernels/yuan/splat_geometry.h"
+#include "kernels/yuan/yuan_costs.h"
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <optional>
+
+namespace pp5 {
+
+namespace {
+
+constexpr std::uint32_t kUnitBits = 48;        // a voxel as the renderers stream it: RGBA and its place in the brick
+constexpr std::uint32_t kCachedVoxelBits = 64; // and as a GP keeps it
+constexpr std::uint64_t kHeaderBits = 64;      // a batch's header: kind, band, brick, count
+constexpr std::uint64_t kCoefficientBits = 32;
+constexpr std::uint64_t kConstantBits = 16;
+
+enum class Kind : std::uint8_t { Splat, Point, Culled };
+
+// A non-transparent voxel on its way to the screen.
+struct Item {
+    std::uint32_t band = 0;
+    std::uint32_t brick = 0;
+    float depth = 0;
+    std::uint32_t voxel = 0;  // linear index (the last tie-break, so the order is total)
+    Kind kind = Kind::Point;
+    glm::dvec3 eye{0};
+};
+
+bool key_less(const Item& a, const Item& b) {
+    if (a.band != b.band) return a.band < b.band;
+    if (a.brick != b.brick) return a.brick < b.brick;
+    if (a.depth != b.depth) return a.depth < b.depth;
+    return a.voxel < b.voxel;
+}
+
+// Its screen footprint: the quadratic(s) the renderers evaluate and the box they can be non-zero in.
+struct Primitive {
+    int x0 = 0, y0 = 0, x1 = -1, y1 = -1;  // screen pixels, inclusive, clipped to the picture
+    Quadratic index[2];                    // splat: i^2 in 2^16 units (affine), or N and M (exact)
+    Quadratic weight;                      // point: the paraboloid's shape (1 - rho^2 / R^2)
+    double channel[4] = {0, 0, 0, 0};      // point: the paraboloid's height per channel, in sheet units
+    std::int64_t constants[4] = {0, 0, 0, 0};  // splat: opacity, red, green, blue in accumulator units
+    int row = 0;                           // splat: its footprint table
+    bool visible() const { return x1 >= x0 && y1 >= y0; }
+};
+
+// A primitive's place in one region's list, and the pixels it changed there.
+struct RegionEntry {
+    std::uint32_t item = 0;
+    std::uint32_t pixels = 0;
+};
+
+std::int64_t to_units(float v, std::int64_t one) {
+    return std::clamp<std::int64_t>(static_cast<std::int64_t>(std::lround(static_cast<double>(v) * static_cast<double>(one))), 0, one);
+}
+
+}  // namespace
+
+HybridSplatter::HybridSplatter(const YuanSettings& settings, const SplatMachine& machine, glm::ivec3 dims, glm::vec3 spacing)
+    : settings_(settings), machine_(machine), dims_(dims), spacing_(spacing),
+      bricks_((dims + settings.brick_voxels - 1) / settings.brick_voxels),
+      format_{settings.accumulator_bits, settings.footprint_table_bits},
+      programs_(format_, settings.footprint_index == FootprintIndex::Exact ? SplatIndexMode::Exact : SplatIndexMode::Affine,
+                settings.splat_compositing == SplatCompositing::Over ? SplatBlend::Over : SplatBlend::Sheet, machine.local_memory_bits),
+      kernel_(settings.kernel_sigma, settings.kernel_radius),
+      corrected_(kernel_, settings.footprint_table_bits, settings.accumulator_bits, glm::radians(settings.footprint_alpha_step_degrees), true),
+      plain_(kernel_, settings.footprint_table_bits, settings.accumulator_bits, 1.0, false) {}
+
+SplatFrame HybridSplatter::render(const ShadedVolume& voxels, const Camera& camera, int width, int height, glm::vec3 background) const {
+    const ScreenProjection projection(camera, width, height);
+    const double h = std::min({spacing_.x, spacing_.y, spacing_.z});
+    const double kernel_world = settings_.kernel_radius * h;
+    const bool exact = settings_.footprint_index == FootprintIndex::Exact && projection.perspective();
+    const bool corrected = !exact && projection.perspective();
+    const FootprintTables& tables = this->tables(corrected);
+    const std::int64_t one = format_.one();
+    SplatFrame frame;
+    SplatCounts& counts = frame.counts;
+
+    // 1. The non-transparent voxels of each brick, transformed and split (bricks in parallel, then in order).
+    const int edge = settings_.brick_voxels;
+    const auto brick_count = static_cast<std::size_t>(bricks_.x) * static_cast<std::size_t>(bricks_.y) * static_cast<std::size_t>(bricks_.z);
+    std::vector<std::vector<Item>> per_brick(brick_count);
+    std::vector<std::vector<std::uint32_t>> brick_parts(brick_count);  // per renderer: voxels streamed
+    tbb::parallel_for(std::size_t{0}, brick_count, [&](std::size_t b) {
+        const glm::ivec3 bc(static_cast<int>(b % static_cast<std::size_t>(bricks_.x)),
+                            static_cast<int>((b / static_cast<std::size_t>(bricks_.x)) % static_cast<std::size_t>(bricks_.y)),
+                            static_cast<int>(b / (static_cast<std::size_t>(bricks_.x) * static_cast<std::size_t>(bricks_.y))));
+        const glm::ivec3 lo = bc * edge;
+        const glm::ivec3 hi = glm::min(lo + edge, dims_);
+        std::vector<std::uint32_t>& parts = brick_parts[b];
+        parts.assign(static_cast<std::size_t>(machine_.renderers), 0);
+        for (int z = lo.z; z < hi.z; ++z)
+            for (int y = lo.y; y < hi.y; ++y)
+                for (int x = lo.x; x < hi.x; ++x) {
+                    const std::size_t v = static_cast<std::size_t>(x) + static_cast<std::size_t>(dims_.x) *
+                                          (static_cast<std::size_t>(y) + static_cast<std::size_t>(dims_.y) * static_cast<std::size_t>(z));
+                    if (!(voxels.rgba[v].a > 0.0f)) continue;
+                    Item item;
+                    item.brick = static_cast<std::uint32_t>(b);
+                    item.voxel = static_cast<std::uint32_t>(v);
+                    item.eye = projection.to_eye(glm::vec3(x, y, z) * spacing_);
+                    item.depth = static_cast<float>(item.eye.z);
+                    const double spacing_pixels = h * projection.pixels_per_unit(item.eye.z);
+                    if (projection.perspective() && item.eye.z <= kernel_world) item.kind = Kind::Culled;
+                    else if (settings_.primitives == PrimitiveMode::AllSplats) item.kind = Kind::Splat;
+                    else if (settings_.primitives == PrimitiveMode::AllPoints) item.kind = Kind::Point;
+                    else item.kind = spacing_pixels > settings_.switch_pixels ? Kind::Splat : Kind::Point;
+                    per_brick[b].push_back(item);
+                    ++parts[static_cast<std::size_t>(machine_.renderer_of_voxel({x, y, z}))];
+                }
+    });
+    std::vector<Item> items;
+    for (auto& v : per_brick) items.insert(items.end(), v.begin(), v.end());
+    per_brick.clear();
+    counts.voxels = items.size();
+
+    // 2. Bands by depth, then the order every renderer takes: (band, brick, depth).
+    float nearest = std::numeric_limits<float>::max();
+    for (const Item& item : items) nearest = std::min(nearest, item.depth);
+    const double band_depth = settings_.band_voxels * h;
+    for (Item& item : items) item.band = static_cast<std::uint32_t>(std::floor((item.depth - nearest) / band_depth));
+    tbb::parallel_sort(items.begin(), items.end(), key_less);
+
+    // 3. Each voxel's primitive (in parallel; each from its own voxel only).
+    const double point_radius = settings_.point_radius_pixels();
+    const double point_height = 2.0 / (3.14159265358979323846 * point_radius * point_radius);  // the paraboloid's peak
+    std::vector<Primitive> primitives(items.size());
+    tbb::parallel_for(std::size_t{0}, items.size(), [&](std::size_t k) {
+        Item& item = items[k];
+        Primitive& p = primitives[k];
+        const glm::vec4 rgba = voxels.rgba[item.voxel];
+        double x0, x1, y0, y1;
+        if (item.kind == Kind::Splat) {
+            const std::optional<SplatShape> shape = project_sphere(projection, item.eye, kernel_world);
+            if (!shape) {
+                item.kind = Kind::Culled;
+                return;
+            }
+            const double scale = static_cast<double>(std::int64_t{1} << RegionFormat::kIndexBits);
+            if (exact) {
+                // d^2 = N / M: N = (|X|^2 - (X.Q)^2) / (f^2 sin^2 a), M = |X|^2 / f^2, both in 2^16 units.
+                const glm::dvec2 pp = projection.principal_point();
+                const double f = projection.focal_pixels();
+                const glm::dvec3 q = shape->axis;
+                const Quadratic x2 = Quadratic{1, 0, 1, 0, 0, f * f}.substituted(1, -pp.x, -1, pp.y);
+                const Quadratic along = Quadratic{q.x * q.x, 2 * q.x * q.y, q.y * q.y, 2 * f * q.x * q.z, 2 * f * q.y * q.z, f * f * q.z * q.z}
+                                            .substituted(1, -pp.x, -1, pp.y);
+                const Quadratic n{x2.a - along.a, x2.b - along.b, x2.c - along.c, x2.d - along.d, x2.e - along.e, x2.f - along.f};
+                p.index[0] = n.scaled(scale / (f * f * shape->sin_alpha * shape->sin_alpha));
+                p.index[1] = x2.scaled(scale / (f * f));
+            } else {
+                p.index[0] = shape->inside.scaled(-scale / shape->peak);
+                p.index[0].f += scale;
+            }
+            p.row = tables.row_of(std::asin(std::min(shape->sin_alpha, 1.0)));
+            p.constants[0] = to_units(rgba.a, one);
+            for (int c = 0; c < 3; ++c) p.constants[c + 1] = std::min(to_units(rgba[c], one), one - 1);
+            x0 = shape->center.x - shape->half_extent.x;
+            x1 = shape->center.x + shape->half_extent.x;
+            y0 = shape->center.y - shape->half_extent.y;
+            y1 = shape->center.y + shape->half_extent.y;
+        } else if (item.kind == Kind::Point) {
+            const glm::dvec2 at = projection.to_screen(item.eye);
+            const double spacing_pixels = h * projection.pixels_per_unit(item.eye.z);
+            const double area = spacing_pixels * spacing_pixels;  // the screen area the voxel stands for
+            const double r2 = point_radius * point_radius;
+            p.weight = Quadratic{-1 / r2, 0, -1 / r2, 2 * at.x / r2, 2 * at.y / r2, 1 - (at.x * at.x + at.y * at.y) / r2};
+            const double sheet_one = static_cast<double>(format_.sheet_one());
+            const double energy = area * point_height * rgba.a * sheet_one;
+            for (int c = 0; c < 3; ++c) p.channel[c] = energy * rgba[c];
+            p.channel[3] = energy;
+            x0 = at.x - point_radius;
+            x1 = at.x + point_radius;
+            y0 = at.y - point_radius;
+            y1 = at.y + point_radius;
+        } else {
+            return;
+        }
+        // One pixel of margin: the fixed-point quadratic may reach a pixel the float box just misses.
+        p.x0 = std::max(0, static_cast<int>(std::floor(x0)) - 1);
+        p.y0 = std::max(0, static_cast<int>(std::floor(y0)) - 1);
+        p.x1 = std::min(width - 1, static_cast<int>(std::ceil(x1)) + 1);
+        p.y1 = std::min(height - 1, static_cast<int>(std::ceil(y1)) + 1);
+    });
+
+    // 4. Screen regions, and each region's primitives in the renderers' order.
+    const int rc = machine_.region_columns, rr = machine_.region_rows;
+    const int regions_x = (width + rc - 1) / rc, regions_y = (height + rr - 1) / rr;
+    const std::size_t region_count = static_cast<std::size_t>(regions_x) * static_cast<std::size_t>(regions_y);
+    std::vector<std::vector<RegionEntry>> lists(region_count);
+    for (std::size_t k = 0; k < items.size(); ++k) {
+        const Primitive& p = primitives[k];
+        if (items[k].kind == Kind::Culled) {
+            ++counts.culled;
+            continue;
+        }
+        if (!p.visible()) {
+            ++counts.offscreen;
+            continue;
+        }
+        (items[k].kind == Kind::Splat ? counts.splats : counts.points) += 1;
+        for (int ry = p.y0 / rr; ry <= p.y1 / rr; ++ry)
+            for (int rx = p.x0 / rc; rx <= p.x1 / rc; ++rx)
+                lists[static_cast<std::size_t>(ry) * static_cast<std::size_t>(regions_x) + static_cast<std::size_t>(rx)].push_back(
+                    RegionEntry{static_cast<std::uint32_t>(k), 0});
+    }
+
+    // 5. Every region drawn as its renderer draws it (regions in parallel: each depends on its own list).
+    frame.image = Image(width, height);
+    frame.primitive_map = Image(width, height);
+    std::vector<std::vector<std::uint32_t>> composited(region_count);   // per region: the bands it composited
+    std::vector<std::uint64_t> composited_pixels(region_count, 0);
+    const SplatIndexMode mode = exact ? SplatIndexMode::Exact : SplatIndexMode::Affine;
+    const SplatBlend blend = programs_.blend();
+    const bool gp_sheets = settings_.point_path == PointPath::GpSheets;
+    tbb::parallel_for(std::size_t{0}, region_count, [&](std::size_t r) {
+        const int ox = static_cast<int>(r % static_cast<std::size_t>(regions_x)) * rc;
+        const int oy = static_cast<int>(r / static_cast<std::size_t>(regions_x)) * rr;
+        RegionPixels region(rc, rr);
+        std::vector<std::uint8_t> kinds_drawn(static_cast<std::size_t>(rc) * static_cast<std::size_t>(rr), 0);  // bit 0 splat, 1 point
+        std::vector<RegionEntry>& list = lists[r];
+        bool sheet_holds = false;
+        std::uint32_t band = 0;
+        const auto close_band = [&] {
+            if (!sheet_holds) return;
+            composited_pixels[r] += composite_band(region, format_);
+            composited[r].push_back(band);
+            sheet_holds = false;
+        };
+        std::vector<std::array<std::int32_t, 4>> contribution, block;
+        for (std::size_t e = 0; e < list.size();) {
+            const Item& item = items[list[e].item];
+            if (item.band != band) {
+                close_band();
+                band = item.band;
+            }
+            const Primitive& p = primitives[list[e].item];
+            const int lx0 = p.x0 - ox, ly0 = p.y0 - oy, lx1 = p.x1 - ox, ly1 = p.y1 - oy;
+            const auto mark = [&](int x0, int y0, int x1, int y1, std::uint8_t bit) {
+                for (int y = std::max(y0, 0); y <= std::min(y1, rr - 1); ++y)
+                    for (int x = std::max(x0, 0); x <= std::min(x1, rc - 1); ++x) kinds_drawn[region.index(x, y)] |= bit;
+            };
+            if (item.kind == Kind::Splat) {
+                SplatDraw draw;
+                for (int q = 0; q < (mode == SplatIndexMode::Exact ? 2 : 1); ++q) {
+                    const Quadratic local = p.index[q].shifted(ox, oy);
+                    // N and M are never negative: one unit of bias keeps their rounding from going below zero.
+                    draw.expressions.push_back(to_qee(local.a, local.b, local.c, local.d, local.e, local.f, 1.0,
+                                                      mode == SplatIndexMode::Exact ? 1.0 : 0.0));
+                }
+                for (const std::int64_t c : p.constants) draw.expressions.push_back(qee_constant(c));
+                draw.table = p.row;
+                draw.x0 = lx0, draw.y0 = ly0, draw.x1 = lx1, draw.y1 = ly1;
+                list[e].pixels = draw_splat(region, draw, tables.table(p.row), format_, mode, blend);
+                if (blend == SplatBlend::Sheet) sheet_holds = true;
+                mark(lx0, ly0, lx1, ly1, 1);
+                ++e;
+                continue;
+            }
+            // Points: on the renderer path each is drawn; on the GPs' path the chunk's points in this region
+            // are filtered into one block, which the renderer adds to its sheet.
+            const auto point_draw = [&](const Primitive& q) {
+                PointDraw draw;
+                const Quadratic local = q.weight.shifted(ox, oy);
+                for (int c = 0; c < 4; ++c)
+                    draw.expressions[static_cast<std::size_t>(c)] =
+                        to_qee(local.a, local.b, local.c, local.d, local.e, local.f, q.channel[c]);
+                draw.x0 = q.x0 - ox, draw.y0 = q.y0 - oy, draw.x1 = q.x1 - ox, draw.y1 = q.y1 - oy;
+                return draw;
+            };
+            sheet_holds = true;
+            if (!gp_sheets) {
+                list[e].pixels = draw_point(region, point_draw(p), format_);
+                mark(lx0, ly0, lx1, ly1, 2);
+                ++e;
+                continue;
+            }
+            std::size_t end = e;
+            int bx0 = rc, by0 = rr, bx1 = -1, by1 = -1;
+            while (end < list.size() && items[list[end].item].band == item.band && items[list[end].item].brick == item.brick &&
+                   items[list[end].item].kind == Kind::Point) {
+                const Primitive& q = primitives[list[end].item];
+                bx0 = std::min(bx0, std::max(q.x0 - ox, 0));
+                by0 = std::min(by0, std::max(q.y0 - oy, 0));
+                bx1 = std::max(bx1, std::min(q.x1 - ox, rc - 1));
+                by1 = std::max(by1, std::min(q.y1 - oy, rr - 1));
+                ++end;
+            }
+            const int bw = bx1 - bx0 + 1;
+            block.assign(static_cast<std::size_t>(bw) * static_cast<std::size_t>(by1 - by0 + 1), {0, 0, 0, 0});
+            const std::int64_t top = (std::int64_t{1} << format_.sheet_field_bits()) - 1;
+            for (std::size_t k = e; k < end; ++k) {
+                PointDraw draw = point_draw(primitives[list[k].item]);
+                point_contribution(draw, format_, contribution);
+                std::uint32_t reached = 0;
+                const int w = draw.x1 - draw.x0 + 1;
+                for (int y = std::max(draw.y0, by0); y <= std::min(draw.y1, by1); ++y)
+                    for (int x = std::max(draw.x0, bx0); x <= std::min(draw.x1, bx1); ++x) {
+                        const auto& v = contribution[static_cast<std::size_t>(y - draw.y0) * static_cast<std::size_t>(w) +
+                                                     static_cast<std::size_t>(x - draw.x0)];
+                        if (v[3] == 0 && v[0] == 0 && v[1] == 0 && v[2] == 0) continue;
+                        ++reached;
+                        auto& b = block[static_cast<std::size_t>(y - by0) * static_cast<std::size_t>(bw) + static_cast<std::size_t>(x - bx0)];
+                        for (int c = 0; c < 4; ++c) b[static_cast<std::size_t>(c)] = static_cast<std::int32_t>(std::min<std::int64_t>(b[static_cast<std::size_t>(c)] + v[static_cast<std::size_t>(c)], top));
+                    }
+                list[k].pixels = reached;
+            }
+            add_sheet_block(region, bx0, by0, bx1, by1, block, format_);
+            mark(bx0, by0, bx1, by1, 2);
+            e = end;
+        }
+        close_band();
+        // The region's pixels: the volume over the background.
+        const float scale = 1.0f / static_cast<float>(one);
+        for (int y = 0; y < rr && oy + y < height; ++y)
+            for (int x = 0; x < rc && ox + x < width; ++x) {
+                const std::size_t p = region.index(x, y);
+                const float a = static_cast<float>(region.alpha[p]) * scale;
+                glm::vec4 out;
+                for (int c = 0; c < 3; ++c) out[c] = static_cast<float>(region.color[c][p]) * scale + (1 - a) * background[c];
+                out.a = a;
+                frame.image.at(ox + x, oy + y) = out;
+                const std::uint8_t k = kinds_drawn[p];
+                frame.primitive_map.at(ox + x, oy + y) = (k & 1) ? glm::vec4(a, 0, 0, 1) : (k & 2) ? glm::vec4(a, a, a, 1) : glm::vec4(0, 0, 0, 1);
+            }
+    });
+    for (std::size_t r = 0; r < region_count; ++r) {
+        counts.primitives_per_region.push_back(lists[r].size());
+        counts.band_composites += composited[r].size();
+        counts.composited_pixels += composited_pixels[r];
+    }
+
+    // 6. The machine's work: one GP task per (band, brick) chunk, batches to the renderers, their steps.
+    GpPhase& work = frame.work;
+    work.groups = 1;
+    work.assignment = settings_.brick_assignment;
+    {
+        std::vector<std::uint32_t> first_part{0};
+        std::vector<BlockPart> parts;
+        std::uint32_t largest = 1;
+        for (const auto& brick : brick_parts) {
+            std::uint32_t total = 0;
+            for (std::size_t r = 0; r < brick.size(); ++r) {
+                if (brick[r] > 0) parts.push_back(BlockPart{static_cast<std::uint32_t>(r), brick[r]});
+                total += brick[r];
+            }
+            largest = std::max(largest, total);
+            first_part.push_back(static_cast<std::uint32_t>(parts.size()));
+        }
+        work.blocks = std::make_shared<const BlockDirectory>(std::uint64_t{largest} * kCachedVoxelBits, kUnitBits, std::move(first_part),
+                                                             std::move(parts));
+    }
+    // Region programs: the splat program of each footprint row used, then the others.
+    std::map<int, std::uint32_t> splat_program;
+    for (std::size_t k = 0; k < items.size(); ++k)
+        if (items[k].kind == Kind::Splat && primitives[k].visible()) splat_program.emplace(primitives[k].row, 0);
+    for (auto& [row, index] : splat_program) {
+        index = static_cast<std::uint32_t>(work.region_programs.size());
+        work.region_programs.push_back(programs_.splat(tables.table(row)));
+    }
+    counts.footprint_rows = splat_program.size();
+    const auto point_program = static_cast<std::uint32_t>(work.region_programs.size());
+    work.region_programs.push_back(gp_sheets ? programs_.sheet_add() : programs_.point());
+    const auto composite_program = static_cast<std::uint32_t>(work.region_programs.size());
+    work.region_programs.push_back(programs_.band_composite());
+    const auto readout_program = static_cast<std::uint32_t>(work.region_programs.size());
+    work.region_programs.push_back(programs_.readout());
+    work.regions.resize(static_cast<std::size_t>(machine_.renderers));
+    const auto renderer_of_region = [&](std::size_t region) { return region % static_cast<std::size_t>(machine_.renderers); };
+
+    // Where each item stands in each region's list (for its pixel counts), walked in item order.
+    std::vector<std::size_t> cursor(region_count, 0);
+    std::vector<std::size_t> next_composite(region_count, 0);
+    const std::uint64_t splat_bits =
+        (exact ? 2 : 1) * 6 * kCoefficientBits + 4 * kConstantBits + kConstantBits;  // quadratics, constants, table row
+    const std::uint64_t point_bits = 4 * 4 * kCoefficientBits;  // four paraboloids of four coefficients
+    std::uint64_t splat_pixels = 0, point_pixels = 0;
+    for (std::size_t first = 0; first < items.size();) {
+        std::size_t end = first;
+        while (end < items.size() && items[end].band == items[first].band && items[end].brick == items[first].brick) ++end;
+        ++counts.chunks;
+        // Per renderer touched: its batch's bits and its steps.
+        struct Batch {
+            std::uint64_t bits = kHeaderBits;
+            std::map<std::uint32_t, std::uint32_t> runs;  // program -> runs
+            std::uint64_t write_words = 0;
+        };
+        std::map<std::uint32_t, Batch> batches;
+        std::uint64_t splats = 0, points = 0, extra_regions = 0, coefficients = 0, bins = 0, sheet_pixels = 0;
+        std::map<std::size_t, std::pair<glm::ivec2, glm::ivec2>> point_blocks;  // region -> box, for the GPs' sheets
+        for (std::size_t k = first; k < end; ++k) {
+            if (items[k].kind == Kind::Culled || !primitives[k].visible()) continue;
+            const Primitive& p = primitives[k];
+            const bool splat = items[k].kind == Kind::Splat;
+            (splat ? splats : points) += 1;
+            std::uint64_t regions_here = 0;
+            for (int ry = p.y0 / rr; ry <= p.y1 / rr; ++ry)
+                for (int rx = p.x0 / rc; rx <= p.x1 / rc; ++rx) {
+                    const std::size_t region = static_cast<std::size_t>(ry) * static_cast<std::size_t>(regions_x) + static_cast<std::size_t>(rx);
+                    RegionEntry& entry = lists[region][cursor[region]++];
+                    ++regions_here;
+                    ++bins;
+                    Batch& batch = batches[static_cast<std::uint32_t>(renderer_of_region(region))];
+                    if (splat) {
+                        splat_pixels += entry.pixels;
+                        ++batch.runs[splat_program.at(p.row)];
+                        batch.bits += splat_bits;
+                        coefficients += (exact ? 12 : 6) + 4;
+                        ++counts.splat_regions;
+                    } else {
+                        ++counts.point_regions;
+                        if (gp_sheets) {
+                            sheet_pixels += entry.pixels;
+                            auto [it, fresh] = point_blocks.try_emplace(region, glm::ivec2(p.x0, p.y0), glm::ivec2(p.x1, p.y1));
+                            if (!fresh) {
+                                it->second.first = glm::min(it->second.first, glm::ivec2(p.x0, p.y0));
+                                it->second.second = glm::max(it->second.second, glm::ivec2(p.x1, p.y1));
+                            }
+                        } else {
+                            point_pixels += entry.pixels;
+                            ++batch.runs[point_program];
+                            batch.bits += point_bits;
+                            coefficients += 16;
+                        }
+                    }
+                }
+            extra_regions += regions_here - 1;
+        }
+        for (const auto& [region, box] : point_blocks) {
+            // The block covers the chunk's points' box within the region: two words (four 16-bit values) a pixel.
+            const int ox = static_cast<int>(region % static_cast<std::size_t>(regions_x)) * rc;
+            const int oy = static_cast<int>(region / static_cast<std::size_t>(regions_x)) * rr;
+            const glm::ivec2 lo = glm::max(box.first, glm::ivec2(ox, oy));
+            const glm::ivec2 hi = glm::min(box.second, glm::ivec2(ox + rc - 1, oy + rr - 1));
+            const std::uint64_t pixels = static_cast<std::uint64_t>(hi.x - lo.x + 1) * static_cast<std::uint64_t>(hi.y - lo.y + 1);
+            Batch& batch = batches[static_cast<std::uint32_t>(renderer_of_region(region))];
+            ++batch.runs[point_program];
+            batch.write_words += 2 * pixels;
+            batch.bits += 64 * pixels + 64;
+        }
+        // The task: fetch the brick (a cache hit after its first chunk on this GP), then the chunk's work.
+        GpTask task;
+        task.key = items[first].brick;
+        task.first_item = static_cast<std::uint32_t>(work.items.size());
+        task.item_count = 1;
+        work.items.push_back(GpItem{static_cast<std::uint32_t>(work.steps.size()), 1});
+        work.steps.push_back(GpStep{0, 0, items[first].brick});
+        task.first_finish_op = static_cast<std::uint32_t>(work.ops.size());
+        std::uint64_t words = 0;
+        for (const auto& [renderer, batch] : batches) words += (batch.bits + 31) / 32;
+        append_ops(work.ops, kYuanVoxel, end - first);
+        append_ops(work.ops, kYuanSplatSetup, splats);
+        append_ops(work.ops, kYuanRegionShift, extra_regions);
+        append_ops(work.ops, kYuanCoefficient, coefficients);
+        if (gp_sheets) append_ops(work.ops, kYuanSheetPixel, sheet_pixels);
+        else append_ops(work.ops, kYuanPointSetup, points);
+        append_ops(work.ops, kYuanBin, bins);
+        append_ops(work.ops, kYuanPackWord, words);
+        task.finish_op_count = static_cast<std::uint32_t>(work.ops.size()) - task.first_finish_op;
+        task.first_batch = static_cast<std::uint32_t>(work.batches.size());
+        for (const auto& [renderer, batch] : batches) {
+            const auto index = static_cast<std::uint32_t>(work.batches.size());
+            work.batches.push_back(PrimitiveBatch{renderer, batch.bits});
+            // A batch exists only for a renderer something was binned to, so it always has a step.
+            for (const auto& [program, runs] : batch.runs)
+                work.regions[renderer].steps.push_back(
+                    RegionStep{index, program, runs, program == point_program && gp_sheets ? batch.write_words : 0});
+            ++counts.batches;
+            counts.batch_words += (batch.bits + 31) / 32;
+        }
+        task.batch_count = static_cast<std::uint32_t>(batches.size());
+        work.tasks.push_back(task);
+        // At a band's end each renderer composites the sheets of its regions that hold something.
+        if (end == items.size() || items[end].band != items[first].band) {
+            const std::uint32_t band = items[first].band;
+            std::vector<std::uint32_t> composites(static_cast<std::size_t>(machine_.renderers), 0);
+            for (std::size_t region = 0; region < region_count; ++region) {
+                std::size_t& next = next_composite[region];
+                if (next < composited[region].size() && composited[region][next] == band) {
+                    ++next;
+                    ++composites[renderer_of_region(region)];
+                }
+            }
+            for (std::size_t renderer = 0; renderer < composites.size(); ++renderer)
+                if (composites[renderer] > 0)
+                    work.regions[renderer].steps.push_back(RegionStep{kNoBatch, composite_program, composites[renderer], 0});
+            ++counts.bands;
+        }
+        first = end;
+    }
+    counts.splat_pixels = splat_pixels;
+    counts.point_pixels = point_pixels;
+    for (std::size_t region = 0; region < region_count; ++region) {
+        const int w = std::min(rc, width - static_cast<int>(region % static_cast<std::size_t>(regions_x)) * rc);
+        const int hgt = std::min(rr, height - static_cast<int>(region / static_cast<std::size_t>(regions_x)) * rr);
+        RegionWork& rw = work.regions[renderer_of_region(region)];
+        rw.steps.push_back(RegionStep{kNoBatch, readout_program, 1, 0});
+        rw.readout_pixels += static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(hgt);
+    }
+    // What a lone processor does instead of the renderers: every pixel each primitive changed.
+    append_ops(work.regions_on_one_processor, kYuanSplatPixel, counts.splat_pixels);
+    if (!gp_sheets) append_ops(work.regions_on_one_processor, kYuanPointPixel, counts.point_pixels);
+    append_ops(work.regions_on_one_processor, kYuanCompositePixel, counts.composited_pixels);
+    return frame;
+}
+
+}  // namespace pp5

@@ -1,0 +1,69 @@
+#include "kernels/yuan/yuan_costs.h"
+
+namespace pp5 {
+
+const ParamGroup& yuan_cost_params() {
+    static const ParamGroup group = [] {
+        ParamGroup g("gp_cost.yuan", "What each of Yuan's splatting operations costs on an i860; none is published");
+        const auto flops = [&g](const char* name, double def, const char* doc, const char* count) {
+            g.real(name, def, "flops", 0, 1e6, doc, Provenance::Default, count);
+        };
+        const auto cycles = [&g](const char* name, double def, const char* doc, const char* count) {
+            g.real(name, def, "cycles", 0, 1e7, doc, Provenance::Default, count);
+        };
+        flops("voxel_transform_flops", 18, "Transform one voxel's centre into eye space",
+              "a 3x3 matrix and a translation");
+        flops("voxel_split_flops", 11, "Find a voxel's magnification and depth band and decide splat or point",
+              "a reciprocal of depth, the projected spacing, the band's floor and a compare");
+        cycles("voxel_sort_cycles", 20, "Append a voxel to its (band, brick) chunk, in depth order within it",
+               "a bucket append and an insertion step on nearly sorted depths");
+        flops("splat_setup_flops", 80, "Set up one splat: cone angle, the six conic coefficients, centre, axes, bounding box, "
+                                       "the footprint row and the colour constants",
+              "|c|^2 and a reciprocal square root (12), the direction Q (4), cos^2 alpha (3), coefficients (14), the "
+              "index normalisation at the centre (12), axes and box (25), colour and opacity (10)");
+        flops("region_shift_flops", 10, "Move one primitive's quadratic to a further region's origin",
+              "the shift of F, D and E: about 10 multiply-adds");
+        cycles("coefficient_convert_cycles", 2, "Convert one coefficient to the QEE's fixed point", "a scale and a float-to-integer");
+        flops("point_setup_flops", 16, "Set up one point for the renderers: its screen position, area and four paraboloid weights",
+              "the projection (4), the area (1), four channel weights (4) and the paraboloid's terms (7)");
+        flops("sheet_pixel_flops", 14, "Filter one point into one pixel of the GP's band sheet",
+              "the squared distance (4), the paraboloid weight (2), four multiply-adds");
+        cycles("bin_cycles", 10, "Place one primitive in one region's batch", "a region look-up and a pointer bump");
+        cycles("pack_cycles_per_word", 2, "Pack one word of a batch for the ring", "a store and a pointer bump");
+        // Work Pixel-planes 5 gives its PPs, done by a lone processor (the `uniprocessor` machine kind).
+        flops("voxel_classification_flops", 8, "Classify one voxel on a processor without PPs",
+              "a table look-up, the gradient magnitude's scale and a multiply");
+        flops("voxel_shading_flops", 40, "Phong-shade one voxel on a processor without PPs",
+              "the same count as Levoy's: normalise, diffuse, three colour multiply-adds, the opacity weight");
+        flops("splat_pixel_flops", 20, "Draw one pixel of a splat on a processor without PPs",
+              "the index quadratic stepped incrementally (3), the table look-up, alpha w (1), (1 - A) alpha (2), "
+              "three colour multiply-adds and the opacity (8), bounds and loop (6)");
+        flops("point_pixel_flops", 14, "Filter one point into one pixel on a processor without PPs", "as sheet_pixel_flops");
+        flops("composite_pixel_flops", 10, "Composite one pixel of a band's sheet on a processor without PPs",
+              "(1 - A), a clamp, four multiply-adds and the clear");
+        return g;
+    }();
+    return group;
+}
+
+std::vector<GpOpKind> yuan_op_kinds() {
+    const auto key = [](const char* name) { return std::string("gp_cost.yuan.") + name; };
+    // In YuanOp's order.
+    return {
+        {"yuan.voxel", {key("voxel_transform_flops"), key("voxel_split_flops"), key("voxel_sort_cycles")}},
+        {"yuan.splat_setup", {key("splat_setup_flops")}},
+        {"yuan.region_shift", {key("region_shift_flops")}},
+        {"yuan.coefficient", {key("coefficient_convert_cycles")}},
+        {"yuan.point_setup", {key("point_setup_flops")}},
+        {"yuan.sheet_pixel", {key("sheet_pixel_flops")}},
+        {"yuan.bin", {key("bin_cycles")}},
+        {"yuan.pack_word", {key("pack_cycles_per_word")}},
+        {"yuan.voxel_classification", {key("voxel_classification_flops")}},
+        {"yuan.voxel_shading", {key("voxel_shading_flops")}},
+        {"yuan.splat_pixel", {key("splat_pixel_flops")}},
+        {"yuan.point_pixel", {key("point_pixel_flops")}},
+        {"yuan.composite_pixel", {key("composite_pixel_flops")}},
+    };
+}
+
+}  // namespace pp5
