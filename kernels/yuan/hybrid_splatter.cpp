@@ -1,5 +1,6 @@
 #include "kernels/yuan/hybrid_splatter.h"
 
+#include "kernels/yuan/screen_primitives.h"
 #include "kernels/yuan/splat_geometry.h"
 #include "kernels/yuan/yuan_costs.h"
 
@@ -43,26 +44,11 @@ bool key_less(const Item& a, const Item& b) {
     return a.voxel < b.voxel;
 }
 
-// Its screen footprint: the quadratic(s) the renderers evaluate and the box they can be non-zero in.
-struct Primitive {
-    int x0 = 0, y0 = 0, x1 = -1, y1 = -1;  // screen pixels, inclusive, clipped to the picture
-    Quadratic index[2];                    // splat: i^2 in 2^16 units (affine), or N and M (exact)
-    Quadratic weight;                      // point: the paraboloid's shape (1 - rho^2 / R^2)
-    double channel[4] = {0, 0, 0, 0};      // point: the paraboloid's height per channel, in sheet units
-    std::int64_t constants[4] = {0, 0, 0, 0};  // splat: opacity, red, green, blue in accumulator units
-    int row = 0;                           // splat: its footprint table
-    bool visible() const { return x1 >= x0 && y1 >= y0; }
-};
-
 // A primitive's place in one region's list, and the pixels it changed there.
 struct RegionEntry {
     std::uint32_t item = 0;
     std::uint32_t pixels = 0;
 };
-
-std::int64_t to_units(float v, std::int64_t one) {
-    return std::clamp<std::int64_t>(static_cast<std::int64_t>(std::lround(static_cast<double>(v) * static_cast<double>(one))), 0, one);
-}
 
 }  // namespace
 
@@ -134,64 +120,19 @@ SplatFrame HybridSplatter::render(const ShadedVolume& voxels, const Camera& came
 
     // 3. Each voxel's primitive (in parallel; each from its own voxel only).
     const double point_radius = settings_.point_radius_pixels();
-    const double point_height = 2.0 / (3.14159265358979323846 * point_radius * point_radius);  // the paraboloid's peak
-    std::vector<Primitive> primitives(items.size());
+    std::vector<ScreenPrimitive> primitives(items.size());
     tbb::parallel_for(std::size_t{0}, items.size(), [&](std::size_t k) {
         Item& item = items[k];
-        Primitive& p = primitives[k];
+        ScreenPrimitive& p = primitives[k];
         const glm::vec4 rgba = voxels.rgba[item.voxel];
-        double x0, x1, y0, y1;
         if (item.kind == Kind::Splat) {
-            const std::optional<SplatShape> shape = project_sphere(projection, item.eye, kernel_world);
-            if (!shape) {
-                item.kind = Kind::Culled;
-                return;
-            }
-            const double scale = static_cast<double>(std::int64_t{1} << RegionFormat::kIndexBits);
-            if (exact) {
-                // d^2 = N / M: N = (|X|^2 - (X.Q)^2) / (f^2 sin^2 a), M = |X|^2 / f^2, both in 2^16 units.
-                const glm::dvec2 pp = projection.principal_point();
-                const double f = projection.focal_pixels();
-                const glm::dvec3 q = shape->axis;
-                const Quadratic x2 = Quadratic{1, 0, 1, 0, 0, f * f}.substituted(1, -pp.x, -1, pp.y);
-                const Quadratic along = Quadratic{q.x * q.x, 2 * q.x * q.y, q.y * q.y, 2 * f * q.x * q.z, 2 * f * q.y * q.z, f * f * q.z * q.z}
-                                            .substituted(1, -pp.x, -1, pp.y);
-                const Quadratic n{x2.a - along.a, x2.b - along.b, x2.c - along.c, x2.d - along.d, x2.e - along.e, x2.f - along.f};
-                p.index[0] = n.scaled(scale / (f * f * shape->sin_alpha * shape->sin_alpha));
-                p.index[1] = x2.scaled(scale / (f * f));
-            } else {
-                p.index[0] = shape->inside.scaled(-scale / shape->peak);
-                p.index[0].f += scale;
-            }
-            p.row = tables.row_of(std::asin(std::min(shape->sin_alpha, 1.0)));
-            p.constants[0] = to_units(rgba.a, one);
-            for (int c = 0; c < 3; ++c) p.constants[c + 1] = std::min(to_units(rgba[c], one), one - 1);
-            x0 = shape->center.x - shape->half_extent.x;
-            x1 = shape->center.x + shape->half_extent.x;
-            y0 = shape->center.y - shape->half_extent.y;
-            y1 = shape->center.y + shape->half_extent.y;
+            std::optional<ScreenPrimitive> splat =
+                splat_primitive(projection, item.eye, kernel_world, rgba, tables, exact, format_, width, height);
+            if (splat) p = *splat;
+            else item.kind = Kind::Culled;
         } else if (item.kind == Kind::Point) {
-            const glm::dvec2 at = projection.to_screen(item.eye);
-            const double spacing_pixels = h * projection.pixels_per_unit(item.eye.z);
-            const double area = spacing_pixels * spacing_pixels;  // the screen area the voxel stands for
-            const double r2 = point_radius * point_radius;
-            p.weight = Quadratic{-1 / r2, 0, -1 / r2, 2 * at.x / r2, 2 * at.y / r2, 1 - (at.x * at.x + at.y * at.y) / r2};
-            const double sheet_one = static_cast<double>(format_.sheet_one());
-            const double energy = area * point_height * rgba.a * sheet_one;
-            for (int c = 0; c < 3; ++c) p.channel[c] = energy * rgba[c];
-            p.channel[3] = energy;
-            x0 = at.x - point_radius;
-            x1 = at.x + point_radius;
-            y0 = at.y - point_radius;
-            y1 = at.y + point_radius;
-        } else {
-            return;
+            p = point_primitive(projection, item.eye, h * projection.pixels_per_unit(item.eye.z), rgba, point_radius, format_, width, height);
         }
-        // One pixel of margin: the fixed-point quadratic may reach a pixel the float box just misses.
-        p.x0 = std::max(0, static_cast<int>(std::floor(x0)) - 1);
-        p.y0 = std::max(0, static_cast<int>(std::floor(y0)) - 1);
-        p.x1 = std::min(width - 1, static_cast<int>(std::ceil(x1)) + 1);
-        p.y1 = std::min(height - 1, static_cast<int>(std::ceil(y1)) + 1);
     });
 
     // 4. Screen regions, and each region's primitives in the renderers' order.
@@ -200,7 +141,7 @@ SplatFrame HybridSplatter::render(const ShadedVolume& voxels, const Camera& came
     const std::size_t region_count = static_cast<std::size_t>(regions_x) * static_cast<std::size_t>(regions_y);
     std::vector<std::vector<RegionEntry>> lists(region_count);
     for (std::size_t k = 0; k < items.size(); ++k) {
-        const Primitive& p = primitives[k];
+        const ScreenPrimitive& p = primitives[k];
         if (items[k].kind == Kind::Culled) {
             ++counts.culled;
             continue;
@@ -245,23 +186,14 @@ SplatFrame HybridSplatter::render(const ShadedVolume& voxels, const Camera& came
                 close_band();
                 band = item.band;
             }
-            const Primitive& p = primitives[list[e].item];
+            const ScreenPrimitive& p = primitives[list[e].item];
             const int lx0 = p.x0 - ox, ly0 = p.y0 - oy, lx1 = p.x1 - ox, ly1 = p.y1 - oy;
             const auto mark = [&](int x0, int y0, int x1, int y1, std::uint8_t bit) {
                 for (int y = std::max(y0, 0); y <= std::min(y1, rr - 1); ++y)
                     for (int x = std::max(x0, 0); x <= std::min(x1, rc - 1); ++x) kinds_drawn[region.index(x, y)] |= bit;
             };
             if (item.kind == Kind::Splat) {
-                SplatDraw draw;
-                for (int q = 0; q < (mode == SplatIndexMode::Exact ? 2 : 1); ++q) {
-                    const Quadratic local = p.index[q].shifted(ox, oy);
-                    // N and M are never negative: one unit of bias keeps their rounding from going below zero.
-                    draw.expressions.push_back(to_qee(local.a, local.b, local.c, local.d, local.e, local.f, 1.0,
-                                                      mode == SplatIndexMode::Exact ? 1.0 : 0.0));
-                }
-                for (const std::int64_t c : p.constants) draw.expressions.push_back(qee_constant(c));
-                draw.table = p.row;
-                draw.x0 = lx0, draw.y0 = ly0, draw.x1 = lx1, draw.y1 = ly1;
+                const SplatDraw draw = splat_draw(p, ox, oy, mode == SplatIndexMode::Exact);
                 list[e].pixels = draw_splat(region, draw, tables.table(p.row), format_, mode, blend);
                 if (blend == SplatBlend::Sheet) sheet_holds = true;
                 mark(lx0, ly0, lx1, ly1, 1);
@@ -270,18 +202,9 @@ SplatFrame HybridSplatter::render(const ShadedVolume& voxels, const Camera& came
             }
             // Points: on the renderer path each is drawn; on the GPs' path the chunk's points in this region
             // are filtered into one block, which the renderer adds to its sheet.
-            const auto point_draw = [&](const Primitive& q) {
-                PointDraw draw;
-                const Quadratic local = q.weight.shifted(ox, oy);
-                for (int c = 0; c < 4; ++c)
-                    draw.expressions[static_cast<std::size_t>(c)] =
-                        to_qee(local.a, local.b, local.c, local.d, local.e, local.f, q.channel[c]);
-                draw.x0 = q.x0 - ox, draw.y0 = q.y0 - oy, draw.x1 = q.x1 - ox, draw.y1 = q.y1 - oy;
-                return draw;
-            };
             sheet_holds = true;
             if (!gp_sheets) {
-                list[e].pixels = draw_point(region, point_draw(p), format_);
+                list[e].pixels = draw_point(region, point_draw(p, ox, oy), format_);
                 mark(lx0, ly0, lx1, ly1, 2);
                 ++e;
                 continue;
@@ -290,7 +213,7 @@ SplatFrame HybridSplatter::render(const ShadedVolume& voxels, const Camera& came
             int bx0 = rc, by0 = rr, bx1 = -1, by1 = -1;
             while (end < list.size() && items[list[end].item].band == item.band && items[list[end].item].brick == item.brick &&
                    items[list[end].item].kind == Kind::Point) {
-                const Primitive& q = primitives[list[end].item];
+                const ScreenPrimitive& q = primitives[list[end].item];
                 bx0 = std::min(bx0, std::max(q.x0 - ox, 0));
                 by0 = std::min(by0, std::max(q.y0 - oy, 0));
                 bx1 = std::max(bx1, std::min(q.x1 - ox, rc - 1));
@@ -301,7 +224,7 @@ SplatFrame HybridSplatter::render(const ShadedVolume& voxels, const Camera& came
             block.assign(static_cast<std::size_t>(bw) * static_cast<std::size_t>(by1 - by0 + 1), {0, 0, 0, 0});
             const std::int64_t top = (std::int64_t{1} << format_.sheet_field_bits()) - 1;
             for (std::size_t k = e; k < end; ++k) {
-                PointDraw draw = point_draw(primitives[list[k].item]);
+                const PointDraw draw = point_draw(primitives[list[k].item], ox, oy);
                 point_contribution(draw, format_, contribution);
                 std::uint32_t reached = 0;
                 const int w = draw.x1 - draw.x0 + 1;
@@ -401,7 +324,7 @@ SplatFrame HybridSplatter::render(const ShadedVolume& voxels, const Camera& came
         std::map<std::size_t, std::pair<glm::ivec2, glm::ivec2>> point_blocks;  // region -> box, for the GPs' sheets
         for (std::size_t k = first; k < end; ++k) {
             if (items[k].kind == Kind::Culled || !primitives[k].visible()) continue;
-            const Primitive& p = primitives[k];
+            const ScreenPrimitive& p = primitives[k];
             const bool splat = items[k].kind == Kind::Splat;
             (splat ? splats : points) += 1;
             std::uint64_t regions_here = 0;
