@@ -1,8 +1,8 @@
 #pragma once
 // The reconstruction kernel and its footprint: a spherical Gaussian of standard deviation sigma cut
 // off at radius r (voxel units), integrated along parallel rays and normalised to unit area, so that
-// the footprints of a lattice of voxels sum to one (a partition of unity, within half a percent for
-// sigma = 0.7, r = 2) and a layer of voxels of opacity alpha covers the screen with alpha.
+// the footprints of a lattice of voxels sum to nearly one (0.978 to 1.000 for sigma = 0.7, r = 2) and a
+// layer of voxels of opacity alpha covers the screen with about alpha.
 //
 // The renderers look the weight up in a table over the squared index i^2 (2^table_bits entries, in
 // accumulator units). Under perspective each row of the table belongs to one cone angle: the row maps

@@ -147,9 +147,10 @@ PpProgram RegionPrograms::point() const {
     const RegionState s = allocate_state(b, f);
     const std::int64_t top = limit_of(f.sheet_field_bits());
     b.enable_all();
+    // The opacity weight first: where it is positive the point reaches the pixel.
     const PpField weight = b.qee("v_alpha", 3, kQuad, true, kShift);
     b.enable_if(weight, PpCompare::Greater, 0);
-    for (int c = 0; c < 4; ++c) {
+    for (const int c : {3, 0, 1, 2}) {
         const PpField v = c == 3 ? weight : b.qee("v", c, kQuad, true, kShift);
         const PpField low = b.max_const("v_low", v, 0);
         b.release(v);
