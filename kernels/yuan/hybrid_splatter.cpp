@@ -115,7 +115,9 @@ SplatFrame HybridSplatter::render(const ShadedVolume& voxels, const Camera& came
     float nearest = std::numeric_limits<float>::max();
     for (const Item& item : items) nearest = std::min(nearest, item.depth);
     const double band_depth = settings_.band_voxels * h;
-    for (Item& item : items) item.band = static_cast<std::uint32_t>(std::floor((item.depth - nearest) / band_depth));
+    // Bands are centred on the nearest voxel's depth, so that a layer of voxels at one depth (a slab face
+    // on) falls in the middle of a band, not on the rounding edge between two.
+    for (Item& item : items) item.band = static_cast<std::uint32_t>(std::floor((item.depth - nearest) / band_depth + 0.5));
     tbb::parallel_sort(items.begin(), items.end(), key_less);
 
     // 3. Each voxel's primitive (in parallel; each from its own voxel only).
