@@ -417,6 +417,7 @@ nlohmann::json FitReport::to_json() const {
                            {"frame", r.target.frame},
                            {"machine", r.target.machine},
                            {"metric", r.target.metric},
+                           {"divided_by_frame", r.target.divided_by_frame >= 0 ? nlohmann::json(r.target.divided_by_frame) : nlohmann::json(nullptr)},
                            {"unit", r.target.unit},
                            {"reported", r.target.reported},
                            {"exactness", std::string(to_string(r.target.exactness))},
@@ -454,8 +455,11 @@ std::string FitReport::to_markdown() const {
     for (const TargetResult& r : results) {
         std::string loo = r.leave_one_out ? fmt::format("{} ({})", number(*r.leave_one_out), percent(*r.leave_one_out_error)) : "";
         if (!r.leave_one_out_note.empty()) loo += (loo.empty() ? "" : "; ") + r.leave_one_out_note;
+        const std::string unit = r.target.divided_by_frame >= 0
+                                     ? fmt::format("frame {} / frame {}", r.target.frame, r.target.divided_by_frame)
+                                     : r.target.unit;
         md << fmt::format("| {} | {} | {} ({}) | {} | {} | {} | {} | {} |\n", r.target.id, r.target.machine, r.target.metric,
-                          r.target.unit, number(r.target.reported), number(r.simulated), percent(r.relative_error),
+                          unit, number(r.target.reported), number(r.simulated), percent(r.relative_error),
                           r.target.fitted ? "fitted" : "held out", loo);
     }
     md << "\n## Fit quality\n\n| targets | count | mean abs. error | max abs. error | within 10% | within 25% | r (log) |\n"

@@ -118,11 +118,11 @@ TargetSet load_targets(const std::filesystem::path& path) {
         const toml::table* row = (*rows)[i].as_table();
         if (!row) throw InputError(file, prefix.substr(0, prefix.size() - 1), "must be a table");
         static const std::set<std::string> known{"id", "source", "quote", "scenario", "frame", "machine", "metric",
-                                                 "reported", "exactness", "use"};
+                                                 "reported", "exactness", "use", "divided_by_frame"};
         for (const auto& [k, v] : *row) {
             if (!known.count(std::string(k.str())))
                 throw InputError(file, prefix + std::string(k.str()), "unknown field; a target has id, source, quote, scenario, "
-                                                                    "frame, machine, metric, reported, exactness and use");
+                                                                    "frame, machine, metric, divided_by_frame, reported, exactness and use");
         }
         Target t;
         t.id = text_field(*row, file, prefix, "id", true);
@@ -176,6 +176,15 @@ TargetSet load_targets(const std::filesystem::path& path) {
                 throw InputError(file, prefix + "frame",
                                  fmt::format("must be a frame of \"{}\": 0 to {}", t.scenario, scenario.frames.size() - 1));
             t.frame = static_cast<int>(*index);
+        }
+        if (const toml::node* divisor = row->get("divided_by_frame")) {
+            const auto index = divisor->value<std::int64_t>();
+            if (!index || *index < 0 || *index >= static_cast<std::int64_t>(scenario.frames.size()))
+                throw InputError(file, prefix + "divided_by_frame",
+                                 fmt::format("must be a frame of \"{}\": 0 to {}", t.scenario, scenario.frames.size() - 1));
+            if (*index == t.frame) throw InputError(file, prefix + "divided_by_frame", "must differ from frame (the ratio would be 1)");
+            t.divided_by_frame = static_cast<int>(*index);
+            t.unit = "ratio";
         }
         try {
             (void)resolve_machine_file(t.machine);

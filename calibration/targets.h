@@ -29,7 +29,8 @@ struct Target {
     int frame = 0;         // index into the scenario's frames
     std::string machine;   // preset name or machine file
     std::string metric;  // one of the scenario's kernel's metrics (Kernel::metrics)
-    std::string unit;
+    std::string unit;    // the metric's, or "ratio" when divided by another frame's
+    int divided_by_frame = -1;  // >= 0: the metric at `frame` over its value at this frame (a ratio)
     double reported = 0.0;
     Exactness exactness = Exactness::Estimate;
     bool fitted = true;  // false: held out, predicted only

@@ -76,7 +76,7 @@ CalibrationModel::CalibrationModel(const TargetSet& targets, std::optional<Machi
     std::map<std::string, int> frames_needed;
     std::optional<MachineConfig> first_multicomputer;
     for (const Target& t : targets_.targets) {
-        frames_needed[t.scenario] = std::max(frames_needed[t.scenario], t.frame + 1);
+        frames_needed[t.scenario] = std::max({frames_needed[t.scenario], t.frame + 1, t.divided_by_frame + 1});
         if (!machines_.count(t.machine)) machines_.emplace(t.machine, load_run_config(t.machine, {}));
         if (!first_multicomputer && machines_.at(t.machine).machine_kind() == MachineKind::Multicomputer) first_multicomputer = machines_.at(t.machine);
     }
@@ -120,7 +120,12 @@ std::vector<double> CalibrationModel::simulate(const std::string& machine, const
         if (it == timed.end()) it = timed.emplace(t->scenario, recording(t->scenario).time_on(config)).first;
         const auto frame = static_cast<std::size_t>(t->frame);
         try {
-            values.push_back(recording(t->scenario).metric(t->metric, frame, it->second[frame]));
+            double value = recording(t->scenario).metric(t->metric, frame, it->second[frame]);
+            if (t->divided_by_frame >= 0) {
+                const auto by = static_cast<std::size_t>(t->divided_by_frame);
+                value /= recording(t->scenario).metric(t->metric, by, it->second[by]);
+            }
+            values.push_back(value);
         } catch (const std::domain_error& e) {
             throw InputError(targets_.file.string(), "target \"" + t->id + "\" metric", e.what());
         }
