@@ -221,6 +221,18 @@ TEST(Cli, BadMachineIsRejected) {
     expect_rejected("machine_small", "render " + scenario("sphere.toml") + " --set renderer.count=1 --set renderer.backing_store_bits=512",
                     "renderer.backing_store_bits");
     expect_rejected("kernel_setting", "render " + scenario("sphere.toml") + " --set voxel_store.placement=diagonal", "voxel_store.placement");
+    // Yuan's kernel: a negative radius, bands of no depth, a switch out of range, a cut-off too tight.
+    const std::string yuan = "render " + scenario("yuan-checker-box.toml");
+    expect_rejected("yuan_radius", yuan + " --set yuan.kernel_radius=-1", "yuan.kernel_radius");
+    expect_rejected("yuan_bands", yuan + " --set yuan.band_voxels=0", "yuan.band_voxels");
+    expect_rejected("yuan_switch", yuan + " --set yuan.switch_pixels=1000", "yuan.switch_pixels");
+    expect_rejected("yuan_sigma", yuan + " --set yuan.kernel_sigma=2 --set yuan.kernel_radius=2", "yuan.kernel_sigma");
+    // And a scenario asking it for what it cannot draw: the volume-of-interest tool.
+    const fs::path yuan_dir = scratch("yuan_region_files");
+    const auto with_region = write(yuan_dir, "region.toml",
+                                   "[scenario]\nkernel = \"yuan\"\n[dataset]\nphantom = \"sphere\"\nsize = 24\n[classification]\n"
+                                   "contours = [{value = 100}]\n[region]\nshape = \"box\"\ncenter = [12, 12, 12]\nhalf_size = [4, 4, 4]\n");
+    expect_rejected("yuan_region", "render " + with_region.string(), "region");
 }
 
 TEST(Cli, BadVolumeIsRejected) {

@@ -149,11 +149,28 @@ TEST(Targets, BadRowsNameTheFieldAndTheReason) {
     expect_error("exactness", "\"roughly\"", "measured, estimate or order-of-magnitude");
     expect_error("use", "\"maybe\"", "fit or held-out");
     expect_error("id", "", "is missing");
+    expect_error("divided_by_frame", "9", "0 to 2");
+    expect_error("divided_by_frame", "1", "must differ");
     // And the good row loads.
     const TargetSet good = load_targets(target_file(files, "id", "\"fine\""));
     ASSERT_EQ(good.targets.size(), 1u);
     EXPECT_EQ(good.targets[0].metric, "crude_seconds");
     EXPECT_EQ(good.targets[0].frame, 1);
+}
+
+TEST(Targets, ARatioRowIsOneFramesMetricOverAnothers) {
+    const test::CalibrationFiles files = test::write_calibration_files("ratio");
+    const Target ratio = load_targets(target_file(files, "divided_by_frame", "0")).targets.at(0);
+    EXPECT_EQ(ratio.unit, "ratio");
+    TargetSet set;
+    set.file = files.dir / "ratio.toml";
+    set.targets = {make_target(files, "orbit-crude", 1, "crude_seconds"), make_target(files, "first-crude", 0, "crude_seconds"), ratio};
+    const CalibrationModel model(set, load_run_config(files.machine.string(), {}));
+    const std::vector<const Target*> rows{&set.targets[0], &set.targets[1], &set.targets[2]};
+    const std::vector<double> values = model.simulate(files.machine.string(), CalibrationScales{}, rows);
+    ASSERT_EQ(values.size(), 3u);
+    EXPECT_GT(values[1], 0.0);
+    EXPECT_DOUBLE_EQ(values[2], values[0] / values[1]);
 }
 
 TEST(Targets, FiguresShowFramesTheTargetsRecord) {
@@ -194,6 +211,17 @@ TEST(Targets, TheShippedLevoyFileLoads) {
     EXPECT_GT(fitted, 0);
     EXPECT_LT(fitted, static_cast<int>(set.targets.size()));  // some held out
     EXPECT_EQ(sun, 3);                                        // Levoy's three Sun 4/280 measurements
+}
+
+TEST(Targets, TheShippedYuanFileLoads) {
+    const TargetSet set = load_targets(resolve_targets_file("yuan03"));
+    int ratios = 0;
+    for (const Target& t : set.targets) {
+        EXPECT_FALSE(t.fitted) << t.id;  // a different machine: every row is a comparison
+        ratios += t.divided_by_frame >= 0;
+    }
+    EXPECT_GE(ratios, 4);
+    EXPECT_EQ(set.figures.size(), 3u);
 }
 
 }  // namespace
