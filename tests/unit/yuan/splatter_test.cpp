@@ -113,6 +113,42 @@ TEST(YuanSlab, LayersCompositeToTheTransmittanceTheirRulePredicts) {
     std::filesystem::remove(raw);
 }
 
+TEST(YuanFootprint, OneVoxelCoversItsProjectedArea) {
+    // A lone voxel of opacity 0.5 in an empty volume: summed over the picture, its splat's (or point's)
+    // opacity is the voxel's area on screen times 0.5 (sheet compositing, so nothing saturates).
+    const auto raw = temp_file("voxel.raw");
+    {
+        std::string bytes(17 * 17 * 17, '\0');
+        bytes[8 + 17 * (8 + 17 * 8)] = static_cast<char>(100);
+        std::ofstream(raw, std::ios::binary) << bytes;
+    }
+    const auto scene = [&](double zoom, const std::string& name) {
+        return scenario_from(name, yuan_scene("raw = { dims = [17, 17, 17], type = \"uint8\" }\nfile = \"" + raw.string() + "\"",
+                                              "kind = \"piecewise-linear\"\npoints = [{ value = 0.0, opacity = 0.0 }, { value = 100.0, opacity = 0.5 }]",
+                                              "projection = \"parallel\"\nzoom = " + std::to_string(zoom), 64));
+    };
+    const auto coverage = [](const Image& image) {
+        double sum = 0;
+        for (const glm::vec4& p : image.pixels) sum += p.a;
+        return sum;
+    };
+    // The bounding sphere of the 16-voxel cube has radius 8 sqrt(3); 64 pixels over its diameter / zoom.
+    const auto pixels_per_voxel = [](double zoom) { return 64.0 * zoom / (16.0 * std::sqrt(3.0)); };
+    for (const double zoom : {2.0, 4.0}) {
+        const auto frames = render(scene(zoom, "voxel_splat"), {"yuan.splat_compositing=sheet"}, false);
+        ASSERT_EQ(frames[0].stats["splats"], 1);
+        const double s = pixels_per_voxel(zoom);
+        EXPECT_NEAR(coverage(frames[0].image), 0.5 * s * s, 0.02 * 0.5 * s * s) << zoom;
+    }
+    const auto point = render(scene(0.4, "voxel_point"), {}, false);
+    ASSERT_EQ(point[0].stats["points"], 1);
+    const double s = pixels_per_voxel(0.4);
+    // A paraboloid of radius 1.71 pixels sampled at pixel centres sums to 0.974 of its area when the
+    // point falls between four of them (as here), so 3%.
+    EXPECT_NEAR(coverage(point[0].image), 0.5 * s * s, 0.03 * 0.5 * s * s);
+    std::filesystem::remove(raw);
+}
+
 TEST(YuanSplit, SplatFractionIsTheShareOfVoxelsNearerThanTheSwitchPlane) {
     const Scenario scenario = scenario_from(
         "split", yuan_scene("phantom = \"checker-box\"\nsize = 40",
