@@ -163,6 +163,14 @@ Phase LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& report) 
     AdaptiveRefinement refinement(width, height, settings_.refinement);
 
     const int tiles = tiles_x * tiles_y;
+    // A static assignment deals tile keys round-robin (key mod G). In raster order, a picture as many
+    // tiles wide as there are GPs gives each GP one column, and the GPs' loads differ as the columns'
+    // contents do. Skewing each row's keys by 7 (prime, so coprime to the usual power-of-two GP counts)
+    // gives each GP tiles spread over rows and columns alike, and keys stay independent of the GP count.
+    constexpr int kRowSkew = 7;
+    const auto tile_key = [&](int t) {
+        return static_cast<std::uint32_t>(settings_.interleave_tiles ? t + kRowSkew * (t / tiles_x) : t);
+    };
     GpPhase job;
     job.assignment = settings_.ray_assignment;
     job.blocks = directory_;
@@ -196,7 +204,7 @@ Phase LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& report) 
     const auto add_task = [&](std::uint32_t pass, int t, std::uint32_t first_item, std::uint32_t tests, std::uint32_t filled) {
         GpTask task;
         task.group = pass;
-        task.key = static_cast<std::uint32_t>(t);
+        task.key = tile_key(t);
         task.first_item = first_item;
         task.item_count = static_cast<std::uint32_t>(job.items.size()) - first_item;
         task.first_op = static_cast<std::uint32_t>(job.ops.size());

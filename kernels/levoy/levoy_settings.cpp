@@ -8,8 +8,11 @@ const ParamGroup& LevoySettings::params() {
         g.integer("block_cells", 4, "cells", 1, 64,
                      "Cells along each edge of the block one voxel request asks for ((n+1)^3 voxels)", Provenance::Default,
                      "Levoy 1989: GPs 'request sets of voxels', size not given")
-            .text("ray_assignment", "static_tiles", {"static_tiles", "work_queue"},
-                  "Which GP casts which rays: tiles dealt round-robin, or handed out by the host as GPs ask",
+            .text("ray_assignment", "interleaved_tiles", {"interleaved_tiles", "static_tiles", "work_queue"},
+                  "Which GP casts which rays: tiles dealt round-robin with each row of tiles skewed so that every GP's "
+                  "tiles spread over the whole picture (interleaved_tiles), dealt round-robin in raster order "
+                  "(static_tiles: with as many GPs as tiles in a row, each GP gets one column), or handed out by the host "
+                  "as GPs ask",
                   Provenance::Default, "Levoy 1989: 'each is assigned a set of rays', policy not given")
             .integer("tile_pixels", 16, "pixels", 1, 4096, "Edge of the square tiles of rays a GP works on",
                      Provenance::Default, "pp5sim")
@@ -36,7 +39,9 @@ LevoySettings LevoySettings::from(const MachineConfig& config) {
     LevoySettings s;
     s.store = VoxelStoreSettings::from(config);
     s.block_cells = static_cast<int>(config.integer("levoy.block_cells"));
-    s.ray_assignment = config.text("levoy.ray_assignment") == "work_queue" ? TaskAssignment::WorkQueue : TaskAssignment::Static;
+    const std::string assignment = config.text("levoy.ray_assignment");
+    s.ray_assignment = assignment == "work_queue" ? TaskAssignment::WorkQueue : TaskAssignment::Static;
+    s.interleave_tiles = assignment == "interleaved_tiles";
     s.tile_pixels = static_cast<int>(config.integer("levoy.tile_pixels"));
     s.refinement.initial_spacing = static_cast<int>(config.integer("levoy.refinement_spacing"));
     s.refinement.threshold = static_cast<float>(config.real("levoy.refinement_threshold"));

@@ -14,6 +14,7 @@ struct LevoySettings {
     VoxelStoreSettings store;
     int block_cells = 4;
     TaskAssignment ray_assignment = TaskAssignment::Static;  // tiles dealt round-robin, or from the host's queue
+    bool interleave_tiles = true;  // static: skew each row of tiles so one GP's tiles spread in both directions
     int tile_pixels = 16;
     RefinementSettings refinement;
     bool pyramid_skipping = true;

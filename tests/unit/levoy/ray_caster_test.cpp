@@ -292,3 +292,39 @@ TEST(LevoyRenderer, WorkQueueAssignmentGivesTheSameImage) {
 
 }  // namespace
 }  // namespace pp5
+
+namespace pp5 {
+namespace {
+
+// The rays each GP cast in the last frame, fewest and most.
+std::pair<std::uint64_t, std::uint64_t> rays_per_gp(const Machine& machine) {
+    std::uint64_t fewest = ~0ull, most = 0;
+    for (const auto& gp : machine.gps()) {
+        fewest = std::min<std::uint64_t>(fewest, gp->items.value());
+        most = std::max<std::uint64_t>(most, gp->items.value());
+    }
+    return {fewest, most};
+}
+
+TEST(LevoyRenderer, InterleavedTilesSpreadTheRaysOverTheGps) {
+    // Nine tiles a row and nine GPs: in raster order each GP gets one column of tiles.
+    Scene s;
+    s.config.apply_override("levoy.tile_pixels=8");
+    s.config.apply_override("gp.count=9");
+    s.config.apply_override("levoy.ray_assignment=static_tiles");
+    Machine by_columns(s.config);
+    LevoyRenderer columns(by_columns, s.volume, LevoySettings::from(s.config), s.image);
+    const LevoyFrameReport a = columns.render(s.inputs);
+    s.config.apply_override("levoy.ray_assignment=interleaved_tiles");
+    Machine interleaved(s.config);
+    LevoyRenderer skewed(interleaved, s.volume, LevoySettings::from(s.config), s.image);
+    const LevoyFrameReport b = skewed.render(s.inputs);
+    EXPECT_EQ(a.final_image.pixels, b.final_image.pixels);
+    EXPECT_EQ(a.ray_cast.rays, b.ray_cast.rays);
+    const auto [a_fewest, a_most] = rays_per_gp(by_columns);
+    const auto [b_fewest, b_most] = rays_per_gp(interleaved);
+    EXPECT_LT(b_most - b_fewest, a_most - a_fewest) << "columns " << a_fewest << ".." << a_most << ", interleaved " << b_fewest << ".." << b_most;
+}
+
+}  // namespace
+}  // namespace pp5
