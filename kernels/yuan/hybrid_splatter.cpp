@@ -159,6 +159,12 @@ SplatFrame HybridSplatter::render(const ShadedVolume& voxels, const Camera& came
                     RegionEntry{static_cast<std::uint32_t>(k), 0});
     }
 
+    // The footprint rows the splats use, made here once rather than looked up under a lock per draw.
+    std::map<int, const PpTable*> row_tables;
+    for (std::size_t k = 0; k < items.size(); ++k)
+        if (items[k].kind == Kind::Splat && primitives[k].visible()) row_tables.emplace(primitives[k].row, nullptr);
+    for (auto& [row, table] : row_tables) table = &tables.table(row);
+
     // 5. Every region drawn as its renderer draws it (regions in parallel: each depends on its own list).
     frame.image = Image(width, height);
     frame.primitive_map = Image(width, height);
@@ -181,7 +187,7 @@ SplatFrame HybridSplatter::render(const ShadedVolume& voxels, const Camera& came
             composited[r].push_back(band);
             sheet_holds = false;
         };
-        std::vector<std::array<std::int32_t, 4>> contribution, block;
+        std::vector<std::array<std::int32_t, 4>> block;
         for (std::size_t e = 0; e < list.size();) {
             const Item& item = items[list[e].item];
             if (item.band != band) {
@@ -196,7 +202,7 @@ SplatFrame HybridSplatter::render(const ShadedVolume& voxels, const Camera& came
             };
             if (item.kind == Kind::Splat) {
                 const SplatDraw draw = splat_draw(p, ox, oy, mode == SplatIndexMode::Exact);
-                list[e].pixels = draw_splat(region, draw, tables.table(p.row), format_, mode, blend);
+                list[e].pixels = draw_splat(region, draw, *row_tables.at(p.row), format_, mode, blend);
                 if (blend == SplatBlend::Sheet) sheet_holds = true;
                 mark(lx0, ly0, lx1, ly1, 1);
                 ++e;
@@ -224,23 +230,8 @@ SplatFrame HybridSplatter::render(const ShadedVolume& voxels, const Camera& came
             }
             const int bw = bx1 - bx0 + 1;
             block.assign(static_cast<std::size_t>(bw) * static_cast<std::size_t>(by1 - by0 + 1), {0, 0, 0, 0});
-            const std::int64_t top = (std::int64_t{1} << format_.sheet_field_bits()) - 1;
-            for (std::size_t k = e; k < end; ++k) {
-                const PointDraw draw = point_draw(primitives[list[k].item], ox, oy);
-                point_contribution(draw, format_, contribution);
-                std::uint32_t reached = 0;
-                const int w = draw.x1 - draw.x0 + 1;
-                for (int y = std::max(draw.y0, by0); y <= std::min(draw.y1, by1); ++y)
-                    for (int x = std::max(draw.x0, bx0); x <= std::min(draw.x1, bx1); ++x) {
-                        const auto& v = contribution[static_cast<std::size_t>(y - draw.y0) * static_cast<std::size_t>(w) +
-                                                     static_cast<std::size_t>(x - draw.x0)];
-                        if (v[3] == 0 && v[0] == 0 && v[1] == 0 && v[2] == 0) continue;
-                        ++reached;
-                        auto& b = block[static_cast<std::size_t>(y - by0) * static_cast<std::size_t>(bw) + static_cast<std::size_t>(x - bx0)];
-                        for (int c = 0; c < 4; ++c) b[static_cast<std::size_t>(c)] = static_cast<std::int32_t>(std::min<std::int64_t>(b[static_cast<std::size_t>(c)] + v[static_cast<std::size_t>(c)], top));
-                    }
-                list[k].pixels = reached;
-            }
+            for (std::size_t k = e; k < end; ++k)
+                list[k].pixels = filter_point(point_draw(primitives[list[k].item], ox, oy), format_, bx0, by0, bx1, by1, block);
             add_sheet_block(region, bx0, by0, bx1, by1, block, format_);
             mark(bx0, by0, bx1, by1, 2);
             e = end;
@@ -288,11 +279,9 @@ SplatFrame HybridSplatter::render(const ShadedVolume& voxels, const Camera& came
     }
     // Region programs: the splat program of each footprint row used, then the others.
     std::map<int, std::uint32_t> splat_program;
-    for (std::size_t k = 0; k < items.size(); ++k)
-        if (items[k].kind == Kind::Splat && primitives[k].visible()) splat_program.emplace(primitives[k].row, 0);
-    for (auto& [row, index] : splat_program) {
-        index = static_cast<std::uint32_t>(work.region_programs.size());
-        work.region_programs.push_back(programs_.splat(tables.table(row)));
+    for (const auto& [row, table] : row_tables) {
+        splat_program.emplace(row, static_cast<std::uint32_t>(work.region_programs.size()));
+        work.region_programs.push_back(programs_.splat(*table));
     }
     counts.footprint_rows = splat_program.size();
     const auto point_program = static_cast<std::uint32_t>(work.region_programs.size());

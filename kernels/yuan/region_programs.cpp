@@ -260,12 +260,13 @@ std::uint32_t draw_splat(RegionPixels& region, const SplatDraw& splat, const PpT
 
 namespace {
 
-// The point's clamped weight in channel c at (x, y), or -1 where it does not reach.
+// Calls visit(x, y, weights) for each pixel of the point's box within [cx0, cx1] x [cy0, cy1] that the
+// point reaches, with its four clamped weights.
 template <class Visit>
-void for_each_point_pixel(const PointDraw& point, const RegionFormat& f, int columns, int rows, Visit&& visit) {
+void for_each_point_pixel(const PointDraw& point, const RegionFormat& f, int cx0, int cy0, int cx1, int cy1, Visit&& visit) {
     const std::int64_t top = limit_of(f.sheet_field_bits());
-    for (int y = std::max(point.y0, 0); y <= std::min(point.y1, rows - 1); ++y) {
-        for (int x = std::max(point.x0, 0); x <= std::min(point.x1, columns - 1); ++x) {
+    for (int y = std::max(point.y0, cy0); y <= std::min(point.y1, cy1); ++y) {
+        for (int x = std::max(point.x0, cx0); x <= std::min(point.x1, cx1); ++x) {
             const std::int64_t opacity = qee_value(point.expressions[3], x, y, kShift, kQuad, true);
             if (!(opacity > 0)) continue;
             std::array<std::int32_t, 4> v;
@@ -278,12 +279,17 @@ void for_each_point_pixel(const PointDraw& point, const RegionFormat& f, int col
     }
 }
 
+// cell = min(cell + v, top), channel by channel.
+void add_clamped(std::array<std::int32_t, 4>& cell, const std::array<std::int32_t, 4>& v, std::int64_t top) {
+    for (std::size_t c = 0; c < 4; ++c) cell[c] = static_cast<std::int32_t>(std::min<std::int64_t>(cell[c] + v[c], top));
+}
+
 }  // namespace
 
 std::uint32_t draw_point(RegionPixels& region, const PointDraw& point, const RegionFormat& f) {
     const std::int64_t top = limit_of(f.sheet_field_bits());
     std::uint32_t changed = 0;
-    for_each_point_pixel(point, f, region.columns, region.rows, [&](int x, int y, const std::array<std::int32_t, 4>& v) {
+    for_each_point_pixel(point, f, 0, 0, region.columns - 1, region.rows - 1, [&](int x, int y, const std::array<std::int32_t, 4>& v) {
         const std::size_t p = region.index(x, y);
         for (int c = 0; c < 4; ++c)
             region.sheet[c][p] = static_cast<std::int32_t>(std::min<std::int64_t>(region.sheet[c][p] + v[static_cast<std::size_t>(c)], top));
@@ -292,13 +298,16 @@ std::uint32_t draw_point(RegionPixels& region, const PointDraw& point, const Reg
     return changed;
 }
 
-void point_contribution(const PointDraw& point, const RegionFormat& f, std::vector<std::array<std::int32_t, 4>>& out) {
-    const int w = point.x1 - point.x0 + 1;
-    out.assign(static_cast<std::size_t>(std::max(w, 0)) * static_cast<std::size_t>(std::max(point.y1 - point.y0 + 1, 0)), {0, 0, 0, 0});
-    for_each_point_pixel(point, f, std::numeric_limits<int>::max(), std::numeric_limits<int>::max(),
-                         [&](int x, int y, const std::array<std::int32_t, 4>& v) {
-                             out[static_cast<std::size_t>(y - point.y0) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x - point.x0)] = v;
-                         });
+std::uint32_t filter_point(const PointDraw& point, const RegionFormat& f, int x0, int y0, int x1, int y1,
+                           std::vector<std::array<std::int32_t, 4>>& block) {
+    const std::int64_t top = limit_of(f.sheet_field_bits());
+    const auto w = static_cast<std::size_t>(x1 - x0 + 1);
+    std::uint32_t reached = 0;
+    for_each_point_pixel(point, f, x0, y0, x1, y1, [&](int x, int y, const std::array<std::int32_t, 4>& v) {
+        add_clamped(block[static_cast<std::size_t>(y - y0) * w + static_cast<std::size_t>(x - x0)], v, top);
+        ++reached;
+    });
+    return reached;
 }
 
 void add_sheet_block(RegionPixels& region, int x0, int y0, int x1, int y1, const std::vector<std::array<std::int32_t, 4>>& block,

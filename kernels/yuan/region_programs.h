@@ -92,9 +92,10 @@ struct RegionPixels {
 std::uint32_t draw_splat(RegionPixels& region, const SplatDraw& splat, const PpTable& table, const RegionFormat& format,
                          SplatIndexMode mode, SplatBlend blend);
 std::uint32_t draw_point(RegionPixels& region, const PointDraw& point, const RegionFormat& format);
-// The sheet values the point adds at each pixel of its box (what the GP filters on the gp_sheets path),
-// row-major over the box; 0 where the point does not reach.
-void point_contribution(const PointDraw& point, const RegionFormat& format, std::vector<std::array<std::int32_t, 4>>& out);
+// What the GP does on the gp_sheets path: adds the point's sheet values into `block`, the pixels
+// [x0, x1] x [y0, y1] row-major, each clamped as the renderer's sheet is; returns the pixels it reached.
+std::uint32_t filter_point(const PointDraw& point, const RegionFormat& format, int x0, int y0, int x1, int y1,
+                           std::vector<std::array<std::int32_t, 4>>& block);
 void add_sheet_block(RegionPixels& region, int x0, int y0, int x1, int y1, const std::vector<std::array<std::int32_t, 4>>& block,
                      const RegionFormat& format);
 // Composites the sheet into C, A and clears it; returns the pixels whose sheet held something.

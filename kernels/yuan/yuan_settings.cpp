@@ -12,15 +12,6 @@ namespace {
 constexpr const char* kPaper = "Yuan, Nguyen, Xu, Chen 2003";
 }
 
-std::string to_string(PrimitiveMode mode) {
-    switch (mode) {
-        case PrimitiveMode::Hybrid: return "hybrid";
-        case PrimitiveMode::AllSplats: return "splats";
-        case PrimitiveMode::AllPoints: return "points";
-    }
-    return "?";
-}
-
 double YuanSettings::point_radius_pixels() const {
     // At the switch a splat's footprint has second moment 2 sigma^2 s^2 per axis pair; a paraboloid of
     // radius R has R^2 / 3. Equal moments make the picture continuous where the split falls.

@@ -47,6 +47,5 @@ struct YuanSettings {
     static YuanSettings from(const MachineConfig& config);
 };
 
-std::string to_string(PrimitiveMode mode);
 
 }  // namespace pp5
