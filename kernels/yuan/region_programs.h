@@ -13,6 +13,7 @@
 // accumulators C, A (accumulator_bits of fraction) and the band sheet S (two more fraction bits, values
 // below 4). Every program allocates them first and in the same order, so they sit in the same fields.
 
+#include "kernels/screen_regions/qee_fixed_point.h"
 #include "sim/renderer/pp_array.h"
 #include "sim/renderer/pp_program.h"
 
@@ -32,8 +33,8 @@ struct RegionFormat {
     std::int64_t sheet_one() const { return std::int64_t{1} << sheet_bits(); }
 
     static constexpr int kIndexBits = 16;         // the squared index i^2 (1.0 = 2^16, the silhouette)
-    static constexpr int kCoefficientShift = 24;  // QEE coefficients carry 24 fraction bits
-    static constexpr int kQuadraticBits = 40;     // width of a QEE result field
+    static constexpr int kCoefficientShift = kQeeCoefficientShift;
+    static constexpr int kQuadraticBits = kQeeResultBits;
 };
 
 enum class SplatIndexMode { Affine, Exact };  // Yuan's affine index (its correction in the table), or exact d^2 = N / M
@@ -53,12 +54,6 @@ struct PointDraw {
     std::array<QeeCoefficients, 4> expressions;
     int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
 };
-
-// A float quadratic (of region-local pixel coordinates) as the QEE's fixed-point coefficients; `bias`
-// is added to the result (in result units) after scaling, to keep a quantity that is never negative
-// from rounding below zero.
-QeeCoefficients to_qee(double a, double b, double c, double d, double e, double f, double scale, double bias = 0);
-QeeCoefficients qee_constant(std::int64_t value);  // evaluated with shift 0
 
 class RegionPrograms {
 public:
@@ -100,8 +95,5 @@ void add_sheet_block(RegionPixels& region, int x0, int y0, int x1, int y1, const
                      const RegionFormat& format);
 // Composites the sheet into C, A and clears it; returns the pixels whose sheet held something.
 std::uint32_t composite_band(RegionPixels& region, const RegionFormat& format);
-
-// The QEE's value at region-local (x, y), exactly as the PP array computes it, wrapped to `bits`.
-std::int64_t qee_value(const QeeCoefficients& q, int x, int y, int shift, int bits, bool is_signed);
 
 }  // namespace pp5

@@ -10,7 +10,7 @@
 // scan-lines; the axes (Yuan et al., Appendix A) only bound the splat for binning, and check the conic.
 // Under a parallel camera the splat is a circle about the projected centre.
 
-#include "kernels/render/camera.h"
+#include "kernels/screen_regions/screen_projection.h"
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -18,40 +18,6 @@
 #include <optional>
 
 namespace pp5 {
-
-// A quadratic of two variables: a x^2 + b x y + c y^2 + d x + e y + f.
-struct Quadratic {
-    double a = 0, b = 0, c = 0, d = 0, e = 0, f = 0;
-    double operator()(double x, double y) const { return a * x * x + b * x * y + c * y * y + d * x + e * y + f; }
-    // The same function of (s, t) where x = sx s + x0 and y = sy t + y0.
-    Quadratic substituted(double sx, double x0, double sy, double y0) const;
-    Quadratic scaled(double k) const { return {a * k, b * k, c * k, d * k, e * k, f * k}; }
-    // In coordinates whose origin is (x0, y0): q'(x, y) = q(x + x0, y + y0).
-    Quadratic shifted(double x0, double y0) const { return substituted(1, x0, 1, y0); }
-};
-
-// The camera as the splatter needs it: eye-space coordinates of world points and their pixels.
-class ScreenProjection {
-public:
-    ScreenProjection(const Camera& camera, int width, int height);
-    bool perspective() const { return perspective_; }
-    // Eye space: x right, y up, z along the view (world units).
-    glm::dvec3 to_eye(glm::vec3 world) const;
-    // The screen position of an eye-space point (z > 0 under perspective).
-    glm::dvec2 to_screen(glm::dvec3 eye) const;
-    // Pixels per world unit at eye depth z: the local magnification.
-    double pixels_per_unit(double z) const { return perspective_ ? focal_ / z : pixels_per_unit_; }
-    double focal_pixels() const { return focal_; }  // perspective: the image plane's distance in pixels
-    glm::dvec2 principal_point() const { return principal_; }
-
-private:
-    bool perspective_;
-    glm::dvec3 eye_;
-    glm::dvec3 right_, up_, forward_;
-    double focal_ = 0;            // perspective
-    double pixels_per_unit_ = 0;  // parallel
-    glm::dvec2 principal_;        // the screen position of the view axis
-};
 
 // A sphere of radius `radius` (world units) about an eye-space centre, as the screen sees it.
 struct SplatShape {

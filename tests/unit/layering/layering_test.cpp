@@ -23,7 +23,8 @@ struct Layer {
 constexpr Layer kLayers[] = {
     {"sim/core", 0},          {"ring", 1},           {"sim/renderer", 1},       {"kernels/volume", 1},
     {"kernels/render", 1},    {"sim/components", 2}, {"kernels/reference", 2},  {"sim/machine", 3},
-    {"kernels/scenario", 3},  {"sim/timing", 4},     {"kernels/interface", 5},  {"kernels/pp_volume", 5},  {"kernels/registry", 7},
+    {"kernels/scenario", 3},  {"sim/timing", 4},     {"kernels/interface", 5},  {"kernels/pp_volume", 5},  {"kernels/screen_regions", 5},
+    {"kernels/registry", 7},
     {"calibration", 8},       {"frontends", 9},
 };
 constexpr int kKernelRank = 6;
