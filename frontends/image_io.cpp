@@ -43,6 +43,19 @@ ImageDifference compare_images(const Image& image, const Image& reference) {
     return {result.PSNR, result.rms_error, result.maxerror};
 }
 
+Image inverted_difference(const Image& image, const Image& reference) {
+    if (image.width != reference.width || image.height != reference.height) {
+        throw std::invalid_argument("inverted_difference: the images differ in size");
+    }
+    const OIIO::ImageBuf inverted =
+        OIIO::ImageBufAlgo::sub(1.0f, OIIO::ImageBufAlgo::absdiff(rgb_buffer(image), rgb_buffer(reference)));
+    std::vector<float> rgb(image.pixels.size() * 3);
+    inverted.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, rgb.data());
+    Image out(image.width, image.height);
+    for (std::size_t p = 0; p < out.pixels.size(); ++p) out.pixels[p] = glm::vec4(rgb[3 * p], rgb[3 * p + 1], rgb[3 * p + 2], 1.0f);
+    return out;
+}
+
 void write_image(const Image& image, const std::filesystem::path& path, ImageFormat format) {
     auto out = OIIO::ImageOutput::create(path.string());
     if (!out) throw std::runtime_error("cannot write " + path.string() + ": " + OIIO::geterror());

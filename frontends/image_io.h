@@ -22,6 +22,10 @@ struct ImageDifference {
 // Throws std::invalid_argument if the sizes differ.
 ImageDifference compare_images(const Image& image, const Image& reference);
 
+// 1 - |image - reference| per colour channel (opaque): dark where they differ, as Wilson et al. print
+// their Figure 3. Throws std::invalid_argument if the sizes differ.
+Image inverted_difference(const Image& image, const Image& reference);
+
 // The 8-bit RGB bytes a PNG of `image` holds, row 0 at the top: what tests compare.
 std::vector<unsigned char> to_rgb8(const Image& image);
 

@@ -94,6 +94,21 @@ ScenarioRender render_scenario(const Scenario& scenario, const MachineConfig& co
         std::unique_ptr<KernelFrame> recorded = run->record_frame(frame);
         const FrameTiming timing = on_machine ? time_frame(machine, recorded->work) : FrameTiming{};
         std::vector<std::string> pass_images;
+        // Each stage against the reference, with its difference image, for kernels whose stages are
+        // alternatives (the low-resolution volume alone, then with its points).
+        nlohmann::json pass_fidelity = nlohmann::json::array();
+        if (reference_image && recorded->compare_passes_with_reference) {
+            for (std::size_t p = 0; p < recorded->pass_images.size(); ++p) {
+                const Image& pass = recorded->pass_images[p];
+                const ImageDifference d = compare_images(pass, *reference_image);
+                const std::string name = fmt::format("frame_{:04}_pass_{}_difference.{}", i, p, extension);
+                output.add_image(name, inverted_difference(pass, *reference_image), format);
+                pass_fidelity.push_back({{"pass", p},
+                                         {"psnr_db", std::isfinite(d.psnr_db) ? nlohmann::json(d.psnr_db) : nlohmann::json("inf")},
+                                         {"rms_error", d.rms_error},
+                                         {"difference_image", name}});
+            }
+        }
         Image image = std::move(recorded->pass_images.back());
         if (on_machine) {
             for (std::size_t p = 0; p < recorded->pass_images.size(); ++p) {
@@ -104,6 +119,7 @@ ScenarioRender render_scenario(const Scenario& scenario, const MachineConfig& co
         }
         nlohmann::json kernel_stats = run->frame_stats(*recorded, timing, pass_images);
         if (reference) kernel_stats["reference"] = reference_stats(reference_counts);
+        if (!pass_fidelity.empty()) kernel_stats["fidelity_by_pass"] = std::move(pass_fidelity);
         std::optional<ImageDifference> fidelity;
         if (reference_image) fidelity = compare_images(image, *reference_image);
         const std::string image_name = fmt::format("frame_{:04}.{}", i, extension);

@@ -30,6 +30,9 @@ struct KernelFrame {
     virtual ~KernelFrame() = default;
     std::vector<Image> pass_images;  // the picture after each stage (refinement pass); the last is the frame
     FrameWork work;                  // what the frame asks of the machine (empty: nothing to time)
+    // Whoever has a reference picture compares every pass image with it (not only the last) and writes
+    // each pass's difference image, for kernels whose stages are alternatives worth comparing.
+    bool compare_passes_with_reference = false;
 };
 
 // A scenario being rendered by one kernel on one machine, frame after frame (state carries over:

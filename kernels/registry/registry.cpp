@@ -2,6 +2,7 @@
 
 #include "kernels/levoy/levoy_kernel.h"
 #include "kernels/reference_kernel/reference_kernel.h"
+#include "kernels/wilson/wilson_kernel.h"
 #include "kernels/yuan/yuan_kernel.h"
 #include "sim/core/input_error.h"
 
@@ -14,6 +15,7 @@ std::vector<const Kernel*>& registry() {
     static std::vector<const Kernel*> all = {
         &levoy_kernel(),      // Levoy 1989: the volume rendering workstation on Pixel-planes 5
         &yuan_kernel(),       // Yuan et al. 2003: hybrid point/splat splatting over the renderers' screen regions
+        &wilson_kernel(),     // Wilson et al. 2002: a low-resolution volume's slices plus points where it errs
         &reference_kernel(),  // the host's floating-point renderer, no machine
     };
     return all;

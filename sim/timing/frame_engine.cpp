@@ -753,13 +753,18 @@ void FrameRun::check_machine_fits() const {
     std::uint64_t cache_bits = 0;
     for (const Phase& p : work_.phases)
         if (const auto* gp = std::get_if<GpPhase>(&p.work); gp != nullptr && gp->blocks) cache_bits = machine_.gps().front()->cache_bits();
-    for (const auto& gp : machine_.gps()) {
-        const std::uint64_t need_bytes = (cache_bits + work_.gp_resident_bits + 7) / 8;
+    const std::size_t gp_count = machine_.gps().size();
+    std::vector<std::uint64_t> owned(gp_count, 0);
+    for (std::size_t key = 0; key < work_.resident_bits_by_key.size(); ++key) owned[key % gp_count] += work_.resident_bits_by_key[key];
+    for (std::size_t g = 0; g < gp_count; ++g) {
+        const auto& gp = machine_.gps()[g];
+        const std::uint64_t data_bits = work_.gp_resident_bits + owned[g];
+        const std::uint64_t need_bytes = (cache_bits + data_bits + 7) / 8;
         if (need_bytes > gp->memory_bytes())
             throw InputError(kMachineFile, "gp.memory_bytes",
-                             fmt::format("each GP must hold its {} byte cache and {} bytes of the kernel's data ({} bytes in all), "
-                                         "more than its {} bytes of memory",
-                                         cache_bits / 8, (work_.gp_resident_bits + 7) / 8, need_bytes, gp->memory_bytes()));
+                             fmt::format("GP {} must hold its {} byte cache and {} bytes of the kernel's data ({} bytes in all), "
+                                         "more than its {} bytes of memory (more GPs, gp.count, would spread the data)",
+                                         g, cache_bits / 8, (data_bits + 7) / 8, need_bytes, gp->memory_bytes()));
     }
 }
 

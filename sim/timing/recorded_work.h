@@ -178,6 +178,8 @@ struct FrameWork {
     std::vector<Phase> phases;
     bool invalidate_gp_caches = false;  // the data the GPs cached has changed
     std::uint64_t gp_resident_bits = 0; // what each GP keeps besides its cache (checked against gp.memory_bytes)
+    // Data a GP keeps for each task key it owns (static assignment: GP key mod G), on top of the above.
+    std::vector<std::uint64_t> resident_bits_by_key;
     int image_width = 0;                // the picture the frame buffer receives (checked against its size)
     int image_height = 0;
 };

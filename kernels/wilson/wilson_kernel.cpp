@@ -1,0 +1,286 @@
+#include "kernels/wilson/wilson_kernel.h"
+
+#include "kernels/pp_volume/pp_shading.h"
+#include "kernels/reference/shading_view.h"
+#include "kernels/scenario/scenario_inputs.h"
+#include "kernels/wilson/hybrid_slicer.h"
+#include "kernels/wilson/hybrid_volume.h"
+#include "kernels/wilson/wilson_costs.h"
+#include "sim/core/input_error.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <numeric>
+#include <optional>
+#include <stdexcept>
+
+namespace pp5 {
+
+namespace {
+
+double seconds(Tick t) { return ticks_to_seconds(t); }
+
+// The classification as it must read a volume whose voxels are k times larger: a gradient measured per
+// low-resolution voxel is k times the original's, so the thickness of an isovalue contour (in voxels)
+// and the opacity a region boundary gives per unit of gradient both shrink by k.
+Classification for_voxels_of(const Classification& c, int k) {
+    Classification out = c;
+    if (out.kind == ClassificationKind::IsovalueContours)
+        for (IsovalueContour& contour : out.contours) contour.thickness /= static_cast<float>(k);
+    if (out.kind == ClassificationKind::RegionBoundaries)
+        for (OpacityPoint& p : out.points) p.opacity /= static_cast<float>(k);
+    return out;
+}
+
+bool uses_gradient(const Scenario& scenario) {
+    return std::any_of(scenario.frames.begin(), scenario.frames.end(),
+                       [](const FrameSpec& f) { return f.classification.kind != ClassificationKind::PiecewiseLinear; });
+}
+
+struct WilsonFrame final : KernelFrame {
+    HybridCounts counts;
+    bool classified = false;
+    bool shaded = false;
+};
+
+class WilsonRun final : public KernelRun {
+public:
+    WilsonRun(Machine& machine, const MachineConfig& config, const Scenario& scenario, const Volume& volume)
+        : volume_(volume), image_(scenario.image), settings_(WilsonSettings::from(config)),
+          hybrid_(HybridVolume::build(volume, settings_, uses_gradient(scenario))),
+          voxel_store_(machine, hybrid_.low_resolution(), VoxelStoreSettings::from(config)),
+          slicer_(settings_, slice_machine(machine, voxel_store_), hybrid_, volume.spacing()) {}
+
+    std::unique_ptr<KernelFrame> record_frame(const FrameSpec& frame) override {
+        auto out = std::make_unique<WilsonFrame>();
+        const Camera camera = frame_camera(frame, volume_);
+        const Volume& low = hybrid_.low_resolution();
+        // The PPs reshade the low-resolution voxels only when their colours depend on what changed.
+        ShadingView view = make_shading_view(camera, low.dims(), low.spacing());
+        if (shaded_for_ && !shading_depends_on_view(frame.lighting)) view = *shaded_for_;
+        const bool classify = first_frame_ || frame.classification_changed;
+        const bool reshade = classify || frame.lighting_changed || shaded_for_ != view;
+        if (classify) classification_ = for_voxels_of(frame.classification, hybrid_.factor());
+        const PpFrameWork pp = voxel_store_.compute(classification_, frame.colors, frame.lighting, view, classify, reshade);
+        FrameWork& work = out->work;
+        work.op_kinds = wilson_op_kinds();
+        const std::uint64_t voxels = static_cast<std::uint64_t>(low.samples().size());
+        const auto voxel_pass = [&](const char* name, const PpPassWork& pass, WilsonOp per_voxel) {
+            PpPhase phase{{PpPhase::Pass{pass, 0, {}}}};
+            append_ops(phase.passes.front().on_one_processor, per_voxel, voxels);
+            work.phases.push_back(Phase{name, std::move(phase)});
+        };
+        if (pp.classification) voxel_pass("classification", *pp.classification, kWilsonVoxelClassification);
+        if (pp.shading) voxel_pass("shading", *pp.shading, kWilsonVoxelShading);
+        if (pp.classification || pp.shading) texels_ = voxel_store_.shaded_volume();
+        shaded_for_ = view;
+        first_frame_ = false;
+
+        PointLook look;
+        look.classification = &frame.classification;
+        look.colors = &frame.colors;
+        look.lighting = frame.lighting;
+        look.view = make_shading_view(camera, volume_.dims(), volume_.spacing());
+        HybridFrame slices = slicer_.render(texels_, look, camera, image_.width, image_.height, image_.background);
+        work.phases.push_back(Phase{"slicing", std::move(slices.work)});
+        work.resident_bits_by_key = std::move(slices.resident_bits_by_brick);
+        // New colours in the PPs make the GPs' cached bricks stale.
+        work.invalidate_gp_caches = pp.classification.has_value() || pp.shading.has_value();
+        work.image_width = image_.width;
+        work.image_height = image_.height;
+        out->counts = std::move(slices.counts);
+        out->classified = pp.classification.has_value();
+        out->shaded = pp.shading.has_value();
+        out->compare_passes_with_reference = true;
+        out->pass_images.push_back(std::move(slices.low_resolution));
+        out->pass_images.push_back(std::move(slices.image));
+        return out;
+    }
+
+    nlohmann::json frame_stats(const KernelFrame& kernel_frame, const FrameTiming& timing,
+                               const std::vector<std::string>& pass_images) const override {
+        const auto& frame = static_cast<const WilsonFrame&>(kernel_frame);
+        const HybridCounts& c = frame.counts;
+        nlohmann::json phases = nlohmann::json::object();
+        for (const PhaseTiming& p : timing.phases) phases[p.name + "_seconds"] = seconds(p.duration_ps());
+        nlohmann::json sizes = nlohmann::json::object();
+        for (const auto& [side, count] : c.point_sizes) sizes[std::to_string(side)] = count;
+        nlohmann::json out = {{"simulated_seconds", seconds(timing.duration_ps())},
+                              {"phases", phases},
+                              {"images", {{"low_resolution", pass_images.at(0)}, {"frame", pass_images.at(1)}}},
+                              {"classified", frame.classified},
+                              {"reshaded", frame.shaded},
+                              {"slice_axis", std::string(1, "xyz"[c.slice_axis])},
+                              {"slices", c.slices},
+                              {"cells", c.cells},
+                              {"quads", c.quads},
+                              {"quads_skipped_transparent", c.cells - c.quads - c.cells_behind_eye - c.quads_offscreen},
+                              {"cells_behind_eye", c.cells_behind_eye},
+                              {"quads_offscreen", c.quads_offscreen},
+                              {"quad_draws", c.quad_draws},
+                              {"quad_pixels", c.quad_pixels},
+                              {"slice_composites", c.slice_composites},
+                              {"composited_pixels", c.composited_pixels},
+                              {"points", c.points},
+                              {"points_drawn", c.points_drawn},
+                              {"points_transparent", c.points_transparent},
+                              {"points_offscreen", c.points_offscreen},
+                              {"point_draws", c.point_draws},
+                              {"point_pixels", c.point_pixels},
+                              {"point_blocks", c.point_blocks},
+                              {"block_pixels", c.block_pixels},
+                              {"point_sizes", sizes},
+                              {"tasks", c.tasks},
+                              {"batches", c.batches},
+                              {"batch_words", c.batch_words}};
+        if (const PhaseTiming* s = timing.phase("slicing")) {
+            const GpPhaseCounts& g = s->gp;
+            std::vector<double> drawing;
+            for (const Tick t : g.renderer_drawing) drawing.push_back(seconds(t));
+            const double busiest = drawing.empty() ? 0.0 : *std::max_element(drawing.begin(), drawing.end());
+            const double mean = drawing.empty() ? 0.0 : std::accumulate(drawing.begin(), drawing.end(), 0.0) / static_cast<double>(drawing.size());
+            out["slicing"] = {{"gp_computing_seconds", seconds(g.gp_busy)},
+                              {"gp_waiting_seconds", seconds(g.gp_wait)},
+                              {"ring_busy_seconds", seconds(g.ring_busy)},
+                              {"renderers_answering_seconds", seconds(g.renderer_busy)},
+                              {"renderer_drawing_seconds", drawing},
+                              {"renderer_imbalance", mean > 0 ? busiest / mean : 0.0},
+                              {"note", "GP and ring times are summed over GPs and channels; imbalance is the busiest "
+                                       "renderer's drawing time over the mean"},
+                              {"brick_fetches", g.fetch_requests},
+                              {"brick_cache_hits", g.cache_hits},
+                              {"brick_cache_misses", g.cache_misses},
+                              {"batches_sent", g.batches_sent},
+                              {"batch_bits", g.batch_bits},
+                              {"primitives_drawn", g.primitives_drawn},
+                              {"events", g.events}};
+        }
+        return out;
+    }
+
+    std::string describe(const nlohmann::json& f) const override {
+        std::string line = fmt::format("; {} slices along {}: {} quads, {} of {} points drawn; {:.1f} ms simulated", f["slices"].dump(),
+                                       f["slice_axis"].get<std::string>(), f["quads"].dump(), f["points_drawn"].dump(), f["points"].dump(),
+                                       f["simulated_seconds"].get<double>() * 1e3);
+        if (f.contains("slicing")) line += fmt::format(" (renderer imbalance {:.2f})", f["slicing"]["renderer_imbalance"].get<double>());
+        return line;
+    }
+
+    nlohmann::json run_stats() const override {
+        const VoxelPlacement& p = voxel_store_.placement();
+        const HybridStorage storage = hybrid_.storage();
+        const PointSelection& sel = hybrid_.selection();
+        const Volume& low = hybrid_.low_resolution();
+        const std::uint64_t points_bytes = storage.point_bytes();
+        return {{"policy", to_string(p.policy())},
+                {"record_bits", p.record_bits()},
+                {"slots_needed", p.slots_needed()},
+                {"backing_store_bits_used", p.backing_store_bits_used()},
+                {"hybrid",
+                 {{"low_resolution", {low.dims().x, low.dims().y, low.dims().z}},
+                  {"factor", hybrid_.factor()},
+                  {"error_grid", {hybrid_.error_grid().x, hybrid_.error_grid().y, hybrid_.error_grid().z}},
+                  {"error_samples", sel.error_samples},
+                  {"above_threshold", sel.above_threshold},
+                  {"underestimates", sel.underestimates},
+                  {"largest_error", sel.largest_error},
+                  {"mean_abs_error", sel.mean_abs_error},
+                  {"points", storage.points},
+                  {"point_record_bytes", storage.point_format.record_bytes()},
+                  {"points_bytes", points_bytes},
+                  {"low_resolution_bytes", storage.volume_bytes()},
+                  {"total_megabytes", static_cast<double>(storage.total_bytes()) / 1e6},
+                  {"original_megabytes", static_cast<double>(HybridStorage{volume_.dims(), storage.voxel_value_bytes,
+                                                                           storage.voxel_gradient_byte, 0, storage.point_format}
+                                                                 .total_bytes()) / 1e6},
+                  {"note", "sizes as the paper counts them (section 3.3): a voxel's value and normal index, a point's record; "
+                           "MB = 10^6 bytes. On the machine the low-resolution voxels sit in the voxel store's records and "
+                           "the points in the memory of the GP owning their brick"}}}};
+    }
+
+private:
+    static SliceMachine slice_machine(const Machine& machine, const PpShading& store) {
+        const MachineConfig& c = machine.config();
+        SliceMachine m;
+        m.region_columns = static_cast<int>(c.integer("renderer.pp_columns"));
+        m.region_rows = static_cast<int>(c.integer("renderer.pp_rows"));
+        m.renderers = static_cast<int>(c.integer("renderer.count"));
+        m.local_memory_bits = static_cast<int>(c.integer("renderer.local_memory_bits"));
+        const VoxelPlacement* placement = &store.placement();
+        m.renderer_of_texel = [placement](glm::ivec3 v) { return placement->locate(v).renderer; };
+        return m;
+    }
+
+    const Volume& volume_;
+    ImageSpec image_;
+    WilsonSettings settings_;
+    HybridVolume hybrid_;
+    PpShading voxel_store_;
+    HybridSlicer slicer_;
+    Classification classification_;
+    ShadedVolume texels_;
+    std::optional<ShadingView> shaded_for_;
+    bool first_frame_ = true;
+};
+
+class WilsonKernel final : public Kernel {
+public:
+    std::string name() const override { return "wilson"; }
+    std::string description() const override {
+        return "Wilson, Ma, McCormick 2002: a low-resolution volume plus points where its reconstruction errs; the PPs shade the "
+               "low-resolution voxels, the GPs turn each slice's texel cells into quads and their points into squares and bin them "
+               "by screen region, the renderers draw the slices back to front with the points between them";
+    }
+    std::string timing_summary() const override {
+        return "event-driven: PP shading passes over the low-resolution voxels, then per slice the GPs' bricks fetched over the ring "
+               "and turned into quad and point batches, drawn by each renderer in back-to-front order from its region programs' "
+               "operations; uncalibrated default costs";
+    }
+    std::vector<const ParamGroup*> param_groups() const override {
+        return {&VoxelStoreSettings::params(), &WilsonSettings::params(), &wilson_cost_params()};
+    }
+    bool runs_on_machine() const override { return true; }
+    void check(const Scenario& scenario) const override {
+        const std::string file = scenario.file.string();
+        if (scenario.image.resampling != ResamplingOrder::ShadeThenInterpolate)
+            throw InputError(file, "image.resampling", "the wilson kernel interpolates shaded texels (shade-then-interpolate)");
+        if (!scenario.polygons.empty())
+            throw InputError(file, "polygons", "the wilson kernel does not scan-convert polygons; use kernel = \"levoy\"");
+        for (const FrameSpec& frame : scenario.frames)
+            if (frame.region)
+                throw InputError(file, "region", "the wilson kernel has no volume-of-interest tool; use kernel = \"levoy\"");
+    }
+    std::unique_ptr<KernelRun> start(Machine& machine, const MachineConfig& config, const Scenario& scenario,
+                                     const Volume& volume) const override {
+        return std::make_unique<WilsonRun>(machine, config, scenario, volume);
+    }
+    std::vector<KernelMetric> metrics() const override {
+        return {{"frame_seconds", "s", "the whole frame: PP passes and slicing"},
+                {"slicing_seconds", "s", "the GPs' and renderers' slices and points alone"},
+                {"points_drawn", "points", "points with opacity to add, on screen"}};
+    }
+    double metric(const std::string& name, const KernelFrame& kernel_frame, const FrameTiming& timing) const override {
+        const auto& frame = static_cast<const WilsonFrame&>(kernel_frame);
+        if (name == "frame_seconds") return seconds(timing.duration_ps());
+        if (name == "slicing_seconds") {
+            const PhaseTiming* s = timing.phase("slicing");
+            if (s == nullptr) throw std::domain_error("the frame has no slicing phase");
+            return seconds(s->duration_ps());
+        }
+        if (name == "points_drawn") {
+            if (frame.counts.points_drawn == 0) throw std::domain_error("the frame draws no points");
+            return static_cast<double>(frame.counts.points_drawn);
+        }
+        return Kernel::metric(name, kernel_frame, timing);
+    }
+};
+
+}  // namespace
+
+const Kernel& wilson_kernel() {
+    static const WilsonKernel kernel;
+    return kernel;
+}
+
+}  // namespace pp5
