@@ -47,12 +47,13 @@ Image inverted_difference(const Image& image, const Image& reference) {
     if (image.width != reference.width || image.height != reference.height) {
         throw std::invalid_argument("inverted_difference: the images differ in size");
     }
-    const OIIO::ImageBuf inverted =
-        OIIO::ImageBufAlgo::sub(1.0f, OIIO::ImageBufAlgo::absdiff(rgb_buffer(image), rgb_buffer(reference)));
-    std::vector<float> rgb(image.pixels.size() * 3);
-    inverted.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, rgb.data());
     Image out(image.width, image.height);
-    for (std::size_t p = 0; p < out.pixels.size(); ++p) out.pixels[p] = glm::vec4(rgb[3 * p], rgb[3 * p + 1], rgb[3 * p + 2], 1.0f);
+    for (std::size_t p = 0; p < out.pixels.size(); ++p) {
+        glm::vec4 v(1.0f);
+        for (int c = 0; c < 3; ++c)
+            v[c] = 1.0f - std::abs(std::clamp(image.pixels[p][c], 0.0f, 1.0f) - std::clamp(reference.pixels[p][c], 0.0f, 1.0f));
+        out.pixels[p] = v;
+    }
     return out;
 }
 

@@ -13,7 +13,7 @@ constexpr std::int64_t kIndexTop = (std::int64_t{1} << SliceFormat::kIndexBits) 
 constexpr int kParallelIndexBits = 20;
 constexpr int kPerspectiveWBits = 24;
 constexpr int kPerspectiveIndexBits = 36;
-constexpr int kChannelBits = 24;  // a quad's channel near its cell: within [0, 1] up to rounding
+constexpr int kChannelBits = 16;  // a quad's channel near its cell: within [0, 1] up to rounding (this holds [-8, 8))
 
 struct SliceState {
     PpField color[3];

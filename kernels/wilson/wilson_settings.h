@@ -37,7 +37,7 @@ struct WilsonSettings {
     std::uint64_t max_points = 0;              // 0: every point past the threshold
     double point_overlap = 1.1;                // a point's side over the projected error-grid spacing
     double point_opacity_scale = 1.0;          // the paper's global point transparency
-    WilsonPointPath point_path = WilsonPointPath::Renderer;
+    WilsonPointPath point_path = WilsonPointPath::GpSheets;
     SliceOpacityCorrection opacity_correction = SliceOpacityCorrection::PerSlice;
     int brick_voxels = 16;                     // edge of the low-resolution bricks dealt to GPs
     int accumulator_bits = 12;                 // fraction bits of the renderers' colour and opacity
