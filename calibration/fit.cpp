@@ -166,8 +166,11 @@ std::vector<FittedParameter> initial_parameters(const std::string& machine, cons
 // Fills in every target's simulated value and error at the report's scales.
 void evaluate_all(const CalibrationModel& model, FitReport& report) {
     std::map<std::string, std::vector<const Target*>> by_machine;
-    for (const Target& t : model.targets().targets) by_machine[t.machine].push_back(&t);
     std::map<std::string, double> simulated;
+    for (const Target& t : model.targets().targets) {
+        if (t.is_formula()) simulated[t.id] = model.formula_value(t);
+        else by_machine[t.machine].push_back(&t);
+    }
     for (const auto& [machine, targets] : by_machine) {
         const std::vector<double> values = model.simulate(machine, report.scales(machine), targets);
         for (std::size_t i = 0; i < targets.size(); ++i) simulated[targets[i]->id] = values[i];
@@ -219,7 +222,8 @@ FitReport evaluate_targets(const CalibrationModel& model, const std::map<std::st
     FitReport report;
     report.targets_name = model.targets().name;
     std::set<std::string> machines;
-    for (const Target& t : model.targets().targets) machines.insert(t.machine);
+    for (const Target& t : model.targets().targets)
+        if (!t.is_formula()) machines.insert(t.machine);
     for (const std::string& machine : machines) {
         const auto it = scales.find(machine);
         const CalibrationScales s = it != scales.end() ? it->second : CalibrationScales::from(model.base_config(machine));
@@ -240,6 +244,7 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
     std::map<std::string, std::vector<const Target*>> fitted_by_machine;
     std::set<std::string> machines;
     for (const Target& t : model.targets().targets) {
+        if (t.is_formula()) continue;  // nothing to fit
         machines.insert(t.machine);
         if (t.fitted) fitted_by_machine[t.machine].push_back(&t);
     }
@@ -424,6 +429,12 @@ nlohmann::json FitReport::to_json() const {
                            {"simulated", r.simulated},
                            {"relative_error", r.relative_error},
                            {"use", r.target.fitted ? "fitted" : "held-out"}};
+        if (r.target.is_formula()) {
+            row["kernel"] = r.target.kernel;
+            row["formula"] = r.target.formula;
+            row["inputs"] = r.target.inputs;
+            for (const char* unused : {"scenario", "frame", "machine", "metric", "divided_by_frame"}) row.erase(unused);
+        }
         row["leave_one_out"] = r.leave_one_out ? nlohmann::json(*r.leave_one_out) : nlohmann::json(nullptr);
         row["leave_one_out_error"] = r.leave_one_out_error ? nlohmann::json(*r.leave_one_out_error) : nlohmann::json(nullptr);
         if (!r.leave_one_out_note.empty()) row["leave_one_out_note"] = r.leave_one_out_note;
@@ -458,7 +469,9 @@ std::string FitReport::to_markdown() const {
         const std::string unit = r.target.divided_by_frame >= 0
                                      ? fmt::format("frame {} / frame {}", r.target.frame, r.target.divided_by_frame)
                                      : r.target.unit;
-        md << fmt::format("| {} | {} | {} ({}) | {} | {} | {} | {} | {} |\n", r.target.id, r.target.machine, r.target.metric,
+        const bool formula = r.target.is_formula();
+        md << fmt::format("| {} | {} | {} ({}) | {} | {} | {} | {} | {} |\n", r.target.id, formula ? "(formula: " + r.target.kernel + ")" : r.target.machine,
+                          formula ? r.target.formula : r.target.metric,
                           unit, number(r.target.reported), number(r.simulated), percent(r.relative_error),
                           r.target.fitted ? "fitted" : "held out", loo);
     }

@@ -9,7 +9,9 @@
 #include <fmt/format.h>
 #include "sim/core/toml_file.h"
 
+#include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <set>
 
 namespace pp5 {
@@ -94,6 +96,77 @@ std::filesystem::path resolve_targets_file(const std::string& name_or_path) {
     return resolve_named_file(name_or_path, {"PP5SIM_TARGETS", builtin, "--targets", "traces/calibration/*.toml"});
 }
 
+namespace {
+
+// reported, exactness and use: what every row has.
+void read_value_fields(const toml::table& row, const std::string& file, const std::string& prefix, Target& t) {
+    const toml::node* reported = row.get("reported");
+    if (!reported) throw InputError(file, prefix + "reported", "is missing");
+    const auto value = reported->value<double>();
+    if (!value || !std::isfinite(*value) || *value <= 0.0) throw InputError(file, prefix + "reported", "must be a positive number");
+    t.reported = *value;
+
+    const std::string exactness = text_field(row, file, prefix, "exactness", true);
+    if (exactness == "measured") t.exactness = Exactness::Measured;
+    else if (exactness == "estimate") t.exactness = Exactness::Estimate;
+    else if (exactness == "order-of-magnitude") t.exactness = Exactness::OrderOfMagnitude;
+    else throw InputError(file, prefix + "exactness", "must be measured, estimate or order-of-magnitude, not \"" + exactness + "\"");
+
+    const std::string use = text_field(row, file, prefix, "use", true);
+    if (use != "fit" && use != "held-out") throw InputError(file, prefix + "use", "must be fit or held-out, not \"" + use + "\"");
+    t.fitted = use == "fit";
+}
+
+// kernel, formula and inputs: a figure the kernel computes from a description; nothing to fit.
+void read_formula_row(const toml::table& row, const std::string& file, const std::string& prefix, Target& t) {
+    t.kernel = text_field(row, file, prefix, "kernel", true);
+    t.formula = text_field(row, file, prefix, "formula", true);
+    read_value_fields(row, file, prefix, t);
+    if (t.fitted) throw InputError(file, prefix + "use", "a formula row depends on no timing parameter, so it cannot be fitted: use held-out");
+    const Kernel* kernel = find_kernel(t.kernel);
+    if (kernel == nullptr) throw InputError(file, prefix + "kernel", "unknown kernel \"" + t.kernel + "\"");
+    const std::vector<KernelFormula> formulas = kernel->formulas();
+    const KernelFormula* formula = nullptr;
+    std::string known;
+    for (const KernelFormula& f : formulas) {
+        if (f.name == t.formula) formula = &f;
+        known += (known.empty() ? "" : ", ") + f.name;
+    }
+    if (formula == nullptr)
+        throw InputError(file, prefix + "formula", "kernel " + t.kernel + " has no formula \"" + t.formula + "\"" +
+                                                       (known.empty() ? " (it has none)" : "; known: " + known));
+    t.unit = formula->unit;
+    const toml::table* inputs = row.get_as<toml::table>("inputs");
+    if (inputs == nullptr) throw InputError(file, prefix + "inputs", "must be a table of the formula's inputs");
+    for (const auto& [key, node] : *inputs) {
+        const std::string name(key.str());
+        if (std::find(formula->inputs.begin(), formula->inputs.end(), name) == formula->inputs.end())
+            throw InputError(file, prefix + "inputs." + name, "is not an input of " + t.formula);
+        std::vector<double> values;
+        const auto take = [&](const toml::node& n) {
+            const auto v = n.value<double>();
+            if (!v || !std::isfinite(*v)) throw InputError(file, prefix + "inputs." + name, "must be a number or a list of numbers");
+            values.push_back(*v);
+        };
+        if (const toml::array* list = node.as_array()) {
+            if (list->empty() || list->size() > 16) throw InputError(file, prefix + "inputs." + name, "must list 1 to 16 numbers");
+            for (const toml::node& n : *list) take(n);
+        } else {
+            take(node);
+        }
+        t.inputs[name] = std::move(values);
+    }
+    for (const std::string& name : formula->inputs)
+        if (!t.inputs.count(name)) throw InputError(file, prefix + "inputs." + name, "is missing");
+    try {
+        (void)kernel->formula(t.formula, t.inputs);
+    } catch (const std::domain_error& e) {
+        throw InputError(file, prefix + "inputs", e.what());
+    }
+}
+
+}  // namespace
+
 TargetSet load_targets(const std::filesystem::path& path) {
     const std::string file = path.string();
     const toml::table root = read_toml_file(file);
@@ -117,39 +190,34 @@ TargetSet load_targets(const std::filesystem::path& path) {
         const std::string prefix = fmt::format("targets[{}].", i);
         const toml::table* row = (*rows)[i].as_table();
         if (!row) throw InputError(file, prefix.substr(0, prefix.size() - 1), "must be a table");
+        const bool formula_row = row->contains("formula");
         static const std::set<std::string> known{"id", "source", "quote", "scenario", "frame", "machine", "metric",
                                                  "reported", "exactness", "use", "divided_by_frame"};
+        static const std::set<std::string> known_formula{"id", "source", "quote", "kernel", "formula", "inputs", "reported", "exactness", "use"};
         for (const auto& [k, v] : *row) {
-            if (!known.count(std::string(k.str())))
-                throw InputError(file, prefix + std::string(k.str()), "unknown field; a target has id, source, quote, scenario, "
-                                                                    "frame, machine, metric, divided_by_frame, reported, exactness and use");
+            if (!(formula_row ? known_formula : known).count(std::string(k.str())))
+                throw InputError(file, prefix + std::string(k.str()),
+                                 formula_row ? "unknown field for a formula row; it has id, source, quote, kernel, formula, inputs, "
+                                               "reported, exactness and use"
+                                             : "unknown field; a target has id, source, quote, scenario, frame, machine, metric, "
+                                               "divided_by_frame, reported, exactness and use (or kernel, formula and inputs)");
         }
         Target t;
         t.id = text_field(*row, file, prefix, "id", true);
         if (!ids.insert(t.id).second) throw InputError(file, prefix + "id", "\"" + t.id + "\" is used by an earlier target");
         t.source = text_field(*row, file, prefix, "source", true);
         t.quote = text_field(*row, file, prefix, "quote", false);
+        if (formula_row) {
+            read_formula_row(*row, file, prefix, t);
+            set.targets.push_back(std::move(t));
+            continue;
+        }
         t.scenario = text_field(*row, file, prefix, "scenario", true);
         t.machine = text_field(*row, file, prefix, "machine", true);
 
         t.metric = text_field(*row, file, prefix, "metric", true);
 
-        const toml::node* reported = row->get("reported");
-        if (!reported) throw InputError(file, prefix + "reported", "is missing");
-        const auto value = reported->value<double>();
-        if (!value || !std::isfinite(*value) || *value <= 0.0)
-            throw InputError(file, prefix + "reported", "must be a positive number");
-        t.reported = *value;
-
-        const std::string exactness = text_field(*row, file, prefix, "exactness", true);
-        if (exactness == "measured") t.exactness = Exactness::Measured;
-        else if (exactness == "estimate") t.exactness = Exactness::Estimate;
-        else if (exactness == "order-of-magnitude") t.exactness = Exactness::OrderOfMagnitude;
-        else throw InputError(file, prefix + "exactness", "must be measured, estimate or order-of-magnitude, not \"" + exactness + "\"");
-
-        const std::string use = text_field(*row, file, prefix, "use", true);
-        if (use != "fit" && use != "held-out") throw InputError(file, prefix + "use", "must be fit or held-out, not \"" + use + "\"");
-        t.fitted = use == "fit";
+        read_value_fields(*row, file, prefix, t);
 
         // The scenario and machine must exist, and the frame be one of the scenario's.
         Scenario scenario;

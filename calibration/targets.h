@@ -6,6 +6,7 @@
 // InputError naming the file, the field and the reason.
 
 #include <filesystem>
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -34,6 +35,12 @@ struct Target {
     double reported = 0.0;
     Exactness exactness = Exactness::Estimate;
     bool fitted = true;  // false: held out, predicted only
+    // A formula row instead (no scenario, frame or machine): a kernel's figure computed from a
+    // description (Kernel::formulas), always held out.
+    std::string kernel;
+    std::string formula;
+    std::map<std::string, std::vector<double>> inputs;
+    bool is_formula() const { return !formula.empty(); }
 };
 
 // A picture `pp5sim reproduce` writes beside the table: a recorded frame of a target's scenario.

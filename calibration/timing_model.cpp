@@ -76,17 +76,28 @@ CalibrationModel::CalibrationModel(const TargetSet& targets, std::optional<Machi
     std::map<std::string, int> frames_needed;
     std::optional<MachineConfig> first_multicomputer;
     for (const Target& t : targets_.targets) {
+        if (t.is_formula()) continue;  // computed, not rendered
         frames_needed[t.scenario] = std::max({frames_needed[t.scenario], t.frame + 1, t.divided_by_frame + 1});
         if (!machines_.count(t.machine)) machines_.emplace(t.machine, load_run_config(t.machine, {}));
         if (!first_multicomputer && machines_.at(t.machine).machine_kind() == MachineKind::Multicomputer) first_multicomputer = machines_.at(t.machine);
     }
     // The work is recorded on the first Pixel-planes 5 machine the targets name (every machine must
     // compute the same; time_on checks), or on the first machine when all are uniprocessors.
-    const MachineConfig recording =
-        functional ? *functional : first_multicomputer ? *first_multicomputer : machines_.at(targets_.targets.front().machine);
+    if (frames_needed.empty()) return;  // only formula rows: nothing to record
+    const MachineConfig recording = functional ? *functional : first_multicomputer ? *first_multicomputer : machines_.begin()->second;
     for (const auto& [name, frames] : frames_needed) {
         const Scenario scenario = load_scenario(resolve_scenario_file(name));
         scenarios_.emplace(name, std::make_unique<RecordedScenario>(scenario, recording, frames));
+    }
+}
+
+double CalibrationModel::formula_value(const Target& t) const {
+    const Kernel* kernel = find_kernel(t.kernel);
+    if (kernel == nullptr) throw std::logic_error("CalibrationModel: unknown kernel " + t.kernel);
+    try {
+        return kernel->formula(t.formula, t.inputs);
+    } catch (const std::domain_error& e) {
+        throw InputError(targets_.file.string(), "target \"" + t.id + "\" inputs", e.what());
     }
 }
 

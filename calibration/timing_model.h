@@ -66,6 +66,8 @@ public:
     // The targets' simulated values, on their machine with `scales` applied.
     std::vector<double> simulate(const std::string& machine, const CalibrationScales& scales,
                                  const std::vector<const Target*>& targets) const;
+    // A formula row's value (Target::is_formula), from its kernel.
+    double formula_value(const Target& target) const;
     // The machine's configuration (its preset or file) with `scales` applied.
     MachineConfig machine_config(const std::string& machine, const CalibrationScales& scales) const;
     const MachineConfig& base_config(const std::string& machine) const;

@@ -68,7 +68,8 @@ FitReport fit(const CalibrationModel& model, const CalibrateOptions& o) {
 
 std::set<std::string> machines_of(const CalibrationModel& model) {
     std::set<std::string> machines;
-    for (const Target& t : model.targets().targets) machines.insert(t.machine);
+    for (const Target& t : model.targets().targets)
+        if (!t.is_formula()) machines.insert(t.machine);
     return machines;
 }
 
@@ -207,7 +208,8 @@ int run_reproduce(const CalibrateOptions& o) {
     // seconds metric the targets give for that frame is swept.
     const Target* scaling = nullptr;
     for (const Target& t : model->targets().targets)
-        if (!scaling && model->base_config(t.machine).machine_kind() == MachineKind::Multicomputer && t.unit == "s") scaling = &t;
+        if (!scaling && !t.is_formula() && model->base_config(t.machine).machine_kind() == MachineKind::Multicomputer && t.unit == "s")
+            scaling = &t;
     std::vector<std::string> swept;
     if (scaling)
         for (const Target& t : model->targets().targets)

@@ -19,6 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -58,6 +59,17 @@ struct KernelMetric {
     std::string description;
 };
 
+// A figure a kernel computes from a description rather than from a rendered frame: the size of a
+// representation for a paper's data set that is not available here, say. A calibration target can
+// name one (with the inputs) and compare it with the paper's figure.
+struct KernelFormula {
+    std::string name;  // "storage_megabytes"
+    std::string unit;
+    std::string description;
+    std::vector<std::string> inputs;  // each a list of numbers: "low_resolution" = [x, y, z]
+};
+using FormulaInputs = std::map<std::string, std::vector<double>>;
+
 class Kernel {
 public:
     virtual ~Kernel() = default;
@@ -77,6 +89,9 @@ public:
     // polygons).
     virtual std::vector<KernelMetric> metrics() const { return {}; }
     virtual double metric(const std::string& name, const KernelFrame& frame, const FrameTiming& timing) const;
+    // Its formulas, and one's value (std::domain_error saying why when the inputs make no sense).
+    virtual std::vector<KernelFormula> formulas() const { return {}; }
+    virtual double formula(const std::string& name, const FormulaInputs& inputs) const;
     // Sets the scenario up on the machine (InputError when the data cannot fit, naming the key).
     virtual std::unique_ptr<KernelRun> start(Machine& machine, const MachineConfig& config, const Scenario& scenario,
                                              const Volume& volume) const = 0;

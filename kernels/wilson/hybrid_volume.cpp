@@ -230,6 +230,7 @@ HybridVolume HybridVolume::build(const Volume& v, const WilsonSettings& s, bool 
     std::vector<std::vector<Candidate>> per_plane(static_cast<std::size_t>(h.grid_.z));
     std::vector<double> abs_sums(static_cast<std::size_t>(h.grid_.z), 0.0);
     std::vector<float> largest(static_cast<std::size_t>(h.grid_.z), 0.0f);
+    std::vector<std::array<std::uint64_t, 5>> paper_counts(static_cast<std::size_t>(h.grid_.z), std::array<std::uint64_t, 5>{});
     if (range > 0) {
         tbb::parallel_for(0, h.grid_.z, [&](int z) {
             auto& out = per_plane[static_cast<std::size_t>(z)];
@@ -242,8 +243,10 @@ HybridVolume HybridVolume::build(const Volume& v, const WilsonSettings& s, bool 
                     const float e = (original[i] - reconstruct_low_resolution(h.low_, k, p)) / range;
                     sum += std::abs(e);
                     most = std::max(most, std::abs(e));
-                    const bool past = s.error_sign == ErrorSign::Positive ? e > s.error_threshold : std::abs(e) > s.error_threshold;
-                    if (past) out.push_back(Candidate{i, e});
+                    const float signed_error = s.error_sign == ErrorSign::Positive ? e : std::abs(e);
+                    if (signed_error > s.error_threshold) out.push_back(Candidate{i, e});
+                    for (std::size_t t = 0; t < kPaperThresholds.size(); ++t)
+                        paper_counts[static_cast<std::size_t>(z)][t] += signed_error > kPaperThresholds[t] ? 1 : 0;
                 }
             abs_sums[static_cast<std::size_t>(z)] = sum;
             largest[static_cast<std::size_t>(z)] = most;
@@ -257,6 +260,7 @@ HybridVolume HybridVolume::build(const Volume& v, const WilsonSettings& s, bool 
     sel.above_threshold = chosen.size();
     for (const Candidate& c : chosen) sel.underestimates += c.error > 0 ? 1 : 0;
     for (std::size_t z = 0; z < abs_sums.size(); ++z) {
+        for (std::size_t t = 0; t < kPaperThresholds.size(); ++t) sel.at_paper_thresholds[t] += paper_counts[z][t];
         sel.mean_abs_error += abs_sums[z];
         sel.largest_error = std::max(sel.largest_error, static_cast<double>(largest[z]));
     }

@@ -76,8 +76,12 @@ struct HybridPoint {
     std::uint8_t gradient = 0;          // quantized over [0, the largest point gradient]
 };
 
+// The thresholds the paper uses, as shares of the value range (sections 3.1 and 5).
+inline constexpr std::array<double, 5> kPaperThresholds = {1.0 / 64, 1.0 / 32, 1.0 / 16, 1.0 / 12, 1.0 / 8};
+
 // What point selection saw.
 struct PointSelection {
+    std::array<std::uint64_t, 5> at_paper_thresholds{};  // samples past each of kPaperThresholds (same sign rule)
     std::uint64_t error_samples = 0;     // error-grid samples examined
     std::uint64_t above_threshold = 0;   // of those, past the threshold (before max_points)
     std::uint64_t underestimates = 0;    // of those, where L was too low

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <optional>
 #include <stdexcept>
@@ -40,6 +41,7 @@ bool uses_gradient(const Scenario& scenario) {
 
 struct WilsonFrame final : KernelFrame {
     HybridCounts counts;
+    std::array<std::uint64_t, 5> paper_thresholds{};  // the representation's error samples past each paper threshold
     bool classified = false;
     bool shaded = false;
 };
@@ -90,6 +92,7 @@ public:
         work.image_width = image_.width;
         work.image_height = image_.height;
         out->counts = std::move(slices.counts);
+        out->paper_thresholds = hybrid_.selection().at_paper_thresholds;
         out->classified = pp.classification.has_value();
         out->shaded = pp.shading.has_value();
         out->compare_passes_with_reference = true;
@@ -184,6 +187,9 @@ public:
                   {"error_samples", sel.error_samples},
                   {"above_threshold", sel.above_threshold},
                   {"underestimates", sel.underestimates},
+                  {"points_at_paper_thresholds",
+                   {{"1/64", sel.at_paper_thresholds[0]}, {"1/32", sel.at_paper_thresholds[1]}, {"1/16", sel.at_paper_thresholds[2]},
+                    {"1/12", sel.at_paper_thresholds[3]}, {"1/8", sel.at_paper_thresholds[4]}}},
                   {"largest_error", sel.largest_error},
                   {"mean_abs_error", sel.mean_abs_error},
                   {"points", storage.points},
@@ -258,7 +264,46 @@ public:
     std::vector<KernelMetric> metrics() const override {
         return {{"frame_seconds", "s", "the whole frame: PP passes and slicing"},
                 {"slicing_seconds", "s", "the GPs' and renderers' slices and points alone"},
-                {"points_drawn", "points", "points with opacity to add, on screen"}};
+                {"points_drawn", "points", "points with opacity to add, on screen"},
+                {"threshold_trend", "ratio",
+                 "error samples past 1/64 of the value range over those past 1/12: how fast the point count grows as the threshold "
+                 "tightens (the paper's chest at 128^3: 10999K / 3979K = 2.76)"}};
+    }
+    std::vector<KernelFormula> formulas() const override {
+        return {{"storage_megabytes", "MB",
+                 "the paper's representation of 8-bit data (section 3.3): a value byte and a normal index per low-resolution voxel, "
+                 "a 6- or 9-byte record per point by the error grid's size; MB = 10^6 bytes",
+                 {"low_resolution", "points", "error_grid"}},
+                {"point_room_millions", "million points",
+                 "how many point records fit in the space a lower resolution frees (section 3.3)",
+                 {"original", "low_resolution", "point_bytes"}}};
+    }
+    double formula(const std::string& name, const FormulaInputs& inputs) const override {
+        const auto dims = [&](const char* key) {
+            const std::vector<double>& v = inputs.at(key);
+            if (v.size() != 3 || std::any_of(v.begin(), v.end(), [](double x) { return !(x >= 1 && x <= 65536 && x == std::floor(x)); }))
+                throw std::domain_error(std::string(key) + " must be three whole sizes from 1 to 65536");
+            return glm::ivec3(static_cast<int>(v[0]), static_cast<int>(v[1]), static_cast<int>(v[2]));
+        };
+        const auto number = [&](const char* key, double most) {
+            const std::vector<double>& v = inputs.at(key);
+            if (v.size() != 1 || !(v[0] >= 0 && v[0] <= most)) throw std::domain_error(fmt::format("{} must be one number from 0 to {}", key, most));
+            return v[0];
+        };
+        if (name == "storage_megabytes") {
+            const HybridStorage storage{dims("low_resolution"), 1, false, static_cast<std::uint64_t>(number("points", 1e12)),
+                                        PointFormat::for_grid(dims("error_grid"), 1, false)};
+            return static_cast<double>(storage.total_bytes()) / 1e6;
+        }
+        if (name == "point_room_millions") {
+            const double bytes = number("point_bytes", 64);
+            if (!(bytes >= 1)) throw std::domain_error("point_bytes must be at least 1");
+            const auto volume = [](glm::ivec3 d) { return HybridStorage{d, 1, false, 0, PointFormat{}}.total_bytes(); };
+            const std::uint64_t original = volume(dims("original")), low = volume(dims("low_resolution"));
+            if (low > original) throw std::domain_error("low_resolution must be no larger than original");
+            return static_cast<double>(original - low) / bytes / 1e6;
+        }
+        return Kernel::formula(name, inputs);
     }
     double metric(const std::string& name, const KernelFrame& kernel_frame, const FrameTiming& timing) const override {
         const auto& frame = static_cast<const WilsonFrame&>(kernel_frame);
@@ -267,6 +312,11 @@ public:
             const PhaseTiming* s = timing.phase("slicing");
             if (s == nullptr) throw std::domain_error("the frame has no slicing phase");
             return seconds(s->duration_ps());
+        }
+        if (name == "threshold_trend") {
+            const auto& counts = frame.paper_thresholds;
+            if (counts[3] == 0) throw std::domain_error("no error sample is past 1/12 of the value range");
+            return static_cast<double>(counts[0]) / static_cast<double>(counts[3]);
         }
         if (name == "points_drawn") {
             if (frame.counts.points_drawn == 0) throw std::domain_error("the frame draws no points");

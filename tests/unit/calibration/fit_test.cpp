@@ -11,6 +11,7 @@
 #include "sim/core/input_error.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <fstream>
@@ -211,6 +212,59 @@ TEST(Targets, TheShippedLevoyFileLoads) {
     EXPECT_GT(fitted, 0);
     EXPECT_LT(fitted, static_cast<int>(set.targets.size()));  // some held out
     EXPECT_EQ(sun, 3);                                        // Levoy's three Sun 4/280 measurements
+}
+
+TEST(Targets, FormulaRowsAreAKernelsFigureFromItsInputs) {
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("pp5_formula_rows_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const auto file_with = [&](const std::string& row) {
+        const std::filesystem::path path = dir / "formula.toml";
+        std::ofstream(path) << "[[targets]]\nid = \"argon\"\nsource = \"Wilson et al. 2002\"\n" << row;
+        return path;
+    };
+    const std::string good = "kernel = \"wilson\"\nformula = \"storage_megabytes\"\n"
+                             "inputs = { low_resolution = [256, 256, 256], points = 361000, error_grid = [512, 512, 512] }\n"
+                             "reported = 37.0\nexactness = \"estimate\"\nuse = \"held-out\"\n";
+    const TargetSet set = load_targets(file_with(good));
+    ASSERT_TRUE(set.targets.at(0).is_formula());
+    EXPECT_EQ(set.targets[0].unit, "MB");
+    // Only formula rows: nothing is rendered, and the value is the kernel's arithmetic.
+    const CalibrationModel model(set);
+    EXPECT_NEAR(model.formula_value(set.targets[0]), 36.803432, 1e-6);
+    const FitReport report = evaluate_targets(model, {});
+    ASSERT_EQ(report.results.size(), 1u);
+    EXPECT_NEAR(report.results[0].relative_error, 36.803432 / 37.0 - 1, 1e-6);
+    const auto expect_error = [&](const std::string& row, const std::string& field) {
+        try {
+            (void)load_targets(file_with(row));
+            ADD_FAILURE() << row << " was accepted";
+        } catch (const InputError& e) {
+            EXPECT_EQ(e.field(), field) << e.what();
+        }
+    };
+    const auto replace = [&](std::string text, const std::string& from, const std::string& to) {
+        return text.replace(text.find(from), from.size(), to);
+    };
+    expect_error(replace(good, "held-out", "fit"), "targets[0].use");
+    expect_error(replace(good, "storage_megabytes", "volume"), "targets[0].formula");
+    expect_error(replace(good, "kernel = \"wilson\"", "kernel = \"nobody\""), "targets[0].kernel");
+    expect_error(replace(good, "points = 361000", "points = -5"), "targets[0].inputs");
+    expect_error(replace(good, "points = 361000, ", ""), "targets[0].inputs.points");
+    expect_error(replace(good, "points = 361000", "pointz = 361000"), "targets[0].inputs.pointz");
+    expect_error(replace(good, "[256, 256, 256]", "[256, 256]"), "targets[0].inputs");
+    expect_error(good + "scenario = \"mr-head\"\n", "targets[0].scenario");
+    std::filesystem::remove_all(dir);
+}
+
+TEST(Targets, TheShippedWilsonFileLoads) {
+    const TargetSet set = load_targets(resolve_targets_file("wilson02"));
+    int formulas = 0;
+    for (const Target& t : set.targets) {
+        EXPECT_FALSE(t.fitted) << t.id;
+        formulas += t.is_formula();
+    }
+    EXPECT_EQ(formulas, 12);
+    EXPECT_EQ(set.figures.size(), 2u);
 }
 
 TEST(Targets, TheShippedYuanFileLoads) {
