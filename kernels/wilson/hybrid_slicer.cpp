@@ -72,6 +72,23 @@ HybridSlicer::HybridSlicer(const WilsonSettings& settings, const SliceMachine& m
       bricks_((hybrid.low_resolution().dims() + settings.brick_voxels - 1) / settings.brick_voxels),
       format_{settings.accumulator_bits}, programs_(format_, machine.local_memory_bits) {}
 
+std::uint32_t HybridSlicer::brick_of(const HybridPoint& point) const {
+    const glm::vec3 position = hybrid_->position(point);
+    const glm::ivec3 n = hybrid_->low_resolution().dims();
+    const float k = static_cast<float>(hybrid_->factor());
+    glm::ivec3 texel;
+    for (int axis = 0; axis < 3; ++axis) texel[axis] = std::clamp(static_cast<int>(std::floor((position[axis] + 0.5f) / k)), 0, n[axis] - 1);
+    const glm::ivec3 bc = texel / settings_.brick_voxels;
+    return static_cast<std::uint32_t>(bc.x + bricks_.x * (bc.y + bricks_.y * bc.z));
+}
+
+std::vector<std::uint64_t> HybridSlicer::resident_bits_by_brick() const {
+    std::vector<std::uint64_t> bits(static_cast<std::size_t>(bricks_.x) * static_cast<std::size_t>(bricks_.y) * static_cast<std::size_t>(bricks_.z), 0);
+    const auto record_bits = 8 * static_cast<std::uint64_t>(hybrid_->point_format().record_bytes());
+    for (const HybridPoint& p : hybrid_->points()) bits[brick_of(p)] += record_bits;
+    return bits;
+}
+
 HybridFrame HybridSlicer::render(const ShadedVolume& texels, const PointLook& look, const Camera& camera, int width, int height,
                                  glm::vec3 background) const {
     const ScreenProjection projection(camera, width, height);
@@ -119,7 +136,7 @@ HybridFrame HybridSlicer::render(const ShadedVolume& texels, const PointLook& lo
 
     // 2. Each plane's quads, brick by brick (planes in parallel).
     const int edge = settings_.brick_voxels;
-    const auto brick_of = [&](glm::ivec3 texel) {
+    const auto brick_at = [&](glm::ivec3 texel) {
         const glm::ivec3 bc = texel / edge;
         return static_cast<std::uint32_t>(bc.x + bricks_.x * (bc.y + bricks_.y * bc.z));
     };
@@ -149,7 +166,7 @@ HybridFrame HybridSlicer::render(const ShadedVolume& texels, const PointLook& lo
             for (int bi = 0; bi < n[b]; bi += edge) {
                 brick_lo[b] = bi;
                 brick_lo[c] = bj;
-                const std::uint32_t brick = brick_of(brick_lo);
+                const std::uint32_t brick = brick_at(brick_lo);
                 for (int j = bj; j < std::min(bj + edge, n[c] - 1); ++j)
                     for (int i = bi; i < std::min(bi + edge, n[b] - 1); ++i) {
                         ++pc.cells;
@@ -204,10 +221,7 @@ HybridFrame HybridSlicer::render(const ShadedVolume& texels, const PointLook& lo
         DrawnPoint& p = points[m];
         p.index = static_cast<std::uint32_t>(m);
         const glm::vec3 position = hybrid_->position(hp);
-        glm::ivec3 texel;
-        for (int axis = 0; axis < 3; ++axis)
-            texel[axis] = std::clamp(static_cast<int>(std::floor((position[axis] + 0.5f) / static_cast<float>(k) - 0.5f + 0.5f)), 0, n[axis] - 1);
-        p.brick = brick_of(texel);
+        p.brick = brick_of(hp);
         const double along = (position[a] + 0.5) / k - 0.5;
         const int slab = std::clamp(static_cast<int>(std::floor(along)), -1, n[a] - 1);
         p.layer = slab_layer[static_cast<std::size_t>(slab + 1)];
@@ -427,8 +441,6 @@ HybridFrame HybridSlicer::render(const ShadedVolume& texels, const PointLook& lo
         }
         work.blocks = std::make_shared<const BlockDirectory>(std::uint64_t{largest} * kCachedTexelBits, kUnitBits, std::move(first_part), std::move(parts));
     }
-    frame.resident_bits_by_brick.assign(brick_count, 0);
-    for (const DrawnPoint& p : points) frame.resident_bits_by_brick[p.brick] += 8 * static_cast<std::uint64_t>(hybrid_->point_format().record_bytes());
     const bool perspective = projection.perspective();
     const auto setup_program = static_cast<std::uint32_t>(work.region_programs.size());
     work.region_programs.push_back(programs_.setup(perspective));

@@ -65,7 +65,6 @@ struct HybridFrame {
     Image low_resolution;  // the slices alone
     HybridCounts counts;
     GpPhase work;          // the "slicing" phase
-    std::vector<std::uint64_t> resident_bits_by_brick;  // each brick's points, held by the GP that owns it
 };
 
 // The machine's shape as the slicer needs it.
@@ -94,6 +93,10 @@ public:
                        glm::vec3 background) const;
     const SlicePrograms& programs() const { return programs_; }
     glm::ivec3 bricks() const { return bricks_; }
+    // The brick a point belongs to (that of the low-resolution sample nearest it): its GP keeps it.
+    std::uint32_t brick_of(const HybridPoint& point) const;
+    // What each brick's points take in its GP's memory.
+    std::vector<std::uint64_t> resident_bits_by_brick() const;
 
 private:
     WilsonSettings settings_;

@@ -52,7 +52,10 @@ public:
         : volume_(volume), image_(scenario.image), settings_(WilsonSettings::from(config)),
           hybrid_(HybridVolume::build(volume, settings_, uses_gradient(scenario))),
           voxel_store_(machine, hybrid_.low_resolution(), VoxelStoreSettings::from(config)),
-          slicer_(settings_, slice_machine(machine, voxel_store_), hybrid_, volume.spacing()) {}
+          slicer_(settings_, slice_machine(machine, voxel_store_), hybrid_, volume.spacing()),
+          resident_bits_by_brick_(slicer_.resident_bits_by_brick()) {
+        check_points_fit(machine);
+    }
 
     std::unique_ptr<KernelFrame> record_frame(const FrameSpec& frame) override {
         auto out = std::make_unique<WilsonFrame>();
@@ -86,7 +89,7 @@ public:
         look.view = make_shading_view(camera, volume_.dims(), volume_.spacing());
         HybridFrame slices = slicer_.render(texels_, look, camera, image_.width, image_.height, image_.background);
         work.phases.push_back(Phase{"slicing", std::move(slices.work)});
-        work.resident_bits_by_key = std::move(slices.resident_bits_by_brick);
+        work.resident_bits_by_key = resident_bits_by_brick_;
         // New colours in the PPs make the GPs' cached bricks stale.
         work.invalidate_gp_caches = pp.classification.has_value() || pp.shading.has_value();
         work.image_width = image_.width;
@@ -176,7 +179,17 @@ public:
         const PointSelection& sel = hybrid_.selection();
         const Volume& low = hybrid_.low_resolution();
         const std::uint64_t points_bytes = storage.point_bytes();
+        const std::uint64_t low_voxels = static_cast<std::uint64_t>(low.samples().size());
+        const std::uint64_t original_voxels = static_cast<std::uint64_t>(volume_.samples().size());
+        const nlohmann::json on_machine = {
+            {"low_resolution_backing_store_bytes", low_voxels * static_cast<std::uint64_t>(p.record_bits()) / 8},
+            {"points_gp_memory_bytes", points_bytes},
+            {"points_busiest_gp_bytes", most_point_bytes_},
+            {"full_resolution_backing_store_bytes", original_voxels * static_cast<std::uint64_t>(p.record_bits()) / 8},
+            {"note", "the voxel store's records (Levoy's 8 bytes a voxel with the default layout) for the low-resolution volume, "
+                     "against the same records for every voxel of the original (Levoy's kernel); points in the GPs' memory"}};
         return {{"policy", to_string(p.policy())},
+                {"on_machine", on_machine},
                 {"record_bits", p.record_bits()},
                 {"slots_needed", p.slots_needed()},
                 {"backing_store_bits_used", p.backing_store_bits_used()},
@@ -206,6 +219,26 @@ public:
     }
 
 private:
+    // Each GP keeps the points of the bricks it owns (brick b on GP b mod G) besides its cache: refused
+    // here, before any frame, when they do not fit, saying what would.
+    void check_points_fit(const Machine& machine) {
+        const std::size_t gps = machine.gps().size();
+        std::vector<std::uint64_t> per_gp(gps, 0);
+        for (std::size_t b = 0; b < resident_bits_by_brick_.size(); ++b) per_gp[b % gps] += resident_bits_by_brick_[b];
+        const auto most = std::max_element(per_gp.begin(), per_gp.end());
+        most_point_bytes_ = (*most + 7) / 8;
+        const auto& gp = *machine.gps().front();
+        const std::uint64_t cache_bytes = gp.cache_bits() / 8;
+        if (most_point_bytes_ + cache_bytes > gp.memory_bytes())
+            throw InputError("machine configuration", "gp.memory_bytes",
+                             fmt::format("GP {} must keep {} bytes of points ({} points of {} bytes in all) besides its {} byte cache: "
+                                         "{} bytes, more than its {}; raise gp.memory_bytes or gp.count, or keep fewer points "
+                                         "(wilson.error_threshold, wilson.max_points)",
+                                         most - per_gp.begin(), most_point_bytes_, hybrid_.points().size(),
+                                         hybrid_.point_format().record_bytes(), cache_bytes, most_point_bytes_ + cache_bytes,
+                                         gp.memory_bytes()));
+    }
+
     static SliceMachine slice_machine(const Machine& machine, const PpShading& store) {
         const MachineConfig& c = machine.config();
         SliceMachine m;
@@ -228,6 +261,8 @@ private:
     ShadedVolume texels_;
     std::optional<ShadingView> shaded_for_;
     bool first_frame_ = true;
+    std::vector<std::uint64_t> resident_bits_by_brick_;
+    std::uint64_t most_point_bytes_ = 0;
 };
 
 class WilsonKernel final : public Kernel {
