@@ -137,7 +137,7 @@ TEST(WilsonPictures, CloseToTheReferenceAndPointsNeverMakeThemWorse) {
     const Scenario head = scenario_from("head", wilson_scene("phantom = \"head\"\nsize = 64", kSkin, kHeadCamera, 128));
     const auto full = render(head, {"wilson.downsample_factor=1", "wilson.error_threshold=1"});
     const double full_psnr = compare_images(full[0].image, full[0].reference).psnr_db;
-    EXPECT_GT(full_psnr, 28.0);
+    EXPECT_GT(full_psnr, 40.0);  // measured 43.6 dB: slices at integer depths, the reference's samples between them
     double previous_points = 1e30;
     for (const char* tau : {"0.015625", "0.0625", "0.125"}) {
         const auto frames = render(head, {std::string("wilson.error_threshold=") + tau});
@@ -149,6 +149,21 @@ TEST(WilsonPictures, CloseToTheReferenceAndPointsNeverMakeThemWorse) {
         EXPECT_LT(points, previous_points);
         previous_points = points;
     }
+}
+
+TEST(WilsonPictures, OnTheShadedMrHeadPointsAddDetailTheLowResolutionVolumeLost) {
+    // At 320x320 a point's square is two pixels a side (the paper's regime: points magnified). Minified
+    // further, or unshaded so that only the silhouette counts, points can lower PSNR: their squares grow
+    // the silhouette ("small details tend to get larger", Wilson et al. section 5.1); see the closing
+    // note of the Wilson issue for the figures.
+    const Scenario head = scenario_from("mr", wilson_scene("packaged = \"ch2\"",
+                                                           "kind = \"isovalue-contours\"\ncontours = [{ value = 40.0, opacity = 0.95, thickness = 1.5 }]",
+                                                           "projection = \"parallel\"\nview_from = [0.0, 1.0, 0.0]\nup = [0.0, 0.0, 1.0]\nazimuth = 30.0", 320));
+    const auto frames = render(head, {"wilson.error_threshold=0.015625"});
+    const double low = compare_images(frames[0].low_resolution, frames[0].reference).psnr_db;
+    const double hybrid = compare_images(frames[0].image, frames[0].reference).psnr_db;
+    EXPECT_GE(hybrid, low);
+    EXPECT_EQ(frames[0].stats["point_sizes"].begin().key(), "2");
 }
 
 TEST(WilsonDeterminism, SamePictureAndCountsAtAnyThreadOrGpCount) {
