@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -207,6 +208,11 @@ HybridVolume HybridVolume::build(const Volume& v, const WilsonSettings& s, bool 
     const glm::ivec3 low = (dims + k - 1) / k;
     h.factor_ = k;
     h.grid_ = dims * g;
+    // The renderers' cell keys hold 12-bit indices (slice_programs.h).
+    if (glm::any(glm::greaterThan(low, glm::ivec3(4093))))
+        throw InputError(kSettings, "wilson.downsample_factor",
+                         fmt::format("a {}x{}x{} low-resolution volume has more than the renderers' 4093 cells along an axis; "
+                                     "raise the factor", low.x, low.y, low.z));
     h.grid_factor_ = g;
     if (count(h.grid_) > kMaxErrorSamples)
         throw InputError(kSettings, "wilson.error_grid_factor",
