@@ -1,6 +1,7 @@
 #include "kernels/registry/registry.h"
 
 #include "kernels/levoy/levoy_kernel.h"
+#include "kernels/perm/perm_kernel.h"
 #include "kernels/reference_kernel/reference_kernel.h"
 #include "kernels/wilson/wilson_kernel.h"
 #include "kernels/yuan/yuan_kernel.h"
@@ -16,6 +17,7 @@ std::vector<const Kernel*>& registry() {
         &levoy_kernel(),      // Levoy 1989: the volume rendering workstation on Pixel-planes 5
         &yuan_kernel(),       // Yuan et al. 2003: hybrid point/splat splatting over the renderers' screen regions
         &wilson_kernel(),     // Wilson et al. 2002: a low-resolution volume's slices plus points where it errs
+        &perm_kernel(),       // Lim and Shin: rays through precomputed, quantized density and gradient per cell
         &reference_kernel(),  // the host's floating-point renderer, no machine
     };
     return all;

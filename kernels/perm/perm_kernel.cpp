@@ -1,0 +1,250 @@
+#include "kernels/perm/perm_kernel.h"
+
+#include "kernels/perm/perm_costs.h"
+#include "kernels/perm/perm_ray_caster.h"
+#include "kernels/perm/perm_structure.h"
+#include "kernels/scenario/scenario_inputs.h"
+#include "sim/core/input_error.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+
+namespace pp5 {
+
+namespace {
+
+double seconds(Tick t) { return ticks_to_seconds(t); }
+std::uint64_t cube_of(int n) { return static_cast<std::uint64_t>(n) * static_cast<std::uint64_t>(n) * static_cast<std::uint64_t>(n); }
+
+constexpr int kRecordBrick = 4;  // records are dealt to renderers in 4^3 bricks of cells
+
+struct PermKernelFrame final : KernelFrame {
+    PermCastCounts counts;
+    bool rebuilt = false;
+};
+
+class PermRun final : public KernelRun {
+public:
+    PermRun(Machine& machine, const MachineConfig& config, const Scenario& scenario, const Volume& volume)
+        : volume_(volume), image_(scenario.image), settings_(PermSettings::from(config)),
+          renderers_(static_cast<std::uint32_t>(config.integer("renderer.count"))),
+          renderer_bytes_(static_cast<std::uint64_t>(config.integer("renderer.pp_columns")) *
+                          static_cast<std::uint64_t>(config.integer("renderer.pp_rows")) *
+                          static_cast<std::uint64_t>(config.integer("renderer.backing_store_bits")) / 8),
+          gp_memory_bytes_(static_cast<std::uint64_t>(config.integer("gp.memory_bytes"))) {
+        (void)machine;
+        build(scenario.frames.front().classification);
+    }
+
+    std::unique_ptr<KernelFrame> record_frame(const FrameSpec& frame) override {
+        auto out = std::make_unique<PermKernelFrame>();
+        // The structure depends on which cells may be visible: a new classification rebuilds it (on
+        // the host, before the frame, as the paper's preprocessing).
+        if (frame.classification != built_for_) {
+            build(frame.classification);
+            out->rebuilt = true;
+        }
+        PermCastSettings cs{image_.width, image_.height, image_.sample_step, image_.termination_opacity, image_.background};
+        PermFrame cast = caster_->cast(frame.classification, frame.colors, frame.lighting, frame_camera(frame, volume_), cs);
+        FrameWork& work = out->work;
+        work.op_kinds = perm_op_kinds();
+        work.phases.push_back(Phase{"ray_casting", std::move(cast.work)});
+        work.gp_resident_bits = settings_.residence == PermResidence::GpMemory ? structure_->memory().total_bytes() * 8 : 0;
+        work.invalidate_gp_caches = out->rebuilt;
+        work.image_width = image_.width;
+        work.image_height = image_.height;
+        out->counts = cast.counts;
+        out->pass_images.push_back(std::move(cast.image));
+        return out;
+    }
+
+    nlohmann::json frame_stats(const KernelFrame& kernel_frame, const FrameTiming& timing,
+                               const std::vector<std::string>& pass_images) const override {
+        const auto& frame = static_cast<const PermKernelFrame&>(kernel_frame);
+        const PermCastCounts& c = frame.counts;
+        nlohmann::json out = {{"simulated_seconds", seconds(timing.duration_ps())},
+                              {"images", {{"frame", pass_images.empty() ? "" : pass_images.back()}}},
+                              {"rebuilt", frame.rebuilt},
+                              {"rays", c.rays},
+                              {"rays_terminated", c.rays_terminated},
+                              {"samples", c.samples},
+                              {"empty_samples", c.empty_samples},
+                              {"leaped_samples", c.leaped_samples},
+                              {"cell_fetches", c.cell_fetches},
+                              {"carried_lookups", c.carried_lookups}};
+        if (const PhaseTiming* r = timing.phase("ray_casting")) {
+            const GpPhaseCounts& g = r->gp;
+            out["ray_casting"] = {{"gp_computing_seconds", seconds(g.gp_busy)},
+                                  {"gp_waiting_seconds", seconds(g.gp_wait)},
+                                  {"ring_busy_seconds", seconds(g.ring_busy)},
+                                  {"renderers_answering_seconds", seconds(g.renderer_busy)},
+                                  {"note", "GP and ring times are summed over GPs and channels"},
+                                  {"record_fetches", g.fetch_requests},
+                                  {"record_cache_hits", g.cache_hits},
+                                  {"record_cache_misses", g.cache_misses},
+                                  {"events", g.events}};
+        }
+        return out;
+    }
+
+    std::string describe(const nlohmann::json& f) const override {
+        return fmt::format("; {} rays, {} samples looked up, {} cells entered; {:.1f} ms simulated", f["rays"].dump(), f["samples"].dump(),
+                           f["cell_fetches"].dump(), f["simulated_seconds"].get<double>() * 1e3);
+    }
+
+    nlohmann::json run_stats() const override {
+        const PermMemory m = structure_->memory();
+        return {{"perm",
+                 {{"candidates", m.candidates},
+                  {"cells", static_cast<std::uint64_t>(std::max(0, volume_.dims().x - 1)) * static_cast<std::uint64_t>(std::max(0, volume_.dims().y - 1)) *
+                                static_cast<std::uint64_t>(std::max(0, volume_.dims().z - 1))},
+                  {"density_positions", m.density_positions},
+                  {"gradient_positions", m.gradient_positions},
+                  {"record_bytes", m.record_bytes()},
+                  {"index_volume_bytes", m.index_volume_bytes()},
+                  {"summed_table_bytes", m.summed_table_bytes()},
+                  {"records_bytes", m.candidates * m.record_bytes()},
+                  {"total_megabytes", static_cast<double>(m.total_bytes()) / 1e6},
+                  {"residence", settings_.residence == PermResidence::GpMemory ? "gp_memory" : "renderers"},
+                  {"busiest_renderer_bytes", busiest_renderer_bytes_},
+                  {"build_host_seconds", build_seconds_},
+                  {"note", "eqs. (3) and (6): the index volume (with a 4-byte summed count per z slice at 2-byte indices) and "
+                           "N_cc records of D^3 density bytes and G^3 x (3 gradient bytes + a sign byte); MB = 10^6 bytes"}}}};
+    }
+
+private:
+    std::uint32_t renderer_of_cell(glm::ivec3 origin) const {
+        const glm::ivec3 b = origin / kRecordBrick;
+        const glm::ivec3 n = (volume_.dims() + kRecordBrick - 1) / kRecordBrick;
+        return static_cast<std::uint32_t>((b.x + n.x * (b.y + n.y * b.z)) % static_cast<int>(renderers_));
+    }
+
+    void build(const Classification& classification) {
+        const auto started = std::chrono::steady_clock::now();
+        // Refused before any record is made when it cannot fit where it is to live.
+        const auto fits = [this](const PermMemory& m, const std::vector<glm::ivec3>& origins) { check_fit(m, origins); };
+        structure_ = std::make_unique<PermStructure>(PermStructure::build(volume_, classification, settings_, fits));
+        build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        built_for_ = classification;
+        caster_ = std::make_unique<PermRayCaster>(*structure_, volume_.spacing(), settings_,
+                                                  settings_.residence == PermResidence::Renderers
+                                                      ? std::function<std::uint32_t(glm::ivec3)>([this](glm::ivec3 o) { return renderer_of_cell(o); })
+                                                      : std::function<std::uint32_t(glm::ivec3)>());
+    }
+
+    void check_fit(const PermMemory& m, const std::vector<glm::ivec3>& origins) {
+        // The host holds the records too (the pictures come from them): beyond this it would not.
+        constexpr std::uint64_t kHostBudgetBytes = std::uint64_t{4} << 30;
+        const std::uint64_t host_bytes = m.candidates * (m.record_bytes() + 2 * cube_of(m.density_positions));  // density kept as 16 bits
+        if (host_bytes > kHostBudgetBytes)
+            throw InputError("machine configuration", "perm.density_positions",
+                             fmt::format("{} candidate cells of {} bytes would take {:.1f} GB of this computer's memory to build "
+                                         "(at most {:.1f} GB); quantize more coarsely (perm.density_positions, perm.gradient_positions)",
+                                         m.candidates, m.record_bytes(), static_cast<double>(host_bytes) / 1e9,
+                                         static_cast<double>(kHostBudgetBytes) / 1e9));
+        std::vector<std::uint64_t> per(renderers_, 0);
+        for (const glm::ivec3& o : origins) per[renderer_of_cell(o)] += m.record_bytes();
+        busiest_renderer_bytes_ = per.empty() ? 0 : *std::max_element(per.begin(), per.end());
+        if (settings_.residence == PermResidence::GpMemory && m.total_bytes() > gp_memory_bytes_)
+            throw InputError("machine configuration", "gp.memory_bytes",
+                             fmt::format("a copy of PERM in every GP needs {} bytes ({} candidate cells of {} bytes and the index "
+                                         "volume), more than a GP's {}; use perm.residence = \"renderers\" or quantize more coarsely",
+                                         m.total_bytes(), m.candidates, m.record_bytes(), gp_memory_bytes_));
+        if (settings_.residence == PermResidence::Renderers && busiest_renderer_bytes_ > renderer_bytes_)
+            throw InputError("machine configuration", "renderer.backing_store_bits",
+                             fmt::format("PERM's records need {} bytes on the busiest renderer ({} candidate cells of {} bytes, {:.1f} MB "
+                                         "in all) but a renderer's PPs hold {} bytes; quantize more coarsely (perm.density_positions, "
+                                         "perm.gradient_positions), add renderers (renderer.count) or backing store",
+                                         busiest_renderer_bytes_, m.candidates, m.record_bytes(), static_cast<double>(m.total_bytes()) / 1e6,
+                                         renderer_bytes_));
+    }
+
+    const Volume& volume_;
+    ImageSpec image_;
+    PermSettings settings_;
+    std::uint32_t renderers_;
+    std::uint64_t renderer_bytes_;
+    std::uint64_t gp_memory_bytes_;
+    std::unique_ptr<PermStructure> structure_;
+    std::unique_ptr<PermRayCaster> caster_;
+    Classification built_for_;
+    std::uint64_t busiest_renderer_bytes_ = 0;
+    double build_seconds_ = 0;
+};
+
+class PermKernel final : public Kernel {
+public:
+    std::string name() const override { return "perm"; }
+    std::string description() const override {
+        return "Lim and Shin: PERM, each candidate cell's density and gradient precomputed at quantized positions; the GPs cast "
+               "rays, fetch each cell's record through their caches and classify, shade and composite from the looked-up values";
+    }
+    std::string timing_summary() const override {
+        return "event-driven: the GPs' rays, each sample's look-up and shading on the GP, each cell's record fetched over the ring "
+               "through the GP cache; uncalibrated default costs";
+    }
+    std::vector<const ParamGroup*> param_groups() const override { return {&PermSettings::params(), &perm_cost_params()}; }
+    bool runs_on_machine() const override { return true; }
+    void check(const Scenario& scenario) const override {
+        const std::string file = scenario.file.string();
+        if (scenario.image.resampling != ResamplingOrder::InterpolateThenShade)
+            throw InputError(file, "image.resampling", "the perm kernel classifies and shades each sample (interpolate-then-shade)");
+        if (!scenario.polygons.empty())
+            throw InputError(file, "polygons", "the perm kernel does not scan-convert polygons; use kernel = \"levoy\"");
+        for (const FrameSpec& frame : scenario.frames)
+            if (frame.region) throw InputError(file, "region", "the perm kernel has no volume-of-interest tool; use kernel = \"levoy\"");
+    }
+    std::unique_ptr<KernelRun> start(Machine& machine, const MachineConfig& config, const Scenario& scenario,
+                                     const Volume& volume) const override {
+        return std::make_unique<PermRun>(machine, config, scenario, volume);
+    }
+    std::vector<KernelMetric> metrics() const override { return {{"frame_seconds", "s", "the whole frame: the GPs' ray casting"}}; }
+    double metric(const std::string& name, const KernelFrame& frame, const FrameTiming& timing) const override {
+        if (name == "frame_seconds") return seconds(timing.duration_ps());
+        return Kernel::metric(name, frame, timing);
+    }
+    std::vector<KernelFormula> formulas() const override {
+        return {{"memory_megabytes", "MB",
+                 "eqs. (3) and (6): the index volume (with a 4-byte summed count per z slice at 2-byte indices) and the candidates' "
+                 "records; MB = 10^6 bytes",
+                 {"dims", "candidates", "density_positions", "gradient_positions", "index_bytes", "density_bytes"}}};
+    }
+    double formula(const std::string& name, const FormulaInputs& inputs) const override {
+        if (name != "memory_megabytes") return Kernel::formula(name, inputs);
+        const auto whole = [&](const char* key, double lo, double hi) {
+            const std::vector<double>& v = inputs.at(key);
+            for (const double x : v)
+                if (!(x >= lo && x <= hi && x == std::floor(x))) throw std::domain_error(fmt::format("{} must be whole numbers from {} to {}", key, lo, hi));
+            return v;
+        };
+        const std::vector<double> dims = whole("dims", 1, 65536);
+        if (dims.size() != 3) throw std::domain_error("dims must be three sizes");
+        const auto one = [&](const char* key, double lo, double hi) {
+            const std::vector<double> v = whole(key, lo, hi);
+            if (v.size() != 1) throw std::domain_error(std::string(key) + " must be one number");
+            return static_cast<int>(v[0]);
+        };
+        PermMemory m;
+        m.dims = glm::ivec3(static_cast<int>(dims[0]), static_cast<int>(dims[1]), static_cast<int>(dims[2]));
+        m.candidates = static_cast<std::uint64_t>(whole("candidates", 0, 1e12).at(0));
+        m.density_positions = one("density_positions", 1, 64);
+        m.gradient_positions = one("gradient_positions", 1, 64);
+        m.index_bytes = one("index_bytes", 1, 8);
+        m.density_bytes = one("density_bytes", 1, 8);
+        return static_cast<double>(m.total_bytes()) / 1e6;
+    }
+};
+
+}  // namespace
+
+const Kernel& perm_kernel() {
+    static const PermKernel kernel;
+    return kernel;
+}
+
+}  // namespace pp5

@@ -1,0 +1,174 @@
+#include "kernels/perm/perm_ray_caster.h"
+
+#include "kernels/perm/perm_costs.h"
+#include "kernels/reference/ray_march.h"
+#include "kernels/reference/sample_shader.h"
+#include "kernels/reference/shading_view.h"
+#include "kernels/render/front_to_back.h"
+
+#include <glm/geometric.hpp>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace pp5 {
+
+namespace {
+
+// One ray's recorded work: a fetch of each cell it entered, with the samples before it, then the rest.
+struct RayRecord {
+    struct Touch {
+        std::uint32_t block;
+        std::uint32_t samples, empty, leaped;
+    };
+    std::vector<Touch> touches;
+    std::uint32_t tail_samples = 0, tail_empty = 0, tail_leaped = 0;
+};
+
+struct TileResult {
+    std::vector<RayRecord> rays;
+    PermCastCounts counts;
+};
+
+}  // namespace
+
+PermRayCaster::PermRayCaster(const PermStructure& structure, glm::vec3 spacing, const PermSettings& settings,
+                             std::function<std::uint32_t(glm::ivec3)> renderer_of_cell)
+    : structure_(&structure), spacing_(spacing), settings_(settings) {
+    // A block may be leapt over when none of its cells is a candidate: mark every candidate's corners.
+    const glm::ivec3 d = structure.dims();
+    std::vector<float> marks(static_cast<std::size_t>(d.x) * static_cast<std::size_t>(d.y) * static_cast<std::size_t>(d.z), 0.0f);
+    for (std::uint32_t c = 0; c < structure.candidates(); ++c) {
+        const glm::ivec3 o = structure.cell_origin(c);
+        for (int k = 0; k < 8; ++k) {
+            const glm::ivec3 v = o + glm::ivec3(k & 1, (k >> 1) & 1, k >> 2);
+            marks[static_cast<std::size_t>(v.x) + static_cast<std::size_t>(d.x) * (static_cast<std::size_t>(v.y) + static_cast<std::size_t>(d.y) * static_cast<std::size_t>(v.z))] = 1.0f;
+        }
+    }
+    occupancy_ = occupancy_from_opacity(d, marks);
+    if (renderer_of_cell) {
+        const auto words = static_cast<std::uint32_t>((structure.memory().record_bytes() + 3) / 4);
+        std::vector<std::uint32_t> first_part;
+        std::vector<BlockPart> parts;
+        for (std::uint32_t c = 0; c < structure.candidates(); ++c) {
+            first_part.push_back(static_cast<std::uint32_t>(parts.size()));
+            parts.push_back(BlockPart{renderer_of_cell(structure.cell_origin(c)), words});
+        }
+        first_part.push_back(static_cast<std::uint32_t>(parts.size()));
+        records_ = std::make_shared<const BlockDirectory>(std::uint64_t{words} * 32, 32, std::move(first_part), std::move(parts));
+    }
+}
+
+PermFrame PermRayCaster::cast(const Classification& classification, const ColorMap& colors, const PhongLighting& lighting,
+                              const Camera& camera, const PermCastSettings& cs) const {
+    const PermStructure& perm = *structure_;
+    const glm::ivec3 dims = perm.dims();
+    const detail::MarchFrame frame(dims, spacing_, cs.sample_step);
+    const PixelRays rays(camera, cs.width, cs.height);
+    const SampleShader shader(colors, lighting, make_shading_view(camera, dims, spacing_), spacing_);
+    const int tile = settings_.tile_pixels;
+    const int tiles_x = (cs.width + tile - 1) / tile, tiles_y = (cs.height + tile - 1) / tile;
+    const int tiles = tiles_x * tiles_y;
+    PermFrame out;
+    out.image = Image(cs.width, cs.height);
+    std::vector<TileResult> results(static_cast<std::size_t>(tiles));
+    tbb::parallel_for(0, tiles, [&](int t) {
+        TileResult& result = results[static_cast<std::size_t>(t)];
+        const int x0 = (t % tiles_x) * tile, y0 = (t / tiles_x) * tile;
+        for (int py = y0; py < std::min(y0 + tile, cs.height); ++py)
+            for (int px = x0; px < std::min(x0 + tile, cs.width); ++px) {
+                RayRecord record;
+                FrontToBack color(cs.sample_step, cs.termination_opacity);
+                ++result.counts.rays;
+                std::int64_t current = -1;  // the cell whose record the ray holds
+                std::uint32_t samples = 0, empty = 0;  // since the last fetch
+                std::uint64_t ray_samples = 0, ray_empty = 0;
+                if (const auto ray = detail::clip_to_volume(rays.ray(px, py), frame)) {
+                    const detail::MarchCounts marched = detail::march(*ray, &occupancy_, [&](int, glm::vec3 position) {
+                        const glm::vec3 p = glm::clamp(position, glm::vec3(0.0f), glm::vec3(dims - 1));
+                        const glm::ivec3 cell = glm::min(glm::ivec3(p), dims - 2);
+                        const std::int32_t candidate = perm.index(cell.x, cell.y, cell.z);
+                        if (candidate == PermStructure::kNull) {
+                            ++empty;
+                            ++ray_empty;
+                            return false;
+                        }
+                        if (candidate != current) {
+                            record.touches.push_back({static_cast<std::uint32_t>(candidate), samples, empty, 0});
+                            samples = empty = 0;
+                            current = candidate;
+                            ++result.counts.cell_fetches;
+                        }
+                        ++samples;
+                        ++ray_samples;
+                        const PermStructure::Sample s = perm.lookup(static_cast<std::uint32_t>(candidate), p - glm::vec3(cell),
+                                                                    &result.counts.carried_lookups);
+                        const float alpha = classification.opacity(s.value, glm::length(s.gradient));
+                        if (!(alpha > 0.0f)) return false;
+                        return color.add(shader.shade(s.value, s.gradient, p * spacing_), alpha);
+                    });
+                    record.tail_leaped = static_cast<std::uint32_t>(marched.skipped);
+                    result.counts.leaped_samples += marched.skipped;
+                    if (marched.terminated) ++result.counts.rays_terminated;
+                }
+                record.tail_samples = samples;
+                record.tail_empty = empty;
+                result.counts.samples += ray_samples;
+                result.counts.empty_samples += ray_empty;
+                out.image.at(px, py) = color.over(cs.background);
+                result.rays.push_back(std::move(record));
+            }
+    });
+
+    // The recorded work, tile by tile.
+    GpPhase& work = out.work;
+    work.groups = 1;
+    work.assignment = TaskAssignment::Static;
+    work.blocks = records_;
+    constexpr int kRowSkew = 7;  // as Levoy's kernel: each row of tile keys skewed, so a GP's tiles spread out
+    const auto step = [&](std::uint32_t samples, std::uint32_t empty, std::uint32_t leaped, std::uint32_t block, bool setup) {
+        GpStep s{static_cast<std::uint32_t>(work.ops.size()), 0, records_ ? block : kNoFetch};
+        if (setup) append_ops(work.ops, kPermRaySetup, 1);
+        append_ops(work.ops, kPermSample, samples);
+        append_ops(work.ops, kPermEmptySample, empty);
+        append_ops(work.ops, kPermLeapedSample, leaped);
+        s.op_count = static_cast<std::uint32_t>(work.ops.size()) - s.first_op;
+        work.steps.push_back(s);
+    };
+    for (int t = 0; t < tiles; ++t) {
+        TileResult& result = results[static_cast<std::size_t>(t)];
+        GpTask task;
+        task.key = static_cast<std::uint32_t>(t + kRowSkew * (t / tiles_x));
+        task.first_item = static_cast<std::uint32_t>(work.items.size());
+        for (const RayRecord& r : result.rays) {
+            GpItem item{static_cast<std::uint32_t>(work.steps.size()), 0};
+            bool setup = true;
+            for (const RayRecord::Touch& touch : r.touches) {
+                step(touch.samples, touch.empty, touch.leaped, touch.block, setup);
+                setup = false;
+                ++item.step_count;
+            }
+            step(r.tail_samples, r.tail_empty, r.tail_leaped, kNoFetch, setup);
+            ++item.step_count;
+            work.items.push_back(item);
+        }
+        task.item_count = static_cast<std::uint32_t>(result.rays.size());
+        task.first_finish_op = static_cast<std::uint32_t>(work.ops.size());
+        append_ops(work.ops, kPermPixel, result.rays.size());
+        task.finish_op_count = static_cast<std::uint32_t>(work.ops.size()) - task.first_finish_op;
+        task.pixels = static_cast<std::uint32_t>(result.rays.size());
+        work.tasks.push_back(task);
+        const PermCastCounts& c = result.counts;
+        out.counts.rays += c.rays;
+        out.counts.rays_terminated += c.rays_terminated;
+        out.counts.samples += c.samples;
+        out.counts.empty_samples += c.empty_samples;
+        out.counts.leaped_samples += c.leaped_samples;
+        out.counts.cell_fetches += c.cell_fetches;
+        out.counts.carried_lookups += c.carried_lookups;
+    }
+    return out;
+}
+
+}  // namespace pp5
