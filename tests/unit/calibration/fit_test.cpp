@@ -267,6 +267,15 @@ TEST(Targets, TheShippedWilsonFileLoads) {
     EXPECT_EQ(set.figures.size(), 2u);
 }
 
+TEST(Targets, TheShippedLimShinFileLoadsAndMatchesBothTables) {
+    const TargetSet set = load_targets(resolve_targets_file("lim-shin"));
+    const CalibrationModel model(set);
+    const FitReport report = evaluate_targets(model, {});
+    ASSERT_EQ(report.results.size(), 10u);
+    // Tables 1 and 2 print whole megabytes: every row rounds to what is printed.
+    for (const TargetResult& r : report.results) EXPECT_EQ(std::lround(r.simulated), std::lround(r.target.reported)) << r.target.id;
+}
+
 TEST(Targets, TheShippedYuanFileLoads) {
     const TargetSet set = load_targets(resolve_targets_file("yuan03"));
     int ratios = 0;
