@@ -7,6 +7,7 @@
 #include "sim/core/input_error.h"
 
 #include <fmt/format.h>
+#include <glm/vector_relational.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -31,18 +32,27 @@ struct PermKernelFrame final : KernelFrame {
 class PermRun final : public KernelRun {
 public:
     PermRun(Machine& machine, const MachineConfig& config, const Scenario& scenario, const Volume& volume)
-        : volume_(volume), image_(scenario.image), settings_(PermSettings::from(config)),
+        : volume_(volume), image_(scenario.image), scenario_file_(scenario.file.string()), settings_(PermSettings::from(config)),
           renderers_(static_cast<std::uint32_t>(config.integer("renderer.count"))),
           renderer_bytes_(static_cast<std::uint64_t>(config.integer("renderer.pp_columns")) *
                           static_cast<std::uint64_t>(config.integer("renderer.pp_rows")) *
                           static_cast<std::uint64_t>(config.integer("renderer.backing_store_bits")) / 8),
           gp_memory_bytes_(static_cast<std::uint64_t>(config.integer("gp.memory_bytes"))) {
         (void)machine;
+        check_reduction(scenario);
         build(scenario.frames.front().classification);
     }
 
     std::unique_ptr<KernelFrame> record_frame(const FrameSpec& frame) override {
         auto out = std::make_unique<PermKernelFrame>();
+        const Camera camera = frame_camera(frame, volume_);
+        if (settings_.reduction_cells > 0) {
+            const glm::vec3 eye = camera.eye / volume_.spacing();
+            if (camera.projection == Projection::Perspective && glm::all(glm::greaterThanEqual(eye, glm::vec3(0.0f))) &&
+                glm::all(glm::lessThanEqual(eye, glm::vec3(volume_.dims() - 1))))
+                throw InputError(scenario_file_, "camera", "the eye is inside the volume, where perm.reduction_cells's dropped cells are "
+                                                           "visible; set it to 0 for this view");
+        }
         // The structure depends on which cells may be visible: a new classification rebuilds it (on
         // the host, before the frame, as the paper's preprocessing).
         if (frame.classification != built_for_) {
@@ -50,7 +60,7 @@ public:
             out->rebuilt = true;
         }
         PermCastSettings cs{image_.width, image_.height, image_.sample_step, image_.termination_opacity, image_.background};
-        PermFrame cast = caster_->cast(frame.classification, frame.colors, frame.lighting, frame_camera(frame, volume_), cs);
+        PermFrame cast = caster_->cast(frame.classification, frame.colors, frame.lighting, camera, cs);
         FrameWork& work = out->work;
         work.op_kinds = perm_op_kinds();
         work.phases.push_back(Phase{"ray_casting", std::move(cast.work)});
@@ -101,6 +111,7 @@ public:
         const PermMemory m = structure_->memory();
         return {{"perm",
                  {{"candidates", m.candidates},
+                  {"candidates_before_reduction", structure_->candidates_before_reduction()},
                   {"cells", static_cast<std::uint64_t>(std::max(0, volume_.dims().x - 1)) * static_cast<std::uint64_t>(std::max(0, volume_.dims().y - 1)) *
                                 static_cast<std::uint64_t>(std::max(0, volume_.dims().z - 1))},
                   {"density_positions", m.density_positions},
@@ -118,6 +129,22 @@ public:
     }
 
 private:
+    // The reduction leaves pictures unchanged only if a ray crossing t_e - 2 opaque cells (a diagonal
+    // ray may skip a sample in a cell at each end) has reached the termination opacity.
+    void check_reduction(const Scenario& scenario) const {
+        if (settings_.reduction_cells == 0) return;
+        const double stop = scenario.image.termination_opacity;
+        const double alpha = settings_.reduction_opacity;
+        const double needed = stop < 1 && alpha < 1 ? 2 + std::log(1 - stop) / std::log(1 - alpha) : 2;
+        if (stop >= 1 || settings_.reduction_cells < std::ceil(needed))
+            throw InputError("machine configuration", "perm.reduction_cells",
+                             stop >= 1 ? std::string("rays never terminate early (image.termination_opacity = 1), so no cell can be dropped")
+                                       : fmt::format("{} cells of opacity {} bring a ray to {:.3f}, short of its termination at {}; use at "
+                                                     "least {} (or raise perm.reduction_opacity)",
+                                                     settings_.reduction_cells - 2, alpha,
+                                                     1 - std::pow(1 - alpha, settings_.reduction_cells - 2), stop, std::ceil(needed)));
+    }
+
     std::uint32_t renderer_of_cell(glm::ivec3 origin) const {
         const glm::ivec3 b = origin / kRecordBrick;
         const glm::ivec3 n = (volume_.dims() + kRecordBrick - 1) / kRecordBrick;
@@ -166,6 +193,7 @@ private:
 
     const Volume& volume_;
     ImageSpec image_;
+    std::string scenario_file_;
     PermSettings settings_;
     std::uint32_t renderers_;
     std::uint64_t renderer_bytes_;

@@ -37,7 +37,15 @@ const ParamGroup& PermSettings::params() {
                   "Where the structure lives: the renderers' backing store, fetched by the GPs through their caches, or a copy in "
                   "every GP's memory (when it fits)",
                   Provenance::Default, "pp5sim: the records sit beside the voxels they were built from, as Levoy's voxels do")
-            .integer("tile_pixels", 16, "pixels", 2, 256, "Edge of the screen tiles dealt to GPs", Provenance::Default, "pp5sim");
+            .integer("tile_pixels", 16, "pixels", 2, 256, "Edge of the screen tiles dealt to GPs", Provenance::Default, "pp5sim")
+            .integer("reduction_cells", 0, "cells", 0, 1000,
+                     "t_e: drop candidate cells more than this many cells deep inside opaque ones, seen from outside the volume, "
+                     "where no ray reaches them before terminating (0 keeps every candidate)",
+                     Provenance::Paper, paper("section 5: properties (1) and (2), peeling to t >= t_e"))
+            .real("reduction_opacity", 0.5, "opacity", 0.01, 1,
+                  "alpha_e: a cell counts as opaque for the reduction when no sample in it can have less opacity",
+                  Provenance::Default, "pp5sim: the paper's 'fully opaque' is not defined; with it the reduction is safe when "
+                                       "(1 - alpha_e)^(t_e - 2) <= 1 - the termination opacity");
         return g;
     }();
     return group;
@@ -56,6 +64,8 @@ PermSettings PermSettings::from(const MachineConfig& config) {
         throw InputError("machine configuration", "perm.index_bytes", "must be 2 (per-slice indices and a summed table) or 4");
     s.residence = config.text("perm.residence") == "gp_memory" ? PermResidence::GpMemory : PermResidence::Renderers;
     s.tile_pixels = static_cast<int>(config.integer("perm.tile_pixels"));
+    s.reduction_cells = static_cast<int>(config.integer("perm.reduction_cells"));
+    s.reduction_opacity = config.real("perm.reduction_opacity");
     return s;
 }
 

@@ -30,6 +30,8 @@ struct PermSettings {
     int index_bytes = 2;         // bytes per index-volume entry (2: per-slice indices and a summed table)
     PermResidence residence = PermResidence::Renderers;
     int tile_pixels = 16;        // edge of the screen tiles dealt to GPs
+    int reduction_cells = 0;     // t_e: keep candidates at most this many opaque cells deep (0: keep all)
+    double reduction_opacity = 0.5;  // alpha_e: a cell counts as opaque when no sample in it is below this
 
     static const ParamGroup& params();
     static PermSettings from(const MachineConfig& config);

@@ -24,6 +24,110 @@ T in_cell(const T (&c)[8], glm::vec3 w) {
     return lerp(lerp(x00, x10, w.y), lerp(x01, x11, w.y), w.z);
 }
 
+// Section 5's reduction, for views from outside the volume: a ray that reaches a cell has crossed every
+// cell between it and the outside, so a candidate more than t_e cells (in 26-connected steps) inside
+// cells whose every sample is at least alpha_e opaque is never reached before the ray terminates.
+// Sources are the outside, the cells connected to it through non-candidates, and every candidate that
+// is not opaque (rays pass through those); cavities enclosed by opaque cells are not sources.
+void reduce(const Volume& volume, const GradientField& gradients, const Classification& classification, const PermSettings& s,
+            std::vector<std::vector<glm::ivec3>>& per_slice) {
+    const glm::ivec3 c = volume.dims() - 1;
+    const auto cell = [&](glm::ivec3 q) {
+        return static_cast<std::size_t>(q.x) + static_cast<std::size_t>(c.x) * (static_cast<std::size_t>(q.y) + static_cast<std::size_t>(c.y) * static_cast<std::size_t>(q.z));
+    };
+    const std::size_t cells = static_cast<std::size_t>(c.x) * static_cast<std::size_t>(c.y) * static_cast<std::size_t>(c.z);
+    enum : std::uint8_t { kEmpty, kTranslucent, kOpaque };
+    std::vector<std::uint8_t> kind(cells, kEmpty);
+    const PositionTable density(s.density_positions, s.qbm, s.positions), gradient(s.gradient_positions, s.qbm, s.positions);
+    tbb::parallel_for(std::size_t{0}, per_slice.size(), [&](std::size_t z) {
+        for (const glm::ivec3& o : per_slice[z]) {
+            float values[8];
+            glm::vec3 grads[8];
+            for (int k = 0; k < 8; ++k) {
+                const glm::ivec3 v = o + glm::ivec3(k & 1, (k >> 1) & 1, k >> 2);
+                values[k] = volume.at(v.x, v.y, v.z);
+                grads[k] = gradients.at(volume.index(v.x, v.y, v.z));
+            }
+            // The least gradient magnitude any sample here reads, then the least opacity: Levoy's
+            // functions do not fall as the gradient grows, so that bounds every sample's opacity.
+            float least_gradient = 1e30f;
+            const int gn = gradient.positions(), dn = density.positions();
+            for (int i = 0; i < gn * gn * gn; ++i) {
+                const glm::vec3 w(static_cast<float>(gradient.offset(i % gn)), static_cast<float>(gradient.offset((i / gn) % gn)),
+                                  static_cast<float>(gradient.offset(i / (gn * gn))));
+                least_gradient = std::min(least_gradient, glm::length(in_cell(grads, w)));
+            }
+            float least = 1;
+            for (int i = 0; i < dn * dn * dn && least >= s.reduction_opacity; ++i) {
+                const glm::vec3 w(static_cast<float>(density.offset(i % dn)), static_cast<float>(density.offset((i / dn) % dn)),
+                                  static_cast<float>(density.offset(i / (dn * dn))));
+                least = std::min(least, classification.opacity(in_cell(values, w), least_gradient));
+            }
+            kind[cell(o)] = least >= s.reduction_opacity ? kOpaque : kTranslucent;
+        }
+    });
+    // Breadth first from the sources, 26-connected through opaque cells; the outside is depth 0.
+    constexpr std::int32_t kUnreached = -1;
+    std::vector<std::int32_t> depth(cells, kUnreached);
+    std::vector<std::size_t> frontier;
+    // Empty cells reached from the outside through empty cells (6-connected).
+    std::vector<std::size_t> open;
+    for (int z = 0; z < c.z; ++z)
+        for (int y = 0; y < c.y; ++y)
+            for (int x = 0; x < c.x; ++x) {
+                const bool boundary = x == 0 || y == 0 || z == 0 || x == c.x - 1 || y == c.y - 1 || z == c.z - 1;
+                const std::size_t i = cell({x, y, z});
+                if (kind[i] == kTranslucent || (boundary && kind[i] == kEmpty)) {
+                    depth[i] = 0;
+                    if (kind[i] == kEmpty) open.push_back(i);
+                    frontier.push_back(i);
+                } else if (boundary && kind[i] == kOpaque) {
+                    depth[i] = 1;  // next to the outside
+                    frontier.push_back(i);
+                }
+            }
+    const auto coords = [&](std::size_t i) {
+        return glm::ivec3(static_cast<int>(i % static_cast<std::size_t>(c.x)), static_cast<int>((i / static_cast<std::size_t>(c.x)) % static_cast<std::size_t>(c.y)),
+                          static_cast<int>(i / (static_cast<std::size_t>(c.x) * static_cast<std::size_t>(c.y))));
+    };
+    const auto inside = [&](glm::ivec3 q) { return q.x >= 0 && q.y >= 0 && q.z >= 0 && q.x < c.x && q.y < c.y && q.z < c.z; };
+    for (std::size_t k = 0; k < open.size(); ++k) {
+        const glm::ivec3 q = coords(open[k]);
+        for (const glm::ivec3 step : {glm::ivec3(1, 0, 0), glm::ivec3(-1, 0, 0), glm::ivec3(0, 1, 0), glm::ivec3(0, -1, 0), glm::ivec3(0, 0, 1), glm::ivec3(0, 0, -1)}) {
+            const glm::ivec3 n = q + step;
+            if (!inside(n)) continue;
+            const std::size_t i = cell(n);
+            if (kind[i] != kEmpty || depth[i] != kUnreached) continue;
+            depth[i] = 0;
+            open.push_back(i);
+            frontier.push_back(i);
+        }
+    }
+    // Depth through opaque cells: each source's neighbours first (stable order keeps it deterministic).
+    std::sort(frontier.begin(), frontier.end(), [&](std::size_t a, std::size_t b) { return depth[a] != depth[b] ? depth[a] < depth[b] : a < b; });
+    for (std::size_t k = 0; k < frontier.size(); ++k) {
+        const std::size_t from = frontier[k];
+        const glm::ivec3 q = coords(from);
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const glm::ivec3 n = q + glm::ivec3(dx, dy, dz);
+                    if (!inside(n)) continue;
+                    const std::size_t i = cell(n);
+                    if (kind[i] != kOpaque || depth[i] != kUnreached) continue;
+                    depth[i] = depth[from] + 1;
+                    frontier.push_back(i);
+                }
+    }
+    for (auto& slice : per_slice)
+        slice.erase(std::remove_if(slice.begin(), slice.end(),
+                                   [&](const glm::ivec3& o) {
+                                       const std::int32_t d = depth[cell(o)];
+                                       return d == kUnreached || d > s.reduction_cells;
+                                   }),
+                    slice.end());
+}
+
 }  // namespace
 
 std::uint64_t PermMemory::index_volume_bytes() const {
@@ -102,6 +206,8 @@ PermStructure PermStructure::build(const Volume& volume, const Classification& c
                 if (candidate) per_slice[static_cast<std::size_t>(z)].push_back({x, y, z});
             }
     });
+    for (const auto& slice : per_slice) p.unreduced_ += slice.size();
+    if (s.reduction_cells > 0) reduce(volume, gradients, classification, s, per_slice);
     for (std::size_t z = 0; z < per_slice.size(); ++z) {
         if (s.index_bytes == 2 && per_slice[z].size() > 65535)
             throw InputError("machine configuration", "perm.index_bytes",

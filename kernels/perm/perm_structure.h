@@ -70,6 +70,7 @@ public:
                                const FitCheck& before_records = {});
 
     std::uint64_t candidates() const { return cell_origin_.size(); }
+    std::uint64_t candidates_before_reduction() const { return unreduced_; }
     // The candidate index of the cell whose origin is voxel (x, y, z), or kNull.
     std::int32_t index(int x, int y, int z) const { return index_[volume_index(x, y, z)]; }
     glm::ivec3 cell_origin(std::uint32_t candidate) const { return cell_origin_[candidate]; }
@@ -105,6 +106,7 @@ private:
     float value_min_ = 0, value_range_ = 1;
     float density_steps_ = 255;
     glm::vec3 gradient_max_{0.0f};             // per axis, what magnitude 255 means
+    std::uint64_t unreduced_ = 0;
 };
 
 }  // namespace pp5

@@ -177,6 +177,38 @@ TEST(PermDeterminism, SamePictureAndCountsAtAnyThreadOrGpCount) {
     EXPECT_NE(a.stats["simulated_seconds"], c.stats["simulated_seconds"]);
 }
 
+TEST(PermReduction, DropsCellsNoRayReachesAndLeavesThePictureAsItWas) {
+    // Solid material (a ramp to 0.9 opacity): cells deep inside the skull are never reached.
+    const auto path = temp_file("solid.toml");
+    std::ofstream(path) << "[scenario]\nkernel = \"perm\"\n[dataset]\nphantom = \"head\"\nsize = 96\n[classification]\n"
+                           "kind = \"piecewise-linear\"\npoints = [{ value = 40.0, opacity = 0.0 }, { value = 80.0, opacity = 0.9 }]\n"
+                           "[camera]\nprojection = \"perspective\"\nview_from = [0.3, -1.0, 0.4]\nup = [0.0, 0.0, 1.0]\n"
+                           "[image]\nwidth = 96\nheight = 96\nresampling = \"interpolate-then-shade\"\n";
+    const Scenario s = load_scenario(path);
+    std::filesystem::remove(path);
+    const std::vector<std::string> coarse = {"perm.gradient_positions=3", "perm.reduction_opacity=0.6"};
+    auto with = [&](const char* cells) {
+        std::vector<std::string> o = coarse;
+        o.push_back(std::string("perm.reduction_cells=") + cells);
+        return o;
+    };
+    const Result all = render_once(s, with("0"));
+    const MachineConfig config = load_run_config("pxpl5", with("6"));
+    Machine machine(config);
+    const Volume volume = load_dataset(s);
+    auto run = kernel_for(s).start(machine, config, s, volume);
+    const nlohmann::json placement = run->run_stats()["perm"];
+    EXPECT_LT(placement["candidates"].get<double>(), 0.9 * placement["candidates_before_reduction"].get<double>());
+    EXPECT_EQ(to_rgb8(run->record_frame(s.frames.front())->pass_images.back()), to_rgb8(all.image));
+    // Too few cells for the termination opacity, and a view from inside, are refused.
+    try {
+        render_once(s, with("3"));
+        ADD_FAILURE() << "an unsafe reduction was accepted";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.field(), "perm.reduction_cells") << e.what();
+    }
+}
+
 TEST(PermFit, AStructureThatDoesNotFitIsRefusedSayingWhatItNeeds) {
     const Scenario s = phantom_scenario("fit", 40, 64);
     const auto expect_refused = [&](const std::vector<std::string>& overrides, const std::string& field) {
