@@ -123,7 +123,7 @@ public:
                   {"total_megabytes", static_cast<double>(m.total_bytes()) / 1e6},
                   {"residence", settings_.residence == PermResidence::GpMemory ? "gp_memory" : "renderers"},
                   {"busiest_renderer_bytes", busiest_renderer_bytes_},
-                  {"build_host_seconds", build_seconds_},
+                  {"build", {{"host_seconds", build_seconds_}, {"note", "the structure made on this computer, before the frames"}}},
                   {"note", "eqs. (3) and (6): the index volume (with a 4-byte summed count per z slice at 2-byte indices) and "
                            "N_cc records of D^3 density bytes and G^3 x (3 gradient bytes + a sign byte); MB = 10^6 bytes"}}}};
     }
