@@ -69,7 +69,7 @@ void for_each_region(int x0, int y0, int x1, int y1, int rc, int rr, int regions
 // recorded work. Each step reads what the steps before it left.
 class FrameBuilder {
 public:
-    FrameBuilder(const HybridSlicer& slicer, const WilsonSettings& settings, const SliceMachine& machine, const HybridVolume& hybrid,
+    FrameBuilder(const HybridSlicer& slicer, const WilsonSettings& settings, const RegionMachine& machine, const HybridVolume& hybrid,
                  glm::vec3 spacing, glm::ivec3 bricks, const SliceFormat& format, const SlicePrograms& programs,
                  const ShadedVolume& shaded_texels, const PointLook& point_look, const Camera& view, int image_width, int image_height,
                  glm::vec3 image_background)
@@ -437,7 +437,7 @@ private:
                 std::uint32_t total = 0;
                 for (int z = lo.z; z < hi.z; ++z)
                     for (int y = lo.y; y < hi.y; ++y)
-                        for (int x = lo.x; x < hi.x; ++x, ++total) ++per[static_cast<std::size_t>(machine_.renderer_of_texel({x, y, z}))];
+                        for (int x = lo.x; x < hi.x; ++x, ++total) ++per[static_cast<std::size_t>(machine_.renderer_of_voxel({x, y, z}))];
                 for (std::size_t r = 0; r < per.size(); ++r)
                     if (per[r] > 0) parts.push_back(BlockPart{static_cast<std::uint32_t>(r), per[r]});
                 first_part.push_back(static_cast<std::uint32_t>(parts.size()));
@@ -625,7 +625,7 @@ private:
 
     const HybridSlicer& slicer_;
     const WilsonSettings& settings_;
-    const SliceMachine& machine_;
+    const RegionMachine& machine_;
     const HybridVolume* hybrid_;
     glm::vec3 spacing_;
     glm::ivec3 bricks_;
@@ -663,7 +663,7 @@ private:
 
 }  // namespace
 
-HybridSlicer::HybridSlicer(const WilsonSettings& settings, const SliceMachine& machine, const HybridVolume& hybrid, glm::vec3 spacing)
+HybridSlicer::HybridSlicer(const WilsonSettings& settings, const RegionMachine& machine, const HybridVolume& hybrid, glm::vec3 spacing)
     : settings_(settings), machine_(machine), hybrid_(&hybrid), spacing_(spacing),
       bricks_((hybrid.low_resolution().dims() + settings.brick_voxels - 1) / settings.brick_voxels),
       format_{settings.accumulator_bits}, programs_(format_, machine.local_memory_bits) {}

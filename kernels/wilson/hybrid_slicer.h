@@ -23,6 +23,7 @@
 #include "kernels/render/classification.h"
 #include "kernels/render/image.h"
 #include "kernels/render/shading.h"
+#include "kernels/screen_regions/region_machine.h"
 #include "kernels/wilson/hybrid_volume.h"
 #include "kernels/wilson/slice_programs.h"
 #include "kernels/wilson/wilson_settings.h"
@@ -67,15 +68,6 @@ struct HybridFrame {
     GpPhase work;          // the "slicing" phase
 };
 
-// The machine's shape as the slicer needs it.
-struct SliceMachine {
-    int region_columns = 128;
-    int region_rows = 128;
-    int renderers = 16;
-    int local_memory_bits = 208;
-    std::function<int(glm::ivec3)> renderer_of_texel;  // where the voxel store keeps each low-resolution voxel
-};
-
 // How points are coloured this frame (the GPs shade them; the PPs shade the texels).
 struct PointLook {
     const Classification* classification = nullptr;
@@ -87,7 +79,7 @@ struct PointLook {
 class HybridSlicer {
 public:
     // `spacing`: the original voxel size; `hybrid` must outlive the slicer.
-    HybridSlicer(const WilsonSettings& settings, const SliceMachine& machine, const HybridVolume& hybrid, glm::vec3 spacing);
+    HybridSlicer(const WilsonSettings& settings, const RegionMachine& machine, const HybridVolume& hybrid, glm::vec3 spacing);
     // `texels`: the low-resolution volume's shaded voxels (colour not premultiplied, opacity per voxel).
     HybridFrame render(const ShadedVolume& texels, const PointLook& look, const Camera& camera, int width, int height,
                        glm::vec3 background) const;
@@ -100,7 +92,7 @@ public:
 
 private:
     WilsonSettings settings_;
-    SliceMachine machine_;
+    RegionMachine machine_;
     const HybridVolume* hybrid_;
     glm::vec3 spacing_;
     glm::ivec3 bricks_;

@@ -1,6 +1,7 @@
 #include "kernels/wilson/slice_programs.h"
 
 #include <algorithm>
+#include <utility>
 
 namespace pp5 {
 
@@ -39,6 +40,22 @@ void assign_clamped(PpProgramBuilder& b, PpField field, PpField value, std::int6
     b.release(value);
     b.assign(field, clamped);
     b.release(clamped);
+}
+
+// Channel by channel, target = min(front + target (1 - a), top): "over" with `clear` = 1 - a, which is
+// released after. front(c) gives channel c's premultiplied value and whether this releases it.
+template <class Front>
+void composite_over(PpProgramBuilder& b, const SliceState& s, PpField clear, const SliceFormat& f, Front&& front) {
+    for (int c = 0; c < 4; ++c) {
+        const PpField target = c == 3 ? s.alpha : s.color[c];
+        const PpField behind = b.mul("behind", target, clear, f.accumulator_bits);
+        const auto [value, owned] = front(c);
+        const PpField sum = b.add("sum", value, behind);
+        if (owned) b.release(value);
+        b.release(behind);
+        assign_clamped(b, target, sum, f.top());
+    }
+    b.release(clear);
 }
 
 // Where (x - x0)(x1 - x) >= 0: the integers x0..x1, as a quadratic of the region-local position.
@@ -120,16 +137,9 @@ PpProgram SlicePrograms::composite() const {
     const PpField one = b.set_const("one", f.one());
     const PpField clear = b.sub("1-a", one, s.slice[3]);
     b.release(one);
-    for (int c = 0; c < 4; ++c) {
-        const PpField target = c == 3 ? s.alpha : s.color[c];
-        const PpField behind = b.mul("behind", target, clear, f.accumulator_bits);
-        const PpField front = c == 3 ? b.move("a", s.slice[3]) : b.mul("a_c", s.slice[c], s.slice[3], f.accumulator_bits);
-        const PpField sum = b.add("sum", front, behind);
-        b.release(front);
-        b.release(behind);
-        assign_clamped(b, target, sum, f.top());
-    }
-    b.release(clear);
+    composite_over(b, s, clear, f, [&](int c) {
+        return std::pair{c == 3 ? b.move("a", s.slice[3]) : b.mul("a_c", s.slice[c], s.slice[3], f.accumulator_bits), true};
+    });
     for (int c = 0; c < 4; ++c) b.assign_const(s.slice[c], 0);
     return b.finish();
 }
@@ -149,16 +159,7 @@ PpProgram SlicePrograms::point() const {
     const PpField clear = b.sub("1-a", one, alpha);
     b.release(one);
     b.release(alpha);
-    for (int c = 0; c < 4; ++c) {
-        const PpField target = c == 3 ? s.alpha : s.color[c];
-        const PpField behind = b.mul("behind", target, clear, f.accumulator_bits);
-        const PpField front = b.qee("a_c", 2 + c, f.accumulator_bits, false, 0);
-        const PpField sum = b.add("sum", front, behind);
-        b.release(front);
-        b.release(behind);
-        assign_clamped(b, target, sum, f.top());
-    }
-    b.release(clear);
+    composite_over(b, s, clear, f, [&](int c) { return std::pair{b.qee("a_c", 2 + c, f.accumulator_bits, false, 0), true}; });
     return b.finish();
 }
 
@@ -172,14 +173,7 @@ PpProgram SlicePrograms::block_over() const {
     const PpField one = b.set_const("one", f.one());
     const PpField clear = b.sub("1-a", one, s.slice[3]);
     b.release(one);
-    for (int c = 0; c < 4; ++c) {
-        const PpField target = c == 3 ? s.alpha : s.color[c];
-        const PpField behind = b.mul("behind", target, clear, f.accumulator_bits);
-        const PpField sum = b.add("sum", s.slice[c], behind);
-        b.release(behind);
-        assign_clamped(b, target, sum, f.top());
-    }
-    b.release(clear);
+    composite_over(b, s, clear, f, [&](int c) { return std::pair{s.slice[c], false}; });
     for (int c = 0; c < 4; ++c) b.assign_const(s.slice[c], 0);
     return b.finish();
 }

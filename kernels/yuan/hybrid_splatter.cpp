@@ -52,7 +52,7 @@ struct RegionEntry {
 
 }  // namespace
 
-HybridSplatter::HybridSplatter(const YuanSettings& settings, const SplatMachine& machine, glm::ivec3 dims, glm::vec3 spacing)
+HybridSplatter::HybridSplatter(const YuanSettings& settings, const RegionMachine& machine, glm::ivec3 dims, glm::vec3 spacing)
     : settings_(settings), machine_(machine), dims_(dims), spacing_(spacing),
       bricks_((dims + settings.brick_voxels - 1) / settings.brick_voxels),
       format_{settings.accumulator_bits, settings.footprint_table_bits},

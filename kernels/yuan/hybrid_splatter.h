@@ -15,6 +15,7 @@
 // assignment nor any timing parameter, and the recorded work can be re-timed on any machine.
 
 #include "kernels/reference/shaded_volume.h"
+#include "kernels/screen_regions/region_machine.h"
 #include "kernels/render/camera.h"
 #include "kernels/render/image.h"
 #include "kernels/yuan/footprint.h"
@@ -63,18 +64,9 @@ struct SplatFrame {
     GpPhase work;          // the "splatting" phase
 };
 
-// The machine's shape as the splatter needs it.
-struct SplatMachine {
-    int region_columns = 128;  // a renderer's PP array: the size of a screen region
-    int region_rows = 128;
-    int renderers = 16;
-    int local_memory_bits = 208;
-    std::function<int(glm::ivec3)> renderer_of_voxel;  // where the voxel store keeps each voxel
-};
-
 class HybridSplatter {
 public:
-    HybridSplatter(const YuanSettings& settings, const SplatMachine& machine, glm::ivec3 dims, glm::vec3 spacing);
+    HybridSplatter(const YuanSettings& settings, const RegionMachine& machine, glm::ivec3 dims, glm::vec3 spacing);
     // Splats the shaded voxels (colours not premultiplied; opacity per voxel step) for one camera.
     SplatFrame render(const ShadedVolume& voxels, const Camera& camera, int width, int height, glm::vec3 background) const;
 
@@ -84,7 +76,7 @@ public:
 
 private:
     YuanSettings settings_;
-    SplatMachine machine_;
+    RegionMachine machine_;
     glm::ivec3 dims_;
     glm::vec3 spacing_;
     glm::ivec3 bricks_;

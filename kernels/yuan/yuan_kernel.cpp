@@ -3,6 +3,7 @@
 #include "kernels/pp_volume/pp_shading.h"
 #include "kernels/reference/shading_view.h"
 #include "kernels/scenario/scenario_inputs.h"
+#include "kernels/screen_regions/region_machine.h"
 #include "kernels/yuan/hybrid_splatter.h"
 #include "kernels/yuan/yuan_costs.h"
 #include "sim/core/input_error.h"
@@ -99,28 +100,7 @@ public:
                               {"composited_pixels", c.composited_pixels},
                               {"footprint_rows", c.footprint_rows},
                               {"primitives_per_region", c.primitives_per_region}};
-        if (const PhaseTiming* s = timing.phase("splatting")) {
-            const GpPhaseCounts& g = s->gp;
-            std::vector<double> drawing;
-            for (const Tick t : g.renderer_drawing) drawing.push_back(seconds(t));
-            const double busiest = drawing.empty() ? 0.0 : *std::max_element(drawing.begin(), drawing.end());
-            const double mean = drawing.empty() ? 0.0 : std::accumulate(drawing.begin(), drawing.end(), 0.0) / static_cast<double>(drawing.size());
-            out["splatting"] = {{"gp_computing_seconds", seconds(g.gp_busy)},
-                                {"gp_waiting_seconds", seconds(g.gp_wait)},
-                                {"ring_busy_seconds", seconds(g.ring_busy)},
-                                {"renderers_answering_seconds", seconds(g.renderer_busy)},
-                                {"renderer_drawing_seconds", drawing},
-                                {"renderer_imbalance", mean > 0 ? busiest / mean : 0.0},
-                                {"note", "GP and ring times are summed over GPs and channels; imbalance is the busiest "
-                                         "renderer's drawing time over the mean"},
-                                {"brick_fetches", g.fetch_requests},
-                                {"brick_cache_hits", g.cache_hits},
-                                {"brick_cache_misses", g.cache_misses},
-                                {"batches_sent", g.batches_sent},
-                                {"batch_bits", g.batch_bits},
-                                {"primitives_drawn", g.primitives_drawn},
-                                {"events", g.events}};
-        }
+        if (const PhaseTiming* s = timing.phase("splatting")) out["splatting"] = region_phase_stats(s->gp);
         return out;
     }
 
@@ -140,16 +120,9 @@ public:
     }
 
 private:
-    static SplatMachine splat_machine(const Machine& machine, const PpShading& store) {
-        const MachineConfig& c = machine.config();
-        SplatMachine m;
-        m.region_columns = static_cast<int>(c.integer("renderer.pp_columns"));
-        m.region_rows = static_cast<int>(c.integer("renderer.pp_rows"));
-        m.renderers = static_cast<int>(c.integer("renderer.count"));
-        m.local_memory_bits = static_cast<int>(c.integer("renderer.local_memory_bits"));
+    static RegionMachine splat_machine(const Machine& machine, const PpShading& store) {
         const VoxelPlacement* placement = &store.placement();
-        m.renderer_of_voxel = [placement](glm::ivec3 v) { return placement->locate(v).renderer; };
-        return m;
+        return RegionMachine::from(machine.config(), [placement](glm::ivec3 v) { return placement->locate(v).renderer; });
     }
 
     const Volume& volume_;

@@ -87,8 +87,8 @@ TEST(WilsonSlices, AlongAnAxisTheyCompositeTheTexelsBilinearSamples) {
     std::mt19937 random(5);
     std::uniform_real_distribution<float> unit(0.0f, 1.0f);
     for (glm::vec4& t : texels.rgba) t = unit(random) < 0.2f ? glm::vec4(0.0f) : glm::vec4(unit(random), unit(random), unit(random), 0.25f * unit(random));
-    SliceMachine machine;
-    machine.renderer_of_texel = [](glm::ivec3) { return 0; };
+    RegionMachine machine;
+    machine.renderer_of_voxel = [](glm::ivec3) { return 0; };
     const HybridSlicer slicer(settings, machine, hybrid, volume.spacing());
     Camera camera;
     camera.projection = Projection::Parallel;
