@@ -24,6 +24,8 @@ const ParamGroup& perm_cost_params() {
         cycles("index_test_cycles", 4, "Find a sample's cell empty in the index volume", "the cell's index, a load and a compare");
         cycles("leap_cycles_per_sample", 1, "Leap one sample of empty space through the occupancy distance map",
                "a distance-map read every few samples and the jump, spread over the samples leapt");
+        flops("depth_cue_flops", 4, "Depth-cue a PP-shaded sample: its depth along the view, then the colour over k1 + k2 d",
+              "a dot product's three multiply-adds and one divide (perm.shading = pp only)");
         flops("pixel_fill_flops", 18, "Pack one pixel for the frame buffer", "as Levoy's");
         return g;
     }();
@@ -39,6 +41,10 @@ std::vector<GpOpKind> perm_op_kinds() {
         {"perm.empty_sample", {key("sample_step_flops"), key("index_test_cycles")}},
         {"perm.leaped_sample", {key("leap_cycles_per_sample")}},
         {"perm.pixel", {key("pixel_fill_flops")}},
+        {"perm.shaded_sample", {key("sample_step_flops"), key("lookup_flops"), key("lookup_cycles"), key("compositing_flops")}},
+        {"perm.depth_cue", {key("depth_cue_flops")}},
+        {"perm.position_classification", {key("classification_flops")}},
+        {"perm.position_shading", {key("shading_flops")}},
     };
 }
 

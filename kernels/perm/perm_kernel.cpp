@@ -2,7 +2,9 @@
 
 #include "kernels/perm/perm_costs.h"
 #include "kernels/perm/perm_ray_caster.h"
+#include "kernels/perm/perm_record_shading.h"
 #include "kernels/perm/perm_structure.h"
+#include "kernels/pp_volume/pp_shading.h"
 #include "kernels/scenario/scenario_inputs.h"
 #include "sim/core/input_error.h"
 
@@ -27,18 +29,22 @@ constexpr int kRecordBrick = 4;  // records are dealt to renderers in 4^3 bricks
 struct PermKernelFrame final : KernelFrame {
     PermCastCounts counts;
     bool rebuilt = false;
+    bool pp_classified = false;  // perm.shading = pp: which record passes the PPs ran
+    bool pp_shaded = false;
 };
 
 class PermRun final : public KernelRun {
 public:
     PermRun(Machine& machine, const MachineConfig& config, const Scenario& scenario, const Volume& volume)
-        : volume_(volume), image_(scenario.image), scenario_file_(scenario.file.string()), settings_(PermSettings::from(config)),
+        : machine_(machine), volume_(volume), image_(scenario.image), scenario_file_(scenario.file.string()), settings_(PermSettings::from(config)),
+          layout_(VoxelStoreSettings::from(config).layout),
           renderers_(static_cast<std::uint32_t>(config.integer("renderer.count"))),
+          pps_(static_cast<int>(config.integer("renderer.pp_columns") * config.integer("renderer.pp_rows"))),
+          backing_store_bits_(static_cast<std::uint64_t>(config.integer("renderer.backing_store_bits"))),
           renderer_bytes_(static_cast<std::uint64_t>(config.integer("renderer.pp_columns")) *
                           static_cast<std::uint64_t>(config.integer("renderer.pp_rows")) *
                           static_cast<std::uint64_t>(config.integer("renderer.backing_store_bits")) / 8),
           gp_memory_bytes_(static_cast<std::uint64_t>(config.integer("gp.memory_bytes"))) {
-        (void)machine;
         check_reduction(scenario);
         build(scenario.frames.front().classification);
     }
@@ -59,13 +65,16 @@ public:
             build(frame.classification);
             out->rebuilt = true;
         }
-        PermCastSettings cs{image_.width, image_.height, image_.sample_step, image_.termination_opacity, image_.background};
-        PermFrame cast = caster_->cast(frame.classification, frame.colors, frame.lighting, camera, cs);
         FrameWork& work = out->work;
         work.op_kinds = perm_op_kinds();
+        if (shading_) shade_records(frame, camera, *out);
+        PermCastSettings cs{image_.width, image_.height, image_.sample_step, image_.termination_opacity, image_.background};
+        PermFrame cast = caster_->cast(frame.classification, frame.colors, frame.lighting, camera, cs);
         work.phases.push_back(Phase{"ray_casting", std::move(cast.work)});
         work.gp_resident_bits = settings_.residence == PermResidence::GpMemory ? structure_->memory().total_bytes() * 8 : 0;
-        work.invalidate_gp_caches = out->rebuilt;
+        // Records the GPs may hold in their caches changed: a new structure, or fresh PP results.
+        work.invalidate_gp_caches = !first_frame_ && (out->rebuilt || out->pp_classified || out->pp_shaded);
+        first_frame_ = false;
         work.image_width = image_.width;
         work.image_height = image_.height;
         out->counts = cast.counts;
@@ -87,6 +96,15 @@ public:
                               {"leaped_samples", c.leaped_samples},
                               {"cell_fetches", c.cell_fetches},
                               {"carried_lookups", c.carried_lookups}};
+        if (shading_) {
+            nlohmann::json pp = {{"classified", frame.pp_classified},
+                                 {"shaded", frame.pp_shaded},
+                                 {"positions", shading_->positions()},
+                                 {"note", "perm.shading = pp: the renderers' PPs classify and shade every record position"}};
+            for (const char* pass : {"classification", "shading"})
+                if (const PhaseTiming* p = timing.phase(pass)) pp[std::string(pass) + "_seconds"] = seconds(p->duration_ps());
+            out["pp"] = std::move(pp);
+        }
         if (const PhaseTiming* r = timing.phase("ray_casting")) {
             const GpPhaseCounts& g = r->gp;
             out["ray_casting"] = {{"gp_computing_seconds", seconds(g.gp_busy)},
@@ -122,13 +140,42 @@ public:
                   {"records_bytes", m.candidates * m.record_bytes()},
                   {"total_megabytes", static_cast<double>(m.total_bytes()) / 1e6},
                   {"residence", settings_.residence == PermResidence::GpMemory ? "gp_memory" : "renderers"},
+                  {"shading", shading_ ? "pp" : "gp"},
                   {"busiest_renderer_bytes", busiest_renderer_bytes_},
+                  {"busiest_renderer_bits_per_pp", busiest_renderer_bits_per_pp_},
                   {"build", {{"host_seconds", build_seconds_}, {"note", "the structure made on this computer, before the frames"}}},
                   {"note", "eqs. (3) and (6): the index volume (with a 4-byte summed count per z slice at 2-byte indices) and "
-                           "N_cc records of D^3 density bytes and G^3 x (3 gradient bytes + a sign byte); MB = 10^6 bytes"}}}};
+                           "N_cc records of D^3 density bytes and G^3 x (3 gradient bytes + a sign byte); MB = 10^6 bytes. With "
+                           "perm.shading = pp the renderers hold each record as D^3 voxel slots of voxel_store.* bits instead"}}}};
     }
 
 private:
+    // perm.shading = pp: the PPs classify the records after a rebuild, and reshade them when the
+    // colours or the light change, or the view when the shading depends on it (the depth cue, which
+    // the GPs apply, does not count).
+    void shade_records(const FrameSpec& frame, const Camera& camera, PermKernelFrame& out) {
+        const PhongLighting on_pps = PermRecordShading::lighting_on_pps(frame.lighting);
+        const glm::vec3 forward = camera.forward();
+        const bool classify = first_frame_ || out.rebuilt;
+        const bool reshade = classify || frame.colors != shaded_colors_ || on_pps != shaded_lighting_ ||
+                             (shading_depends_on_view(on_pps) && forward != shaded_forward_);
+        const auto pass = [&](const char* name, PpPassWork work, PermOp per_position) {
+            PpPhase phase{{PpPhase::Pass{std::move(work), 0, {}}}};
+            append_ops(phase.passes.front().on_one_processor, per_position, shading_->positions());
+            out.work.phases.push_back(Phase{name, std::move(phase)});
+        };
+        if (classify) pass("classification", shading_->classify(frame.classification), kPermPositionClassification);
+        if (reshade) {
+            pass("shading", shading_->shade(frame.colors, frame.lighting, forward), kPermPositionShading);
+            shading_->read_back();
+            shaded_colors_ = frame.colors;
+            shaded_lighting_ = on_pps;
+            shaded_forward_ = forward;
+        }
+        out.pp_classified = classify;
+        out.pp_shaded = reshade;
+    }
+
     // The reduction leaves pictures unchanged only if a ray crossing t_e - 2 opaque cells (a diagonal
     // ray may skip a sample in a cell at each end) has reached the termination opacity.
     void check_reduction(const Scenario& scenario) const {
@@ -153,21 +200,29 @@ private:
 
     void build(const Classification& classification) {
         const auto started = std::chrono::steady_clock::now();
+        caster_.reset();
+        shading_.reset();
         // Refused before any record is made when it cannot fit where it is to live.
         const auto fits = [this](const PermMemory& m, const std::vector<glm::ivec3>& origins) { check_fit(m, origins); };
         structure_ = std::make_unique<PermStructure>(PermStructure::build(volume_, classification, settings_, fits));
+        if (settings_.shading == PermShading::Pp)
+            shading_ = std::make_unique<PermRecordShading>(machine_, *structure_, volume_.spacing(), layout_,
+                                                           [this](std::uint32_t c) { return renderer_of_cell(structure_->cell_origin(c)); });
         build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
         built_for_ = classification;
         caster_ = std::make_unique<PermRayCaster>(*structure_, volume_.spacing(), settings_,
                                                   settings_.residence == PermResidence::Renderers
                                                       ? std::function<std::uint32_t(glm::ivec3)>([this](glm::ivec3 o) { return renderer_of_cell(o); })
-                                                      : std::function<std::uint32_t(glm::ivec3)>());
+                                                      : std::function<std::uint32_t(glm::ivec3)>(),
+                                                  shading_.get());
     }
 
     void check_fit(const PermMemory& m, const std::vector<glm::ivec3>& origins) {
         // The host holds the records too (the pictures come from them): beyond this it would not.
         constexpr std::uint64_t kHostBudgetBytes = std::uint64_t{4} << 30;
-        const std::uint64_t host_bytes = m.candidates * (m.record_bytes() + 2 * cube_of(m.density_positions));  // density kept as 16 bits
+        // Density is kept as 16 bits; PP results as four 16-bit codes a position.
+        const std::uint64_t pp_results = settings_.shading == PermShading::Pp ? 8 * cube_of(m.density_positions) : 0;
+        const std::uint64_t host_bytes = m.candidates * (m.record_bytes() + 2 * cube_of(m.density_positions) + pp_results);
         if (host_bytes > kHostBudgetBytes)
             throw InputError("machine configuration", "perm.density_positions",
                              fmt::format("{} candidate cells of {} bytes would take {:.1f} GB of this computer's memory to build "
@@ -175,8 +230,20 @@ private:
                                          m.candidates, m.record_bytes(), static_cast<double>(host_bytes) / 1e9,
                                          static_cast<double>(kHostBudgetBytes) / 1e9));
         std::vector<std::uint64_t> per(renderers_, 0);
-        for (const glm::ivec3& o : origins) per[renderer_of_cell(o)] += m.record_bytes();
-        busiest_renderer_bytes_ = per.empty() ? 0 : *std::max_element(per.begin(), per.end());
+        for (const glm::ivec3& o : origins) ++per[renderer_of_cell(o)];
+        const std::uint64_t busiest = per.empty() ? 0 : *std::max_element(per.begin(), per.end());
+        busiest_renderer_bytes_ = busiest * m.record_bytes();
+        busiest_renderer_bits_per_pp_ = settings_.shading == PermShading::Pp
+                                            ? PermRecordShading::backing_store_bits_needed(busiest * cube_of(m.density_positions), pps_, layout_)
+                                            : (busiest_renderer_bytes_ * 8 + static_cast<std::uint64_t>(pps_) - 1) / static_cast<std::uint64_t>(pps_);
+        if (settings_.shading == PermShading::Pp && busiest_renderer_bits_per_pp_ > backing_store_bits_)
+            throw InputError("machine configuration", "renderer.backing_store_bits",
+                             fmt::format("PERM's records shaded on the PPs need {} bits per PP on the busiest renderer ({} records of {} "
+                                         "positions, {} bits each) but a PP holds {}; quantize the density more coarsely "
+                                         "(perm.density_positions), add renderers (renderer.count) or backing store, or shade on the "
+                                         "GPs (perm.shading = \"gp\")",
+                                         busiest_renderer_bits_per_pp_, busiest, cube_of(m.density_positions), layout_.bits(),
+                                         backing_store_bits_));
         if (settings_.residence == PermResidence::GpMemory && m.total_bytes() > gp_memory_bytes_)
             throw InputError("machine configuration", "gp.memory_bytes",
                              fmt::format("a copy of PERM in every GP needs {} bytes ({} candidate cells of {} bytes and the index "
@@ -191,17 +258,27 @@ private:
                                          renderer_bytes_));
     }
 
+    Machine& machine_;
     const Volume& volume_;
     ImageSpec image_;
     std::string scenario_file_;
     PermSettings settings_;
+    VoxelRecordLayout layout_;
     std::uint32_t renderers_;
+    int pps_;
+    std::uint64_t backing_store_bits_;
     std::uint64_t renderer_bytes_;
     std::uint64_t gp_memory_bytes_;
     std::unique_ptr<PermStructure> structure_;
+    std::unique_ptr<PermRecordShading> shading_;  // perm.shading = pp
     std::unique_ptr<PermRayCaster> caster_;
     Classification built_for_;
+    bool first_frame_ = true;
+    ColorMap shaded_colors_;      // what the PPs' results were shaded for
+    PhongLighting shaded_lighting_;
+    glm::vec3 shaded_forward_{0.0f};
     std::uint64_t busiest_renderer_bytes_ = 0;
+    std::uint64_t busiest_renderer_bits_per_pp_ = 0;
     double build_seconds_ = 0;
 };
 
@@ -210,13 +287,17 @@ public:
     std::string name() const override { return "perm"; }
     std::string description() const override {
         return "Lim and Shin: PERM, each candidate cell's density and gradient precomputed at quantized positions; the GPs cast "
-               "rays, fetch each cell's record through their caches and classify, shade and composite from the looked-up values";
+               "rays, fetch each cell's record through their caches and classify, shade and composite from the looked-up values "
+               "(or, with perm.shading = pp, read what the renderers' PPs classified and shaded at every record position)";
     }
     std::string timing_summary() const override {
-        return "event-driven: the GPs' rays, each sample's look-up and shading on the GP, each cell's record fetched over the ring "
-               "through the GP cache; uncalibrated default costs";
+        return "event-driven: the GPs' rays, each sample's look-up and shading on the GP (or the PPs' classification and shading "
+               "passes over the records first), each cell's record fetched over the ring through the GP cache; uncalibrated "
+               "default costs";
     }
-    std::vector<const ParamGroup*> param_groups() const override { return {&PermSettings::params(), &perm_cost_params()}; }
+    std::vector<const ParamGroup*> param_groups() const override {
+        return {&PermSettings::params(), &VoxelStoreSettings::params(), &perm_cost_params()};
+    }
     bool runs_on_machine() const override { return true; }
     void check(const Scenario& scenario) const override {
         const std::string file = scenario.file.string();

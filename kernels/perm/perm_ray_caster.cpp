@@ -20,10 +20,10 @@ namespace {
 struct RayRecord {
     struct Touch {
         std::uint32_t block;
-        std::uint32_t samples, empty, leaped;
+        std::uint32_t samples, empty, leaped, cued;
     };
     std::vector<Touch> touches;
-    std::uint32_t tail_samples = 0, tail_empty = 0, tail_leaped = 0;
+    std::uint32_t tail_samples = 0, tail_empty = 0, tail_leaped = 0, tail_cued = 0;
 };
 
 struct TileResult {
@@ -34,8 +34,8 @@ struct TileResult {
 }  // namespace
 
 PermRayCaster::PermRayCaster(const PermStructure& structure, glm::vec3 spacing, const PermSettings& settings,
-                             std::function<std::uint32_t(glm::ivec3)> renderer_of_cell)
-    : structure_(&structure), spacing_(spacing), settings_(settings) {
+                             std::function<std::uint32_t(glm::ivec3)> renderer_of_cell, const PermRecordShading* shaded)
+    : structure_(&structure), spacing_(spacing), settings_(settings), shaded_(shaded) {
     // A block may be leapt over when none of its cells is a candidate: mark every candidate's corners.
     const glm::ivec3 d = structure.dims();
     std::vector<float> marks(static_cast<std::size_t>(d.x) * static_cast<std::size_t>(d.y) * static_cast<std::size_t>(d.z), 0.0f);
@@ -48,15 +48,22 @@ PermRayCaster::PermRayCaster(const PermStructure& structure, glm::vec3 spacing, 
     }
     occupancy_ = occupancy_from_opacity(d, marks);
     if (renderer_of_cell) {
-        const auto words = static_cast<std::uint32_t>((structure.memory().record_bytes() + 3) / 4);
-        std::vector<std::uint32_t> first_part;
-        std::vector<BlockPart> parts;
-        for (std::uint32_t c = 0; c < structure.candidates(); ++c) {
+        const auto directory = [&](std::uint32_t words) {
+            std::vector<std::uint32_t> first_part;
+            std::vector<BlockPart> parts;
+            for (std::uint32_t c = 0; c < structure.candidates(); ++c) {
+                first_part.push_back(static_cast<std::uint32_t>(parts.size()));
+                parts.push_back(BlockPart{renderer_of_cell(structure.cell_origin(c)), words});
+            }
             first_part.push_back(static_cast<std::uint32_t>(parts.size()));
-            parts.push_back(BlockPart{renderer_of_cell(structure.cell_origin(c)), words});
+            return std::make_shared<const BlockDirectory>(std::uint64_t{words} * 32, 32, std::move(first_part), std::move(parts));
+        };
+        if (shaded_ != nullptr) {
+            records_ = directory(shaded_->fetched_words(false));
+            cued_records_ = directory(shaded_->fetched_words(true));
+        } else {
+            records_ = directory(static_cast<std::uint32_t>((structure.memory().record_bytes() + 3) / 4));
         }
-        first_part.push_back(static_cast<std::uint32_t>(parts.size()));
-        records_ = std::make_shared<const BlockDirectory>(std::uint64_t{words} * 32, 32, std::move(first_part), std::move(parts));
     }
 }
 
@@ -66,7 +73,11 @@ PermFrame PermRayCaster::cast(const Classification& classification, const ColorM
     const glm::ivec3 dims = perm.dims();
     const detail::MarchFrame frame(dims, spacing_, cs.sample_step);
     const PixelRays rays(camera, cs.width, cs.height);
-    const SampleShader shader(colors, lighting, make_shading_view(camera, dims, spacing_), spacing_);
+    const ShadingView view = make_shading_view(camera, dims, spacing_);
+    const SampleShader shader(colors, lighting, view, spacing_);
+    // PP-shaded records are shaded without the depth cue, which dims only the directly lit part:
+    // the GP takes the ambient part from the density's base colour and divides the rest.
+    const bool cue = shaded_ != nullptr && lighting.depth_cue_k2 != 0.0f;
     const int tile = settings_.tile_pixels;
     const int tiles_x = (cs.width + tile - 1) / tile, tiles_y = (cs.height + tile - 1) / tile;
     const int tiles = tiles_x * tiles_y;
@@ -82,7 +93,7 @@ PermFrame PermRayCaster::cast(const Classification& classification, const ColorM
                 FrontToBack color(cs.sample_step, cs.termination_opacity);
                 ++result.counts.rays;
                 std::int64_t current = -1;  // the cell whose record the ray holds
-                std::uint32_t samples = 0, empty = 0;  // since the last fetch
+                std::uint32_t samples = 0, empty = 0, cued = 0;  // since the last fetch
                 std::uint64_t ray_samples = 0, ray_empty = 0;
                 if (const auto ray = detail::clip_to_volume(rays.ray(px, py), frame)) {
                     const detail::MarchCounts marched = detail::march(*ray, &occupancy_, [&](int, glm::vec3 position) {
@@ -95,15 +106,28 @@ PermFrame PermRayCaster::cast(const Classification& classification, const ColorM
                             return false;
                         }
                         if (candidate != current) {
-                            record.touches.push_back({static_cast<std::uint32_t>(candidate), samples, empty, 0});
-                            samples = empty = 0;
+                            record.touches.push_back({static_cast<std::uint32_t>(candidate), samples, empty, 0, cued});
+                            samples = empty = cued = 0;
                             current = candidate;
                             ++result.counts.cell_fetches;
                         }
                         ++samples;
                         ++ray_samples;
-                        const PermStructure::Sample s = perm.lookup(static_cast<std::uint32_t>(candidate), p - glm::vec3(cell),
-                                                                    &result.counts.carried_lookups);
+                        const glm::vec3 fraction = p - glm::vec3(cell);
+                        if (shaded_ != nullptr) {
+                            const int at = perm.density_position(fraction, &result.counts.carried_lookups);
+                            const glm::vec4 rgba = shaded_->at(static_cast<std::uint32_t>(candidate), at);
+                            if (!(rgba.a > 0.0f)) return false;
+                            glm::vec3 rgb(rgba);
+                            if (cue) {
+                                const glm::vec3 ambient = colors.color(perm.density_at(static_cast<std::uint32_t>(candidate), at)) * lighting.ambient;
+                                const float divisor = lighting.depth_cue_k1 + lighting.depth_cue_k2 * view.depth(p * spacing_);
+                                rgb = ambient + glm::max(rgb - ambient, glm::vec3(0.0f)) / divisor;
+                                ++cued;
+                            }
+                            return color.add(glm::clamp(rgb, 0.0f, 1.0f), rgba.a);
+                        }
+                        const PermStructure::Sample s = perm.lookup(static_cast<std::uint32_t>(candidate), fraction, &result.counts.carried_lookups);
                         const float alpha = classification.opacity(s.value, glm::length(s.gradient));
                         if (!(alpha > 0.0f)) return false;
                         return color.add(shader.shade(s.value, s.gradient, p * spacing_), alpha);
@@ -114,6 +138,7 @@ PermFrame PermRayCaster::cast(const Classification& classification, const ColorM
                 }
                 record.tail_samples = samples;
                 record.tail_empty = empty;
+                record.tail_cued = cued;
                 result.counts.samples += ray_samples;
                 result.counts.empty_samples += ray_empty;
                 out.image.at(px, py) = color.over(cs.background);
@@ -125,12 +150,13 @@ PermFrame PermRayCaster::cast(const Classification& classification, const ColorM
     GpPhase& work = out.work;
     work.groups = 1;
     work.assignment = TaskAssignment::Static;
-    work.blocks = records_;
+    work.blocks = cue ? cued_records_ : records_;
     constexpr int kRowSkew = 7;  // as Levoy's kernel: each row of tile keys skewed, so a GP's tiles spread out
-    const auto step = [&](std::uint32_t samples, std::uint32_t empty, std::uint32_t leaped, std::uint32_t block, bool setup) {
+    const auto step = [&](std::uint32_t samples, std::uint32_t empty, std::uint32_t leaped, std::uint32_t cued, std::uint32_t block, bool setup) {
         GpStep s{static_cast<std::uint32_t>(work.ops.size()), 0, records_ ? block : kNoFetch};
         if (setup) append_ops(work.ops, kPermRaySetup, 1);
-        append_ops(work.ops, kPermSample, samples);
+        append_ops(work.ops, shaded_ != nullptr ? kPermShadedSample : kPermSample, samples);
+        append_ops(work.ops, kPermDepthCue, cued);
         append_ops(work.ops, kPermEmptySample, empty);
         append_ops(work.ops, kPermLeapedSample, leaped);
         s.op_count = static_cast<std::uint32_t>(work.ops.size()) - s.first_op;
@@ -145,11 +171,11 @@ PermFrame PermRayCaster::cast(const Classification& classification, const ColorM
             GpItem item{static_cast<std::uint32_t>(work.steps.size()), 0};
             bool setup = true;
             for (const RayRecord::Touch& touch : r.touches) {
-                step(touch.samples, touch.empty, touch.leaped, touch.block, setup);
+                step(touch.samples, touch.empty, touch.leaped, touch.cued, touch.block, setup);
                 setup = false;
                 ++item.step_count;
             }
-            step(r.tail_samples, r.tail_empty, r.tail_leaped, kNoFetch, setup);
+            step(r.tail_samples, r.tail_empty, r.tail_leaped, r.tail_cued, kNoFetch, setup);
             ++item.step_count;
             work.items.push_back(item);
         }

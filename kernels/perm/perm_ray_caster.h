@@ -5,9 +5,13 @@
 // (fetched once through its cache when the ray enters the cell), looks the nearest quantized density
 // and gradient up, classifies, shades and composites there, as the paper's renderer does.
 //
+// With perm.shading = pp (a PermRecordShading), the sample instead reads the colour and opacity the
+// PPs left at its density position, and the GP only depth-cues it.
+//
 // The GPs take the picture in screen tiles (keys skewed row by row, as Levoy's kernel deals them);
 // a tile's rays are items whose steps are the samples up to each new cell and that cell's fetch.
 
+#include "kernels/perm/perm_record_shading.h"
 #include "kernels/perm/perm_settings.h"
 #include "kernels/perm/perm_structure.h"
 #include "kernels/reference/occupancy_grid.h"
@@ -49,9 +53,10 @@ struct PermFrame {
 class PermRayCaster {
 public:
     // `renderer_of_cell` says which renderer's backing store holds a candidate's record; null when the
-    // structure sits in every GP's memory (no fetches).
+    // structure sits in every GP's memory (no fetches). `shaded`, when given, holds what the PPs made
+    // of the records, and must outlive the caster.
     PermRayCaster(const PermStructure& structure, glm::vec3 spacing, const PermSettings& settings,
-                  std::function<std::uint32_t(glm::ivec3)> renderer_of_cell);
+                  std::function<std::uint32_t(glm::ivec3)> renderer_of_cell, const PermRecordShading* shaded = nullptr);
     PermFrame cast(const Classification& classification, const ColorMap& colors, const PhongLighting& lighting, const Camera& camera,
                    const PermCastSettings& settings) const;
 
@@ -60,7 +65,9 @@ private:
     glm::vec3 spacing_;
     PermSettings settings_;
     OccupancyGrid occupancy_;
-    std::shared_ptr<const BlockDirectory> records_;  // null: no fetches
+    const PermRecordShading* shaded_;
+    std::shared_ptr<const BlockDirectory> records_;        // null: no fetches
+    std::shared_ptr<const BlockDirectory> cued_records_;   // PP-shaded records with their densities
 };
 
 }  // namespace pp5

@@ -37,6 +37,11 @@ const ParamGroup& PermSettings::params() {
                   "Where the structure lives: the renderers' backing store, fetched by the GPs through their caches, or a copy in "
                   "every GP's memory (when it fits)",
                   Provenance::Default, "pp5sim: the records sit beside the voxels they were built from, as Levoy's voxels do")
+            .text("shading", "gp", {"gp", "pp"},
+                  "Who classifies and shades: the GPs at every sample from the looked-up density and gradient (the paper), or "
+                  "the renderers' PPs at every record position (voxel_store.* widths), leaving the GPs a colour and opacity to "
+                  "read and the depth cue; a light change then reshades on the PPs",
+                  Provenance::Default, "pp5sim: Levoy's division of labour applied to PERM's records; the paper shades per sample")
             .integer("tile_pixels", 16, "pixels", 2, 256, "Edge of the screen tiles dealt to GPs", Provenance::Default, "pp5sim")
             .integer("reduction_cells", 0, "cells", 0, 1000,
                      "t_e: drop candidate cells more than this many cells deep inside opaque ones, seen from outside the volume, "
@@ -63,6 +68,10 @@ PermSettings PermSettings::from(const MachineConfig& config) {
     if (s.index_bytes != 2 && s.index_bytes != 4)
         throw InputError("machine configuration", "perm.index_bytes", "must be 2 (per-slice indices and a summed table) or 4");
     s.residence = config.text("perm.residence") == "gp_memory" ? PermResidence::GpMemory : PermResidence::Renderers;
+    s.shading = config.text("perm.shading") == "pp" ? PermShading::Pp : PermShading::Gp;
+    if (s.shading == PermShading::Pp && s.residence == PermResidence::GpMemory)
+        throw InputError("machine configuration", "perm.shading",
+                         "the PPs can shade only records in the renderers' backing store; use perm.residence = \"renderers\"");
     s.tile_pixels = static_cast<int>(config.integer("perm.tile_pixels"));
     s.reduction_cells = static_cast<int>(config.integer("perm.reduction_cells"));
     s.reduction_opacity = config.real("perm.reduction_opacity");

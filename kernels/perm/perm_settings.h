@@ -20,6 +20,10 @@ enum class CandidateRule {
     PaperOrigin,  // eq. (1): the cell's origin voxel may be non-transparent
 };
 enum class PermResidence { Renderers, GpMemory };
+enum class PermShading {
+    Gp,  // each sample classified and shaded on the GP from the looked-up values (the paper)
+    Pp,  // the renderers' PPs classify and shade every record position; a sample reads colour and opacity
+};
 
 struct PermSettings {
     int density_positions = 5;   // D_Nqc: quantized positions per axis for the density
@@ -29,6 +33,7 @@ struct PermSettings {
     CandidateRule candidates = CandidateRule::AnyCorner;
     int index_bytes = 2;         // bytes per index-volume entry (2: per-slice indices and a summed table)
     PermResidence residence = PermResidence::Renderers;
+    PermShading shading = PermShading::Gp;
     int tile_pixels = 16;        // edge of the screen tiles dealt to GPs
     int reduction_cells = 0;     // t_e: keep candidates at most this many opaque cells deep (0: keep all)
     double reduction_opacity = 0.5;  // alpha_e: a cell counts as opaque when no sample in it is below this

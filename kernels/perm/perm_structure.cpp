@@ -177,6 +177,7 @@ PermStructure PermStructure::build(const Volume& volume, const Classification& c
     p.gradient_table_ = PositionTable(s.gradient_positions, s.qbm, s.positions);
     p.value_min_ = volume.min_value();
     p.value_range_ = std::max(volume.max_value() - volume.min_value(), 1e-20f);
+    p.integer_values_ = is_integer_type(volume.source_type());
     const int density_bytes = scalar_size_bytes(volume.source_type()) == 1 ? 1 : 2;
     p.density_steps_ = density_bytes == 1 ? 255.0f : 65535.0f;
     const GradientField gradients = compute_gradients(volume);
@@ -271,11 +272,21 @@ int PermStructure::combined(const PositionTable& t, glm::vec3 fraction, std::uin
 }
 
 PermStructure::Sample PermStructure::lookup(std::uint32_t candidate, glm::vec3 fraction, std::uint64_t* carried) const {
-    const std::size_t dn = cube(density_table_.positions()), gn = cube(gradient_table_.positions());
-    const std::size_t di = static_cast<std::size_t>(combined(density_table_, fraction, carried));
-    const std::size_t gi = static_cast<std::size_t>(combined(gradient_table_, fraction, carried));
+    return decode(candidate, static_cast<std::size_t>(combined(density_table_, fraction, carried)),
+                  static_cast<std::size_t>(combined(gradient_table_, fraction, carried)));
+}
+
+PermStructure::Sample PermStructure::at_density_position(std::uint32_t candidate, int position) const {
+    const int n = density_table_.positions();
+    const glm::vec3 where(static_cast<float>(density_table_.offset(position % n)), static_cast<float>(density_table_.offset((position / n) % n)),
+                          static_cast<float>(density_table_.offset(position / (n * n))));
+    return decode(candidate, static_cast<std::size_t>(position), static_cast<std::size_t>(combined(gradient_table_, where, nullptr)));
+}
+
+PermStructure::Sample PermStructure::decode(std::uint32_t candidate, std::size_t di, std::size_t gi) const {
+    const std::size_t gn = cube(gradient_table_.positions());
     Sample out;
-    out.value = value_min_ + static_cast<float>(density_[candidate * dn + di]) / density_steps_ * value_range_;
+    out.value = density_at(candidate, static_cast<int>(di));
     const std::size_t g = candidate * gn + gi;
     for (int a = 0; a < 3; ++a) {
         const float magnitude = static_cast<float>(gradient_[g * 3 + static_cast<std::size_t>(a)]) / 255.0f * gradient_max_[a];

@@ -17,6 +17,7 @@
 #include <glm/vec3.hpp>
 
 #include <cstdint>
+#include <algorithm>
 #include <functional>
 #include <vector>
 
@@ -83,6 +84,21 @@ public:
         glm::vec3 gradient{0.0f};
     };
     Sample lookup(std::uint32_t candidate, glm::vec3 fraction, std::uint64_t* carried = nullptr) const;
+    // The density position (0 .. D^3 - 1) a sample at `fraction` of its cell reads, as lookup() does.
+    int density_position(glm::vec3 fraction, std::uint64_t* carried = nullptr) const { return combined(density_table_, fraction, carried); }
+    // What the record holds at density position `position`: its density, and the gradient of the
+    // gradient position whose sub-cube holds it (the same position when D = G). What the PPs shade.
+    Sample at_density_position(std::uint32_t candidate, int position) const;
+    float density_at(std::uint32_t candidate, int position) const {
+        const std::size_t dn = static_cast<std::size_t>(density_positions_per_record());
+        return value_min_ + static_cast<float>(density_[candidate * dn + static_cast<std::size_t>(position)]) / density_steps_ * value_range_;
+    }
+    int density_positions_per_record() const { return static_cast<int>(memory_.density_positions * memory_.density_positions * memory_.density_positions); }
+    // The ranges the records were stored over: what a fixed-point copy of them must cover.
+    float value_min() const { return value_min_; }
+    float value_max() const { return value_min_ + value_range_; }
+    bool integer_values() const { return integer_values_; }
+    float largest_gradient() const { return std::max({gradient_max_.x, gradient_max_.y, gradient_max_.z}); }
     // The position a sample snaps to (for the oracle), in the cell's fractions, for density and gradient.
     glm::vec3 snapped_density_fraction(glm::vec3 fraction) const;
     glm::vec3 snapped_gradient_fraction(glm::vec3 fraction) const;
@@ -103,7 +119,10 @@ private:
     std::vector<std::uint16_t> density_;       // per candidate, D^3 values quantized over the value range
     std::vector<std::uint8_t> gradient_;       // per candidate, G^3 x 3 magnitudes
     std::vector<std::uint8_t> signs_;          // per candidate, G^3 sign bytes
+    Sample decode(std::uint32_t candidate, std::size_t density_index, std::size_t gradient_index) const;
+
     float value_min_ = 0, value_range_ = 1;
+    bool integer_values_ = true;
     float density_steps_ = 255;
     glm::vec3 gradient_max_{0.0f};             // per axis, what magnitude 255 means
     std::uint64_t unreduced_ = 0;

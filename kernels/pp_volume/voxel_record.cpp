@@ -5,27 +5,23 @@
 
 namespace pp5 {
 
-namespace {
-
-bool is_integer_type(ScalarType type) {
-    return type != ScalarType::Float32 && type != ScalarType::Float64;
-}
-
-}  // namespace
-
 VoxelQuantization VoxelQuantization::choose(const Volume& volume, const GradientField& gradients,
                                             const VoxelRecordLayout& layout) {
+    float largest = 0.0f;
+    for (const glm::vec3& g : gradients.gradients) largest = std::max({largest, std::abs(g.x), std::abs(g.y), std::abs(g.z)});
+    return for_ranges(volume.min_value(), volume.max_value(), is_integer_type(volume.source_type()), largest, layout);
+}
+
+VoxelQuantization VoxelQuantization::for_ranges(float value_min, float value_max, bool integer_values, float largest_gradient,
+                                                const VoxelRecordLayout& layout) {
     VoxelQuantization q;
     q.value_max_code = static_cast<int>((std::int64_t{1} << layout.value_bits) - 1);
     q.gradient_max_code = static_cast<int>((std::int64_t{1} << (layout.gradient_bits - 1)) - 1);
-    q.value_offset = volume.min_value();
-    const float range = volume.max_value() - volume.min_value();
-    const bool exact = is_integer_type(volume.source_type()) && range <= static_cast<float>(q.value_max_code);
+    q.value_offset = value_min;
+    const float range = value_max - value_min;
+    const bool exact = integer_values && range <= static_cast<float>(q.value_max_code);
     q.value_scale = exact || range <= 0.0f ? 1.0f : static_cast<float>(q.value_max_code) / range;
-
-    float largest = 0.0f;
-    for (const glm::vec3& g : gradients.gradients) largest = std::max({largest, std::abs(g.x), std::abs(g.y), std::abs(g.z)});
-    q.gradient_scale = largest > 0.0f ? static_cast<float>(q.gradient_max_code) / largest : 1.0f;
+    q.gradient_scale = largest_gradient > 0.0f ? static_cast<float>(q.gradient_max_code) / largest_gradient : 1.0f;
     return q;
 }
 

@@ -40,6 +40,10 @@ struct VoxelQuantization {
 
     // The quantisation of `volume` (with its gradients) for `layout`.
     static VoxelQuantization choose(const Volume& volume, const GradientField& gradients, const VoxelRecordLayout& layout);
+    // The same rule from the ranges alone: values from value_min to value_max (stored exactly when
+    // they are integers that fit the code), gradient components up to largest_gradient in magnitude.
+    static VoxelQuantization for_ranges(float value_min, float value_max, bool integer_values, float largest_gradient,
+                                        const VoxelRecordLayout& layout);
 
     std::int64_t value_code(float f) const;
     std::int64_t gradient_code(float g) const;

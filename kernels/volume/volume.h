@@ -23,6 +23,7 @@ enum class ScalarType : std::uint8_t { UInt8, Int8, UInt16, Int16, UInt32, Int32
 std::string_view to_string(ScalarType type);
 std::optional<ScalarType> parse_scalar_type(std::string_view name);  // "uint8", "int16", "float32", ...
 std::size_t scalar_size_bytes(ScalarType type);
+inline bool is_integer_type(ScalarType type) { return type != ScalarType::Float32 && type != ScalarType::Float64; }
 
 class Volume {
 public:

@@ -105,7 +105,6 @@ TEST(PermRays, MatchTheSnappedFloatingPointOracle) {
             for (int ch = 0; ch < 3; ++ch) worst = std::max(worst, static_cast<double>(std::abs(image.at(px, py)[ch] - expected[ch])));
         }
     EXPECT_GT(lit, 1000);
-    // Byte storage of the density (1/255 of the range) and of each gradient component is all that differs.
     // Byte storage of the density (1/255 of the range) and of each gradient component is all that
     // differs: measured 64 dB, at most 8.4 8-bit steps where a contour's edge moves by a storage step.
     EXPECT_GT(compare_images(image, oracle).psnr_db, 55.0) << "largest difference " << worst * 255 << " 8-bit steps";
