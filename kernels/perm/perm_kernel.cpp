@@ -189,7 +189,7 @@ private:
                                        : fmt::format("{} cells of opacity {} bring a ray to {:.3f}, short of its termination at {}; use at "
                                                      "least {} (or raise perm.reduction_opacity)",
                                                      settings_.reduction_cells - 2, alpha,
-                                                     1 - std::pow(1 - alpha, settings_.reduction_cells - 2), stop, std::ceil(needed)));
+                                                     1 - std::pow(1 - alpha, settings_.reduction_cells - 2), scenario.image.termination_opacity, std::ceil(needed)));
     }
 
     std::uint32_t renderer_of_cell(glm::ivec3 origin) const {
