@@ -14,5 +14,7 @@ void add_volume_info_command(CLI::App& app, std::function<int()>& run);
 void add_fit_command(CLI::App& app, std::function<int()>& run);
 void add_reproduce_command(CLI::App& app, std::function<int()>& run);
 void add_host_check_command(CLI::App& app, std::function<int()>& run);
+void add_sweep_command(CLI::App& app, std::function<int()>& run);
+void add_compare_command(CLI::App& app, std::function<int()>& run);
 
 }  // namespace pp5::cli

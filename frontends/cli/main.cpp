@@ -18,6 +18,8 @@ int main(int argc, char** argv) {
     pp5::cli::add_fit_command(app, run);
     pp5::cli::add_reproduce_command(app, run);
     pp5::cli::add_host_check_command(app, run);
+    pp5::cli::add_sweep_command(app, run);
+    pp5::cli::add_compare_command(app, run);
 
     try {
         app.parse(argc, argv);

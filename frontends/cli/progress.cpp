@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include <cstdio>
+#include <string>
 
 namespace pp5::cli {
 
@@ -13,8 +14,12 @@ void Progress::update(std::size_t done) {
     if (now - start_ < std::chrono::seconds(1)) return;
     if (printed_ && now - last_print_ < std::chrono::milliseconds(500) && done != total_) return;
     const double elapsed = std::chrono::duration<double>(now - start_).count();
-    fmt::print(stderr, "{}: {}/{} ({:.0f}%), {:.1f} s\n", what_, done, total_,
-               100.0 * static_cast<double>(done) / static_cast<double>(total_), elapsed);
+    // The time left, from the pace so far, once something is done.
+    const std::string left = done > 0 && done < total_
+                                 ? fmt::format(", about {:.0f} s left", elapsed * static_cast<double>(total_ - done) / static_cast<double>(done))
+                                 : std::string();
+    fmt::print(stderr, "{}: {}/{} ({:.0f}%), {:.1f} s{}\n", what_, done, total_,
+               100.0 * static_cast<double>(done) / static_cast<double>(total_), elapsed, left);
     std::fflush(stderr);
     printed_ = true;
     last_print_ = now;

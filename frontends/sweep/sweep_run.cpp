@@ -1,0 +1,257 @@
+#include "frontends/sweep/sweep_run.h"
+
+#include "calibration/timing_model.h"
+#include "kernels/registry/registry.h"
+#include "kernels/registry/run_config.h"
+#include "kernels/scenario/scenario.h"
+#include "sim/core/input_error.h"
+
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <map>
+#include <mutex>
+#include <set>
+#include <stdexcept>
+
+namespace pp5 {
+
+namespace {
+
+// What every frame has, whatever its kernel: from the timing engine's own counts.
+const std::vector<SweepColumn>& machine_columns() {
+    static const std::vector<SweepColumn> columns = {
+        {"simulated_seconds", "s", "the frame's simulated time"},
+        {"gp_utilisation", "fraction", "GP busy time over the GP count times the frame time"},
+        {"ring_utilisation", "fraction", "ring busy time over the channel count times the frame time"},
+        {"cache_hit_rate", "fraction", "GP cache look-ups that hit"},
+        {"fetch_requests", "count", "fetch requests the GPs sent to renderers"},
+        {"events", "count", "events the timing engine ran"},
+    };
+    return columns;
+}
+
+std::vector<double> machine_values(const FrameTiming& timing, const MachineConfig& config) {
+    GpPhaseCounts sum;
+    for (const PhaseTiming& p : timing.phases) {
+        sum.gp_busy += p.gp.gp_busy;
+        sum.ring_busy += p.gp.ring_busy;
+        sum.cache_hits += p.gp.cache_hits;
+        sum.cache_misses += p.gp.cache_misses;
+        sum.fetch_requests += p.gp.fetch_requests;
+        sum.events += p.gp.events;
+    }
+    const double duration = static_cast<double>(timing.duration_ps());
+    const auto share = [&](Tick busy, const char* count_key) {
+        const double capacity = duration * static_cast<double>(config.integer(count_key));
+        return capacity > 0 ? static_cast<double>(busy) / capacity : 0.0;
+    };
+    const std::uint64_t lookups = sum.cache_hits + sum.cache_misses;
+    return {ticks_to_seconds(timing.duration_ps()),
+            share(sum.gp_busy, "gp.count"),
+            config.machine_kind() == MachineKind::Multicomputer ? share(sum.ring_busy, "ring.channels") : 0.0,
+            lookups > 0 ? static_cast<double>(sum.cache_hits) / static_cast<double>(lookups) : -1.0,
+            static_cast<double>(sum.fetch_requests),
+            static_cast<double>(sum.events)};
+}
+
+std::vector<std::string> overrides_of(const SweepSpec& spec, const SweepAssignment& parameters, bool timing_too) {
+    std::vector<std::string> out = spec.fixed;
+    for (const auto& [key, value] : parameters)
+        if (timing_too || !is_timing_parameter(key)) out.push_back(key + "=" + value);
+    return out;
+}
+
+nlohmann::json parameter_values(const MachineConfig& config) {
+    const nlohmann::json all = config.to_json();
+    nlohmann::json out = nlohmann::json::object();
+    for (const auto& [key, entry] : all["parameters"].items()) out[key] = entry["value"];
+    return out;
+}
+
+const char* env(const char* name) {
+    const char* v = std::getenv(name);
+    return v != nullptr && *v != '\0' ? v : nullptr;
+}
+
+std::size_t env_number(const char* name, const char* launcher) {
+    const char* text = env(name);
+    char* end = nullptr;
+    const unsigned long long n = std::strtoull(text, &end, 10);
+    if (end == text || *end != '\0' || n > 1000000)
+        throw InputError("environment", name, fmt::format("\"{}\" is not a whole number ({})", text, launcher));
+    return static_cast<std::size_t>(n);
+}
+
+}  // namespace
+
+std::vector<SweepPoint> plan_sweep(const SweepSpec& spec) {
+    std::vector<SweepAssignment> combinations;
+    if (!spec.axes.empty()) {
+        combinations.emplace_back();
+        for (const SweepAxis& axis : spec.axes) {
+            std::vector<SweepAssignment> next;
+            for (const SweepAssignment& partial : combinations)
+                for (const std::string& value : axis.values) {
+                    SweepAssignment a = partial;
+                    a.emplace_back(axis.key, value);
+                    next.push_back(std::move(a));
+                }
+            combinations = std::move(next);
+        }
+    }
+    for (const SweepAssignment& p : spec.points) combinations.push_back(p);
+    std::vector<SweepPoint> points;
+    for (const std::string& scenario : spec.scenarios)
+        for (const SweepAssignment& a : combinations) points.push_back({points.size(), scenario, a});
+    return points;
+}
+
+Shard parse_shard(const std::string& text) {
+    const auto fail = [&] { throw InputError("--shard", "--shard", "\"" + text + "\": expected K/N with 0 <= K < N (e.g. 0/4)"); };
+    const auto slash = text.find('/');
+    if (slash == std::string::npos) fail();
+    const auto number = [&](const std::string& part) {
+        if (part.empty() || part.size() > 7 || part.find_first_not_of("0123456789") != std::string::npos) fail();
+        return static_cast<std::size_t>(std::stoul(part));
+    };
+    const Shard shard{number(text.substr(0, slash)), number(text.substr(slash + 1))};
+    if (shard.count == 0 || shard.index >= shard.count) fail();
+    return shard;
+}
+
+std::optional<Shard> shard_from_environment() {
+    const auto from = [](const char* rank, const char* size, const char* launcher) -> std::optional<Shard> {
+        if (env(rank) == nullptr || env(size) == nullptr) return std::nullopt;
+        const Shard s{env_number(rank, launcher), env_number(size, launcher)};
+        if (s.count == 0 || s.index >= s.count)
+            throw InputError("environment", rank, fmt::format("{} of {} is not a shard ({})", s.index, s.count, launcher));
+        return s;
+    };
+    if (auto s = from("OMPI_COMM_WORLD_RANK", "OMPI_COMM_WORLD_SIZE", "Open MPI's mpirun")) return s;
+    if (auto s = from("PMI_RANK", "PMI_SIZE", "an MPI launcher")) return s;
+    if (env("SLURM_ARRAY_TASK_ID") != nullptr && env("SLURM_ARRAY_TASK_COUNT") != nullptr) {
+        const std::size_t id = env_number("SLURM_ARRAY_TASK_ID", "a Slurm array");
+        const std::size_t first = env("SLURM_ARRAY_TASK_MIN") ? env_number("SLURM_ARRAY_TASK_MIN", "a Slurm array") : 0;
+        const Shard s{id - std::min(id, first), env_number("SLURM_ARRAY_TASK_COUNT", "a Slurm array")};
+        if (id < first || s.count == 0 || s.index >= s.count)
+            throw InputError("environment", "SLURM_ARRAY_TASK_ID",
+                             fmt::format("task {} is not one of {} from {} (use --array=0-{} or --shard)", id, s.count, first, s.count - 1));
+        return s;
+    }
+    return std::nullopt;
+}
+
+SweepResult run_sweep(const SweepSpec& spec, const Shard& shard, const SweepProgress& progress) {
+    const std::vector<SweepPoint> plan = plan_sweep(spec);
+    SweepResult result;
+
+    // The columns: the machine's, then each kernel's metrics in the order the scenarios name them.
+    result.columns = machine_columns();
+    std::map<std::string, const Kernel*> kernel_of;  // scenario -> kernel
+    std::map<std::string, Scenario> scenarios;
+    for (const std::string& name : spec.scenarios) {
+        Scenario s = load_scenario(resolve_scenario_file(name));
+        const Kernel& kernel = kernel_for(s);
+        kernel_of[name] = &kernel;
+        for (const KernelMetric& m : kernel.metrics())
+            if (std::none_of(result.columns.begin(), result.columns.end(), [&](const SweepColumn& c) { return c.name == m.name; }))
+                result.columns.push_back({m.name, m.unit, m.description});
+        scenarios.emplace(name, std::move(s));
+    }
+
+    if (!spec.plot_metric.empty() &&
+        std::none_of(result.columns.begin(), result.columns.end(), [&](const SweepColumn& c) { return c.name == spec.plot_metric; })) {
+        std::string known;
+        for (const SweepColumn& c : result.columns) known += (known.empty() ? "" : ", ") + c.name;
+        throw InputError(spec.file, "sweep.plot_metric", "\"" + spec.plot_metric + "\" is not a metric of this sweep; known: " + known);
+    }
+    nlohmann::json axes = nlohmann::json::array();
+    for (const SweepAxis& a : spec.axes) axes.push_back({{"key", a.key}, {"values", a.values}});
+    nlohmann::json explicit_points = nlohmann::json::array();
+    for (const SweepAssignment& p : spec.points) {
+        nlohmann::json point = nlohmann::json::object();
+        for (const auto& [k, v] : p) point[k] = v;
+        explicit_points.push_back(point);
+    }
+    result.header = {{"name", spec.name},         {"description", spec.description}, {"scenarios", spec.scenarios},
+                     {"machine", spec.machine},   {"set", spec.fixed},               {"frames", spec.frames},
+                     {"axes", axes},              {"points", explicit_points},       {"total_points", plan.size()},
+                     {"plot_x", spec.plot_x},     {"plot_metric", spec.plot_metric}};
+    nlohmann::json kernels = nlohmann::json::object();
+    for (const auto& [name, kernel] : kernel_of) kernels[name] = kernel->name();
+    result.header["kernels"] = kernels;
+
+    // This shard's points, grouped by what they compute: one recording per group.
+    std::map<std::pair<std::string, std::vector<std::string>>, std::vector<std::size_t>> groups;
+    for (const SweepPoint& p : plan)
+        if (shard.takes(p.index)) groups[{p.scenario, overrides_of(spec, p.parameters, false)}].push_back(p.index);
+    std::map<std::size_t, SweepPointResult> done;
+    std::size_t finished = 0, total = 0;
+    for (const auto& [key, members] : groups) total += members.size();
+    std::mutex report;
+    const auto finish = [&](SweepPointResult r) {
+        const std::lock_guard<std::mutex> lock(report);
+        const std::size_t index = r.point.index;
+        done.emplace(index, std::move(r));
+        ++finished;
+        if (progress) progress(finished, total);
+    };
+
+    for (const auto& [key, members] : groups) {
+        const Scenario& scenario = scenarios.at(key.first);
+        std::set<std::string> kernel_metrics;
+        for (const KernelMetric& m : kernel_of.at(key.first)->metrics()) kernel_metrics.insert(m.name);
+        const int frames = spec.frames > 0 ? std::min<int>(spec.frames, static_cast<int>(scenario.frames.size()))
+                                           : static_cast<int>(scenario.frames.size());
+        std::unique_ptr<RecordedScenario> recording;
+        std::string group_error;
+        try {
+            MachineConfig functional = load_run_config(spec.machine, key.second);
+            // A lone processor is timed from work recorded on Pixel-planes 5.
+            if (functional.machine_kind() == MachineKind::Uniprocessor) functional = load_run_config("pxpl5", key.second);
+            recording = std::make_unique<RecordedScenario>(scenario, functional, frames);
+        } catch (const InputError& e) {
+            group_error = e.what();
+        }
+        tbb::parallel_for(std::size_t{0}, members.size(), [&](std::size_t m) {
+            const SweepPoint& point = plan[members[m]];
+            SweepPointResult r{point, group_error, nlohmann::json::object(), {}};
+            const MachineConfig config = load_run_config(spec.machine, overrides_of(spec, point.parameters, true));
+            r.parameters = parameter_values(config);
+            if (recording) {
+                try {
+                    const std::vector<FrameTiming> timings = recording->time_on(config);
+                    for (std::size_t f = 0; f < timings.size(); ++f) {
+                        SweepFrameResult row{f, recording->frames()[f].label, {}};
+                        const std::vector<double> machine = machine_values(timings[f], config);
+                        for (std::size_t c = 0; c < result.columns.size(); ++c) {
+                            std::optional<double> v;
+                            if (c < machine.size()) {
+                                if (machine[c] >= 0) v = machine[c];
+                            } else if (kernel_metrics.count(result.columns[c].name)) {
+                                try {
+                                    v = recording->metric(result.columns[c].name, f, timings[f]);
+                                } catch (const std::domain_error&) {
+                                    // the frame has no such figure (no polygons to rate, say)
+                                }
+                            }
+                            row.values.push_back(v);
+                        }
+                        r.frames.push_back(std::move(row));
+                    }
+                } catch (const InputError& e) {
+                    r.error = e.what();
+                    r.frames.clear();
+                }
+            }
+            finish(std::move(r));
+        });
+    }
+    for (auto& [index, r] : done) result.points.push_back(std::move(r));
+    return result;
+}
+
+}  // namespace pp5

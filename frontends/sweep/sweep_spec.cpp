@@ -1,0 +1,221 @@
+#include "frontends/sweep/sweep_spec.h"
+
+#include "kernels/registry/run_config.h"
+#include "kernels/scenario/scenario.h"
+#include "sim/core/input_error.h"
+#include "sim/core/named_file.h"
+#include "sim/core/toml_file.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <set>
+
+namespace pp5 {
+
+namespace {
+
+constexpr int kMostNesting = 8;  // gp.cache.bits is two levels; deeper is a mistake, not a key
+
+// A TOML value as --set would take it.
+std::string as_override_text(const toml::node& node, const std::string& file, const std::string& field) {
+    if (const auto* i = node.as_integer()) return fmt::format("{}", i->get());
+    if (const auto* d = node.as_floating_point()) return fmt::format("{}", d->get());
+    if (const auto* b = node.as_boolean()) return b->get() ? "true" : "false";
+    if (const auto* s = node.as_string()) return s->get();
+    throw InputError(file, field, "must be a number, a boolean or a string");
+}
+
+std::string text_field(const toml::table& t, const std::string& file, const std::string& field, const char* key) {
+    const toml::node* node = t.get(key);
+    if (node == nullptr) return {};
+    const auto* s = node->as_string();
+    if (s == nullptr) throw InputError(file, field + key, "must be a string");
+    return s->get();
+}
+
+std::vector<std::string> text_list(const toml::table& t, const std::string& file, const std::string& field, const char* key) {
+    std::vector<std::string> out;
+    const toml::node* node = t.get(key);
+    if (node == nullptr) return out;
+    const toml::array* a = node->as_array();
+    if (a == nullptr) throw InputError(file, field + key, "must be a list of strings");
+    for (std::size_t i = 0; i < a->size(); ++i) {
+        const auto* s = (*a)[i].as_string();
+        if (s == nullptr) throw InputError(file, fmt::format("{}{}[{}]", field, key, i), "must be a string");
+        out.push_back(s->get());
+    }
+    return out;
+}
+
+// Flattens a table of parameters (quoted dotted keys, or nested tables) into (key, node, line).
+struct Leaf {
+    std::string key;
+    const toml::node* node;
+    std::uint32_t line;
+};
+void flatten(const toml::table& table, const std::string& prefix, int depth, const std::string& file, const std::string& field,
+             std::vector<Leaf>& out) {
+    if (depth > kMostNesting) throw InputError(file, field + prefix, fmt::format("nests deeper than {} levels; no parameter does", kMostNesting));
+    for (const auto& [k, v] : table) {
+        const std::string key = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+        if (const toml::table* inner = v.as_table()) {
+            flatten(*inner, key, depth + 1, file, field, out);
+        } else {
+            out.push_back({key, &v, v.source().begin.line});
+        }
+    }
+}
+
+// Keys in the order the file gives them (toml++ keeps tables sorted).
+std::vector<Leaf> leaves_in_file_order(const toml::table& table, const std::string& file, const std::string& field) {
+    std::vector<Leaf> leaves;
+    flatten(table, "", 0, file, field, leaves);
+    std::stable_sort(leaves.begin(), leaves.end(), [](const Leaf& a, const Leaf& b) { return a.line < b.line; });
+    return leaves;
+}
+
+}  // namespace
+
+std::filesystem::path resolve_sweep_file(const std::string& name_or_path) {
+#ifdef PP5_SWEEPS_DIR
+    const char* builtin = PP5_SWEEPS_DIR;
+#else
+    const char* builtin = nullptr;
+#endif
+    return resolve_named_file(name_or_path, {"PP5SIM_SWEEPS", builtin, "sweep", "traces/sweeps/*.toml"});
+}
+
+SweepSpec load_sweep_file(const std::filesystem::path& path) {
+    const std::string file = path.string();
+    const toml::table root = read_toml_file(file);
+    SweepSpec spec;
+    spec.file = file;
+    spec.name = path.stem().string();
+    for (const auto& [key, node] : root) {
+        const std::string k(key.str());
+        if (k != "sweep" && k != "vary" && k != "points")
+            throw InputError(file, k, "unknown table; a sweep file holds [sweep], [vary] and [[points]]");
+    }
+    const toml::table* head = root["sweep"].as_table();
+    if (head == nullptr) throw InputError(file, "sweep", "is missing: a sweep file starts with a [sweep] table naming its scenarios");
+    static const std::set<std::string> known{"name", "description", "scenarios", "machine", "set", "frames", "plot_x", "plot_metric"};
+    for (const auto& [k, v] : *head)
+        if (!known.count(std::string(k.str())))
+            throw InputError(file, "sweep." + std::string(k.str()),
+                             "unknown field; [sweep] has name, description, scenarios, machine, set, frames, plot_x and plot_metric");
+    if (const std::string name = text_field(*head, file, "sweep.", "name"); !name.empty()) spec.name = name;
+    spec.description = text_field(*head, file, "sweep.", "description");
+    spec.scenarios = text_list(*head, file, "sweep.", "scenarios");
+    if (const std::string machine = text_field(*head, file, "sweep.", "machine"); !machine.empty()) spec.machine = machine;
+    spec.fixed = text_list(*head, file, "sweep.", "set");
+    if (const toml::node* frames = head->get("frames")) {
+        const auto n = frames->value<std::int64_t>();
+        if (!n || *n < 0 || *n > 100000) throw InputError(file, "sweep.frames", "must be a whole number of frames (0: all)");
+        spec.frames = static_cast<int>(*n);
+    }
+    spec.plot_x = text_field(*head, file, "sweep.", "plot_x");
+    spec.plot_metric = text_field(*head, file, "sweep.", "plot_metric");
+
+    if (const toml::node* vary = root.get("vary")) {
+        const toml::table* table = vary->as_table();
+        if (table == nullptr) throw InputError(file, "vary", "must be a table of parameter = [values]");
+        for (const Leaf& leaf : leaves_in_file_order(*table, file, "vary.")) {
+            const std::string field = "vary." + leaf.key;
+            const toml::array* values = leaf.node->as_array();
+            if (values == nullptr) throw InputError(file, field, "must be a list of values");
+            SweepAxis axis{leaf.key, {}};
+            for (std::size_t i = 0; i < values->size(); ++i)
+                axis.values.push_back(as_override_text((*values)[i], file, fmt::format("{}[{}]", field, i)));
+            spec.axes.push_back(std::move(axis));
+        }
+    }
+    if (const toml::node* points = root.get("points")) {
+        const toml::array* rows = points->as_array();
+        if (rows == nullptr) throw InputError(file, "points", "must be [[points]] tables of parameter = value");
+        for (std::size_t i = 0; i < rows->size(); ++i) {
+            const std::string field = fmt::format("points[{}].", i);
+            const toml::table* row = (*rows)[i].as_table();
+            if (row == nullptr) throw InputError(file, field.substr(0, field.size() - 1), "must be a table of parameter = value");
+            SweepAssignment point;
+            for (const Leaf& leaf : leaves_in_file_order(*row, file, field))
+                point.emplace_back(leaf.key, as_override_text(*leaf.node, file, field + leaf.key));
+            spec.points.push_back(std::move(point));
+        }
+    }
+    check_sweep_spec(spec);
+    return spec;
+}
+
+SweepAxis parse_vary_option(const std::string& text) {
+    const auto fail = [&](const std::string& why) { throw InputError("--vary", "--vary", "\"" + text + "\": " + why); };
+    const auto equals = text.find('=');
+    if (equals == std::string::npos || equals == 0) fail("expected key=v1,v2,... (e.g. gp.count=8,16,32)");
+    SweepAxis axis{text.substr(0, equals), {}};
+    const std::string list = text.substr(equals + 1);
+    for (std::size_t at = 0, next; at <= list.size(); at = next + 1) {
+        next = std::min(list.find(',', at), list.size());
+        const std::string value = list.substr(at, next - at);
+        if (value.empty()) fail("an empty value");
+        axis.values.push_back(value);
+    }
+    return axis;
+}
+
+void check_sweep_spec(const SweepSpec& spec) {
+    const std::string& file = spec.file;
+    if (spec.scenarios.empty()) throw InputError(file, "sweep.scenarios", "needs at least one scenario");
+    for (std::size_t i = 0; i < spec.scenarios.size(); ++i) {
+        try {
+            (void)load_scenario(resolve_scenario_file(spec.scenarios[i]));
+        } catch (const InputError& e) {
+            throw InputError(file, fmt::format("sweep.scenarios[{}]", i), std::string("\"") + spec.scenarios[i] + "\": " + e.what());
+        }
+    }
+    try {
+        (void)load_run_config(spec.machine, spec.fixed);
+    } catch (const InputError& e) {
+        throw InputError(file, "sweep.machine", e.what());
+    }
+    // Every value is one its parameter takes, and no key is both fixed and varied, or varied twice.
+    std::set<std::string> keys;
+    for (const std::string& f : spec.fixed) keys.insert(f.substr(0, f.find('=')));
+    const auto check_value = [&](const std::string& key, const std::string& value, const std::string& field) {
+        try {
+            std::vector<std::string> overrides = spec.fixed;
+            overrides.push_back(key + "=" + value);
+            (void)load_run_config(spec.machine, overrides);
+        } catch (const InputError& e) {
+            throw InputError(file, field, e.field() == key ? e.reason() : e.what());
+        }
+    };
+    std::size_t grid = spec.axes.empty() ? 0 : 1;
+    for (const SweepAxis& axis : spec.axes) {
+        const std::string field = "vary." + axis.key;
+        if (!keys.insert(axis.key).second) throw InputError(file, field, "is set or varied twice");
+        if (axis.values.empty()) throw InputError(file, field, "needs at least one value");
+        std::set<std::string> seen;
+        for (std::size_t i = 0; i < axis.values.size(); ++i) {
+            if (!seen.insert(axis.values[i]).second) throw InputError(file, fmt::format("{}[{}]", field, i), "repeats an earlier value");
+            check_value(axis.key, axis.values[i], fmt::format("{}[{}]", field, i));
+        }
+        grid *= axis.values.size();
+        if (grid > kMaxSweepPoints) break;
+    }
+    for (std::size_t p = 0; p < spec.points.size(); ++p) {
+        std::set<std::string> in_point;
+        for (const auto& [key, value] : spec.points[p]) {
+            const std::string field = fmt::format("points[{}].{}", p, key);
+            if (!in_point.insert(key).second) throw InputError(file, field, "is given twice in one point");
+            check_value(key, value, field);
+        }
+    }
+    const std::size_t total = (grid + spec.points.size()) * spec.scenarios.size();
+    if (grid > kMaxSweepPoints || total > kMaxSweepPoints)
+        throw InputError(file, "vary", fmt::format("makes more than {} points; split the sweep", kMaxSweepPoints));
+    if (total == 0) throw InputError(file, "vary", "gives no point: vary a parameter or list [[points]]");
+    if (!spec.plot_x.empty() && std::none_of(spec.axes.begin(), spec.axes.end(), [&](const SweepAxis& a) { return a.key == spec.plot_x; }))
+        throw InputError(file, "sweep.plot_x", "\"" + spec.plot_x + "\" is not one of the varied parameters");
+}
+
+}  // namespace pp5
