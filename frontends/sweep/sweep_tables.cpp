@@ -234,10 +234,23 @@ std::vector<std::pair<std::string, PlotSpec>> sweep_plots(const SweepResult& res
         if (numeric && xs.size() > 1) {
             const auto [lo, hi] = std::minmax_element(xs.begin(), xs.end());
             spec.log_x = *lo > 0 && *hi / *lo >= 8;
+            const double pad = 0.05 * (*hi - *lo);
+            spec.extra_commands.push_back(spec.log_x ? fmt::format("set xrange [{}:{}]", *lo / 1.25, *hi * 1.25)
+                                                     : fmt::format("set xrange [{}:{}]", *lo - pad, *hi + pad));
+            if (spec.log_x) {
+                std::string tics;
+                for (std::size_t i = 0; i < xs.size(); ++i) tics += fmt::format("{}\"{}\" {}", i ? ", " : "", x_values[i], xs[i]);
+                spec.extra_commands.push_back("set xtics (" + tics + ")");
+            }
         } else if (!numeric) {
             std::string tics;
             for (std::size_t i = 0; i < x_values.size(); ++i) tics += fmt::format("{}\"{}\" {}", i ? ", " : "", x_values[i], i);
             spec.extra_commands.push_back("set xtics (" + tics + ")");
+        }
+        // Many lines: the legend goes beside the plot, so it hides no data.
+        if (order.size() > 5) {
+            spec.extra_commands.push_back("set key outside right top font \",9\"");
+            spec.width = 1300;
         }
         for (const std::string& t : order) spec.series.push_back(std::move(lines[t]));
         std::string name = "sweep_" + scenario;
