@@ -80,7 +80,7 @@ void add_compare_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("after", o->after, "The run to compare with it")->required();
     cmd->add_option("--tolerance", o->tolerance, "Relative change below which two numbers count as the same (0.01 = 1%)")->capture_default_str();
     cmd->add_flag("--include-host", o->include_host, "Compare host_seconds too (this computer's timings, which vary run to run)");
-    cmd->add_option("--limit", o->limit, "Show at most this many differences (0: all)")->capture_default_str();
+    cmd->add_option("--limit", o->limit, "Show at most this many differences (0: all)")->check(whole_number())->capture_default_str();
     cmd->callback([o, &run] { run = [o] { return run_compare(*o); }; });
 }
 

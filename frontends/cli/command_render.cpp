@@ -131,7 +131,7 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
                    "Write a Chrome trace-event JSON file of the run (GPs, renderers, ring messages; open it in Perfetto)");
     cmd->add_option("--trace-window", o->trace_window, "Simulated milliseconds to trace, START:END (END may be inf)")
         ->capture_default_str();
-    cmd->add_option("--trace-limit", o->trace_limit, "Most events the trace keeps")->capture_default_str();
+    cmd->add_option("--trace-limit", o->trace_limit, "Most events the trace keeps")->check(whole_number())->capture_default_str();
     cmd->callback([o, &run] { run = [o] { return run_render(*o); }; });
 }
 

@@ -165,7 +165,7 @@ void add_sweep_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--machine", o->machine, "Machine file or preset name (default: the file's, else pxpl5)");
     cmd->add_option("--set", o->overrides, "Fix a parameter for every point, key=value (repeatable)");
     cmd->add_option("--vary", o->vary, "Vary a parameter, key=v1,v2,... (repeatable: the grid of every combination)");
-    cmd->add_option("--frames", o->frames, "Frames of each scenario to run (0: all; default: the file's, else all)");
+    cmd->add_option("--frames", o->frames, "Frames of each scenario to run (0: all; default: the file's, else all)")->check(whole_number());
     cmd->add_option("--out", o->out, "Output directory (default out/sweeps/<name>)");
     cmd->add_option("--threads", o->threads, "Host threads; 0 uses every core. Results do not depend on it")->capture_default_str();
     cmd->add_option("--shard", o->shard, "Run shard K of N (every N-th point from K); under mpirun or a Slurm array it is taken from the environment");

@@ -52,7 +52,7 @@ void add_volume_info_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--dims", o->raw_dims, "Raw file: dimensions X Y Z")->expected(3);
     cmd->add_option("--type", o->raw_type, "Raw file: scalar type (uint8, int16, uint16, float32, ...)");
     cmd->add_flag("--big-endian", o->big_endian, "Raw file: samples are big-endian");
-    cmd->add_option("--header-bytes", o->header_bytes, "Raw file: bytes to skip before the samples");
+    cmd->add_option("--header-bytes", o->header_bytes, "Raw file: bytes to skip before the samples")->check(whole_number());
     cmd->add_option("--spacing", o->spacing, "Raw file: voxel spacing X Y Z in mm")->expected(3);
     cmd->callback([o, &run] { run = [o] { return run_volume_info(*o); }; });
 }

@@ -7,6 +7,17 @@
 
 namespace pp5::cli {
 
+// For options that count things: digits only, so "-1" is refused rather than wrapped to 2^64 - 1.
+inline CLI::Validator whole_number() {
+    return CLI::Validator(
+        [](std::string& text) {
+            return !text.empty() && text.size() <= 18 && text.find_first_not_of("0123456789") == std::string::npos
+                       ? std::string()
+                       : "\"" + text + "\" is not a whole number from 0";
+        },
+        "WHOLE NUMBER");
+}
+
 // Registers a subcommand; sets `run` to the function that executes it after parsing.
 void add_render_command(CLI::App& app, std::function<int()>& run);
 void add_params_command(CLI::App& app, std::function<int()>& run);

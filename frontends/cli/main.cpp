@@ -5,12 +5,81 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <string>
+#include <vector>
+
+namespace {
+
+// Exit codes, the same for every command: bad input (or a usage mistake) is 2, our own fault 1.
+constexpr int kBadInput = 2;
+constexpr int kInternalError = 1;
+
+// Edits (insert, delete, replace, swap two neighbours) from a to b: the slips typing makes.
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+    std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+    for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+    for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i)
+        for (std::size_t j = 1; j <= b.size(); ++j) {
+            d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+        }
+    return d[a.size()][b.size()];
+}
+
+// The nearest of `names` to `given`, if it is near enough to be a slip of the keyboard.
+std::string closest(const std::string& given, const std::vector<std::string>& names) {
+    std::string best;
+    std::size_t best_distance = std::max<std::size_t>(3, given.size() / 3 + 1);
+    for (const std::string& n : names) {
+        const std::size_t d = edit_distance(given, n);
+        if (d < best_distance) best_distance = d, best = n;
+    }
+    return best;
+}
+
+// A usage error as one line, with a suggestion when the word given is close to a real one.
+std::string usage_error(const CLI::App& app, const CLI::ParseError& e, int argc, char** argv) {
+    std::string message = e.what();
+    std::vector<std::string> commands;
+    for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) commands.push_back(sub->get_name());
+    const CLI::App* chosen = nullptr;
+    for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+        if (sub->parsed()) chosen = sub;
+    if (chosen == nullptr) {
+        // The first word is not a command: say which one it may have meant.
+        const std::string first = argc > 1 ? argv[1] : "";
+        std::string list;
+        for (const std::string& c : commands) list += (list.empty() ? "" : ", ") + c;
+        if (first.empty() || first.starts_with("-"))
+            return fmt::format("a command is required: {} (pp5sim --help)", list);
+        const std::string guess = closest(first, commands);
+        return fmt::format("\"{}\" is not a command{}; the commands are {}", first, guess.empty() ? "" : "; did you mean " + guess + "?", list);
+    }
+    // An option the command does not have: the nearest one it does.
+    std::vector<std::string> options;
+    for (const CLI::Option* o : chosen->get_options())
+        for (const std::string& name : o->get_lnames()) options.push_back("--" + name);
+    for (int i = 1; i < argc; ++i) {
+        std::string word = argv[i];
+        if (!word.starts_with("--")) continue;
+        word = word.substr(0, word.find('='));
+        if (std::find(options.begin(), options.end(), word) != options.end()) continue;
+        const std::string guess = closest(word, options);
+        if (!guess.empty()) return fmt::format("{}: {}; did you mean {}? (pp5sim {} --help)", chosen->get_name(), message, guess, chosen->get_name());
+    }
+    return fmt::format("{}: {} (pp5sim {} --help)", chosen->get_name(), message, chosen->get_name());
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{"pp5sim: a cycle-approximate simulator of the Pixel-planes 5 volume rendering workstation"};
     app.require_subcommand(1);
+    app.set_version_flag("--version", std::string("pp5sim ") + PP5SIM_VERSION);
     std::function<int()> run;
     pp5::cli::add_render_command(app, run);
     pp5::cli::add_params_command(app, run);
@@ -23,17 +92,24 @@ int main(int argc, char** argv) {
 
     try {
         app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
+    } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        fmt::print(stderr, "pp5sim: error: {}\n", usage_error(app, e, argc, argv));
+        return kBadInput;
     }
     // Bad input exits 2 with one line naming file, field and reason; anything else is our fault, 1.
     try {
         return run();
     } catch (const pp5::InputError& e) {
         fmt::print(stderr, "pp5sim: error: {}\n", e.what());
-        return 2;
+        return kBadInput;
     } catch (const std::exception& e) {
         fmt::print(stderr, "pp5sim: internal error: {}\n", e.what());
-        return 1;
+        return kInternalError;
     }
 }

@@ -24,7 +24,7 @@ private:
     static std::string compose(const std::string& file, const std::string& field,
                                const std::string& reason) {
         std::string text = file.empty() ? std::string("<input>") : file;
-        if (!field.empty()) text += ": " + field;
+        if (!field.empty() && field != file) text += ": " + field;  // a command-line option is both
         return text + ": " + reason;
     }
 

@@ -266,8 +266,15 @@ void validate(const PpProgram& program, const PpSlotContext& context, int local_
 }  // namespace
 
 // Compiled twice, for AVX2 and for any x86-64, and chosen at load time: the integer results are the
-// same either way, only faster where the host has wider vectors.
-__attribute__((target_clones("avx2", "default")))
+// same either way, only faster where the host has wider vectors. Only with GCC and without
+// ThreadSanitizer: clang cannot link callers of a cloned member function, and the clones' load-time
+// resolver runs before the TSan runtime is up.
+#if defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_THREAD__) && defined(__x86_64__)
+#define PP5_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define PP5_VECTOR_CLONES
+#endif
+PP5_VECTOR_CLONES
 PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context) {
     validate(program, context, local_memory_bits_, backing_store_bits_);
     const auto total = static_cast<std::size_t>(size());

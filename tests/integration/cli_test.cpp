@@ -403,4 +403,28 @@ TEST(Cli, CompareShowsWhatChangedAndExitsThreeBeyondTheTolerance) {
     EXPECT_EQ(missing.exit_code, 2) << missing.output;
 }
 
+// Usage mistakes keep the documented exit code 2, say what was meant when it is close, and counts
+// cannot be negative; --version answers.
+TEST(Cli, UsageErrorsExitTwoWithADidYouMean) {
+    const fs::path dir = scratch("usage");
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"rendr sphere", "did you mean render?"},
+        {"", "a command is required"},
+        {"render sphere --trhead 2", "did you mean --threads?"},
+        {"render sphere --threads many", "Could not convert"},
+        {"render sphere --trace-limit -1", "\"-1\" is not a whole number from 0"},
+        {"volume-info ch2 --header-bytes=-5", "is not a whole number from 0"},
+        {"render sphere --format gif", "--format: must be png or exr"},
+    };
+    for (const auto& [args, says] : cases) {
+        const RunResult r = run(args, dir);
+        EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
+        EXPECT_NE(r.output.find(says), std::string::npos) << args << "\n" << r.output;
+        EXPECT_EQ(r.output.find("--format: --format"), std::string::npos) << r.output;
+    }
+    const RunResult version = run("--version", dir);
+    EXPECT_EQ(version.exit_code, 0);
+    EXPECT_EQ(version.output.rfind("pp5sim ", 0), 0u) << version.output;
+}
+
 }  // namespace
