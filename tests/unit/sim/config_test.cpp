@@ -98,6 +98,21 @@ TEST(MachineConfig, BadMachineFilesNameTheFileKeyAndReason) {
     expect_input_error([&] { config.load_file(path); }, path.string(), "gp");
 }
 
+// Keys nested thousands deep (dotted keys, table headers, inline tables) would overflow the stack in
+// the TOML library: refused before parsing, naming the line; strings and comments with dots are not keys.
+TEST(MachineConfig, KeysNestedDeeperThanAnyParameterAreRefusedBeforeParsing) {
+    MachineConfig config = Machine::default_config();
+    std::string deep;
+    for (int i = 0; i < 20000; ++i) deep += "a.";
+    for (const std::string& text : {"[gp]\ncount = 32\n" + deep + "b = 1\n", "[" + deep + "b]\n", "x = { " + deep + "b = 1 }\n"}) {
+        const auto path = write_temp("deep.toml", text);
+        const std::string why = expect_input_error([&] { config.load_file(path); }, path.string(), text.starts_with("[gp]") ? "line 3" : "line 1");
+        EXPECT_NE(why.find("20001 dotted parts"), std::string::npos) << why;
+    }
+    const auto fine = write_temp("dots.toml", "[machine]\nname = \"a.b.c.d.e.f.g.h\" # " + deep + "\n[gp]\nclock_mhz = 40.0\n");
+    EXPECT_NO_THROW(config.load_file(fine));
+}
+
 TEST(MachineConfig, ResolvesPresetNames) {
     EXPECT_EQ(resolve_machine_file("pxpl5").filename(), "pxpl5.toml");
     EXPECT_THROW(resolve_machine_file("no-such-machine"), InputError);
