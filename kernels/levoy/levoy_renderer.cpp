@@ -99,7 +99,13 @@ Phase LevoyRenderer::pyramid_phase() const {
 
 void LevoyRenderer::set_polygons(const std::vector<PolygonSpec>& polygons) {
     polygons_.clear();
-    for (const PolygonSpec& p : polygons) polygons_.push_back(prepare_polygon(p));
+    polygon_areas_.clear();
+    // Within a voxel of the volume's samples: where a sample's sheet can reach a voxel.
+    const glm::dvec3 lower(-1.0), upper = glm::dvec3(dims_);
+    for (const PolygonSpec& p : polygons) {
+        polygons_.push_back(prepare_polygon(p));
+        polygon_areas_.push_back(area_inside_box(p.vertices, lower, upper));
+    }
     polygons_changed_ = true;
 }
 
@@ -113,7 +119,8 @@ Phase LevoyRenderer::scan_convert() {
     const PpProgramInputs inputs = pixel_processors_.program_inputs();
     const VoxelPlacement& placement = pixel_processors_.placement();
     PpPhase phase;
-    for (const PreparedPolygon& polygon : polygons_) {
+    for (std::size_t k = 0; k < polygons_.size(); ++k) {
+        const PreparedPolygon& polygon = polygons_[k];
         if (polygon.degenerate) continue;
         PpProgram program = build_polygon_program(polygon, settings_.jitter_samples, dims_, inputs);
         // D, E and F of every expression, a word each.
@@ -122,7 +129,7 @@ Phase LevoyRenderer::scan_convert() {
                                program, [&](const SlotFrame& frame) { return polygon_reaches_slot(polygon, frame, dims_, placement.shape()); },
                                [&](const SlotFrame& frame) { return polygon_expressions(polygon, offsets, frame, settings_.store.layout); }),
                            bits, {}};
-        const auto visited = static_cast<std::uint64_t>(std::llround(kSequentialVoxelsPerUnitArea * polygon.area));
+        const auto visited = static_cast<std::uint64_t>(std::llround(kSequentialVoxelsPerUnitArea * polygon_areas_[k]));
         const auto tests = static_cast<std::uint64_t>(settings_.jitter_samples) * (polygon.edge_normals.size() + 1);
         add_op(pass.on_one_processor, kPolygonPointTest, visited * tests);
         add_op(pass.on_one_processor, kVoxelMatte, visited);

@@ -173,6 +173,7 @@ private:
     ShadedVolume shaded_;
     BinaryPyramid pyramid_;
     std::vector<PreparedPolygon> polygons_;
+    std::vector<double> polygon_areas_;  // each one's area within the volume
     bool polygons_changed_ = false;
     std::optional<ShadingView> shaded_for_;
     std::optional<RegionOfInterest> region_;

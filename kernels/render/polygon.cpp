@@ -107,6 +107,28 @@ void validate_polygon(const PolygonSpec& polygon, const std::string& file, const
     }
 }
 
+double area_inside_box(const std::vector<glm::vec3>& vertices, glm::dvec3 lower, glm::dvec3 upper) {
+    std::vector<glm::dvec3> clipped(vertices.begin(), vertices.end()), next;
+    // Sutherland-Hodgman: keep the side of each of the six faces' planes the box is on.
+    for (int axis = 0; axis < 3 && !clipped.empty(); ++axis)
+        for (const int side : {-1, 1}) {
+            const double bound = side < 0 ? lower[axis] : upper[axis];
+            const auto inside = [&](const glm::dvec3& p) { return side < 0 ? p[axis] >= bound : p[axis] <= bound; };
+            next.clear();
+            for (std::size_t i = 0; i < clipped.size(); ++i) {
+                const glm::dvec3& a = clipped[i];
+                const glm::dvec3& b = clipped[(i + 1) % clipped.size()];
+                if (inside(a)) next.push_back(a);
+                if (inside(a) != inside(b)) next.push_back(a + (b - a) * ((bound - a[axis]) / (b[axis] - a[axis])));
+            }
+            clipped.swap(next);
+        }
+    if (clipped.size() < 3) return 0.0;
+    glm::dvec3 n(0.0);
+    for (std::size_t i = 0; i < clipped.size(); ++i) n += glm::cross(clipped[i], clipped[(i + 1) % clipped.size()]);
+    return 0.5 * glm::length(n);
+}
+
 PreparedPolygon prepare_polygon(const PolygonSpec& polygon) {
     PreparedPolygon p;
     const auto& v = polygon.vertices;

@@ -52,6 +52,9 @@ struct PreparedPolygon {
 // InputError(file, field, reason). A polygon with no area is accepted (it covers nothing).
 void validate_polygon(const PolygonSpec& polygon, const std::string& file, const std::string& field);
 PreparedPolygon prepare_polygon(const PolygonSpec& polygon);
+// The area of the part of a planar polygon inside the box [lower, upper] (clipped plane by plane):
+// what a scan-converter that visits only the volume's voxels covers, however far the polygon reaches.
+double area_inside_box(const std::vector<glm::vec3>& vertices, glm::dvec3 lower, glm::dvec3 upper);
 
 // J fixed sample offsets in the voxel's cube [-1/2, 1/2)^3: the centre first, then a low-discrepancy
 // (R3) sequence, so coverage error falls roughly as 1/J. J >= 1.

@@ -399,10 +399,11 @@ std::vector<PolygonSpec> read_mesh(TableReader& item, const std::filesystem::pat
             t.vertices.clear();
             for (std::size_t k = 0; k < 3; ++k) {
                 const int v = indices[f + k].vertex_index;
-                if (v < 0 || static_cast<std::size_t>(3 * v + 2) >= vertices.size())
+                // In size_t: 3 v overflows an int for indices near INT_MAX.
+                const std::size_t at = 3 * static_cast<std::size_t>(std::max(v, 0));
+                if (v < 0 || at + 2 >= vertices.size())
                     item.fail("file", path.string() + ": a face refers to a vertex the file does not have");
-                const glm::vec3 p(vertices[static_cast<std::size_t>(3 * v)], vertices[static_cast<std::size_t>(3 * v + 1)],
-                                  vertices[static_cast<std::size_t>(3 * v + 2)]);
+                const glm::vec3 p(vertices[at], vertices[at + 1], vertices[at + 2]);
                 t.vertices.push_back(p * scale + translate);
             }
             triangles.push_back(std::move(t));

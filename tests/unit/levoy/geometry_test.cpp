@@ -35,6 +35,18 @@ double host_coverage_sum(const PreparedPolygon& p, int samples) {
     return sum / samples;
 }
 
+// A polygon reaching far past the volume costs a sequential scan-converter only its part inside: the
+// area clipped to the box, exact for a square cut in half and for one wholly inside, and bounded for
+// one a billion voxels across (whose full area would make its count of operations overflow).
+TEST(PolygonArea, OnlyThePartInsideTheVolumeCounts) {
+    const std::vector<glm::vec3> square = {{0, 0, 5}, {10, 0, 5}, {10, 10, 5}, {0, 10, 5}};
+    EXPECT_NEAR(area_inside_box(square, glm::dvec3(-1), glm::dvec3(20)), 100.0, 1e-9);
+    EXPECT_NEAR(area_inside_box(square, glm::dvec3(-1), glm::dvec3(5, 20, 20)), 50.0, 1e-9);
+    EXPECT_EQ(area_inside_box(square, glm::dvec3(11, -1, -1), glm::dvec3(20)), 0.0);
+    const std::vector<glm::vec3> huge = {{0, 0, 0}, {9e8f, 0, 0}, {0, 9e8f, 0}};
+    EXPECT_NEAR(area_inside_box(huge, glm::dvec3(-1), glm::dvec3(32)), 32.0 * 32.0, 1e-6);  // the box's quarter of x, y >= 0
+}
+
 TEST(ScanConversion, CoverageApproachesTheAreaAsTranslationsGrow) {
     // A tilted triangle of area about 200 voxels^2.
     const PreparedPolygon p = prepare_polygon(triangle({3.2f, 4.1f, 5.3f}, {24.7f, 6.2f, 11.9f}, {9.4f, 22.8f, 17.1f}));
