@@ -93,11 +93,19 @@ void print_summary(const FitReport& report) {
     }
 }
 
+// Where a command writes: --out, or out/<command>; checked before any work.
+std::filesystem::path output_folder(const CalibrateOptions& o, const char* command) {
+    const std::filesystem::path folder = o.out.empty() ? std::filesystem::path("out") / command : std::filesystem::path(o.out);
+    check_output_folder(folder, "--out");
+    return folder;
+}
+
 int run_fit(const CalibrateOptions& o) {
+    const std::filesystem::path folder = output_folder(o, "fit");
     std::optional<tbb::global_control> parallelism;
     const auto model = prepare(o, parallelism);
     const FitReport report = fit(*model, o);
-    StagedOutput output(o.out.empty() ? std::filesystem::path("out") / "fit" : std::filesystem::path(o.out));
+    StagedOutput output(folder);
     stage_fit(output, *model, report);
     const auto written = output.commit();
     fmt::print("pp5sim fit: {} ({:.0f} s)\n", model->targets().name, report.host_seconds);
@@ -162,8 +170,9 @@ void stage_host_check(StagedOutput& output, const HostCheckReport& report) {
 }
 
 int run_host_check_command(const CalibrateOptions& o) {
+    const std::filesystem::path folder = output_folder(o, "host-check");
     const HostCheckReport report = host_check(o);
-    StagedOutput output(o.out.empty() ? std::filesystem::path("out") / "host-check" : std::filesystem::path(o.out));
+    StagedOutput output(folder);
     stage_host_check(output, report);
     const auto written = output.commit();
     fmt::print("pp5sim host-check: median absolute error {:.1f}% fitted, {:.1f}% held out (max {:.1f}%)\n", 100 * report.median_fitted_error,
@@ -176,9 +185,10 @@ int run_reproduce(const CalibrateOptions& o) {
     if (o.gp_counts.empty()) throw InputError("--gp-counts", "--gp-counts", "needs at least one GP count");
     for (const int n : o.gp_counts)
         if (n < 1 || n > 1024) throw InputError("--gp-counts", "--gp-counts", fmt::format("{} is not a GP count from 1 to 1024", n));
+    const std::filesystem::path folder = output_folder(o, "reproduce");
     std::optional<tbb::global_control> parallelism;
     const auto model = prepare(o, parallelism);
-    StagedOutput output(o.out.empty() ? std::filesystem::path("out") / "reproduce" : std::filesystem::path(o.out));
+    StagedOutput output(folder);
     FitReport report;
     if (o.uncalibrated) {
         report = evaluate_targets(*model, {});

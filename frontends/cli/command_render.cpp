@@ -90,6 +90,8 @@ int run_render(const RenderOptions& o) {
     tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, threads);
 
     StagedOutput output(o.out.empty() ? std::filesystem::path("out") / scenario.name : std::filesystem::path(o.out));
+    output.own_folder();  // a rerun with fewer frames leaves none of the last run's behind
+    if (trace) check_output_file(o.trace, "--trace");
     Progress progress("render " + scenario.name, scenario.frames.size());
     ScenarioRenderOptions options;
     options.format = format;
@@ -97,12 +99,10 @@ int run_render(const RenderOptions& o) {
     options.progress = [&progress](std::size_t done, std::size_t) { progress.update(done); };
     const ScenarioRender rendered = render_scenario(scenario, config, output, options);
     const double host_seconds = Seconds(std::chrono::steady_clock::now() - started).count();
-    auto written = output.commit();
+    // The trace is part of the same commit: the run's files appear together or not at all.
+    if (trace) output.add_text_at(o.trace, trace->to_text(), "--trace");
+    const auto written = output.commit();
     if (trace) {
-        const std::filesystem::path trace_path(o.trace);
-        StagedOutput trace_output(trace_path.has_parent_path() ? trace_path.parent_path() : std::filesystem::path("."));
-        trace_output.add_text(trace_path.filename().string(), trace->to_text());
-        for (auto& p : trace_output.commit()) written.push_back(std::move(p));
         fmt::print("  trace: {} events{} in {}\n", trace->events(),
                    trace->dropped() > 0 ? fmt::format(" ({} more past --trace-limit)", trace->dropped()) : std::string(), o.trace);
     }

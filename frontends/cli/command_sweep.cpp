@@ -127,6 +127,8 @@ int run_sweep_command(const SweepOptions& o) {
 
     const SweepSpec spec = spec_of(o);
     const Shard shard = !o.shard.empty() ? parse_shard(o.shard) : shard_from_environment().value_or(Shard{});
+    // Checked before any point runs.
+    StagedOutput output(o.out.empty() ? std::filesystem::path("out") / "sweeps" / spec.name : std::filesystem::path(o.out));
     const std::size_t total = plan_sweep(spec).size();
     const std::size_t mine = (total + shard.count - 1 - shard.index) / shard.count;
     Progress progress(shard.count > 1 ? fmt::format("sweep {} (shard {} of {})", spec.name, shard.index, shard.count) : "sweep " + spec.name,
@@ -135,7 +137,6 @@ int run_sweep_command(const SweepOptions& o) {
     // What is written is what a reader gets back, so a merge of shards writes the same bytes.
     const SweepResult as_written = sweep_from_json(sweep_to_json(result), "sweep");
 
-    StagedOutput output(o.out.empty() ? std::filesystem::path("out") / "sweeps" / spec.name : std::filesystem::path(o.out));
     if (shard.count > 1) {
         output.add_text(shard_file_name(shard), sweep_to_json(as_written, shard).dump(1) + "\n");
         notes.push_back(fmt::format("  shard {} of {}: join the shards with `pp5sim sweep --merge {}`", shard.index, shard.count,

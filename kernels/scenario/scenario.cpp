@@ -2,6 +2,7 @@
 
 #include "kernels/volume/datasets.h"
 #include "kernels/volume/phantoms.h"
+#include "kernels/volume/host_memory.h"
 #include "kernels/volume/resample.h"
 #include "kernels/volume/volume_io.h"
 #include "sim/core/input_error.h"
@@ -444,8 +445,13 @@ Scenario load_scenario(const std::filesystem::path& path) {
     // Checked against the registry when a run starts (this layer lies below the kernels).
     if (const auto kernel = meta.text("kernel")) s.kernel = *kernel;
     meta.finish();
-    if (s.name.empty() || s.name.find_first_of("/\\") != std::string::npos)
-        meta.fail("name", "must be a non-empty name without slashes (it names the output folder)");
+    // It names the output folder, out/<name>: a plain file name, not one that climbs out of out/.
+    constexpr std::size_t kLongestName = 100;
+    if (s.name.empty() || s.name.find_first_of("/\\") != std::string::npos || s.name == "." || s.name == ".." ||
+        s.name.size() > kLongestName || s.name.find('\0') != std::string::npos)
+        meta.fail("name", fmt::format("must be a name of 1 to {} characters without slashes, and not . or .. (it names the output "
+                                      "folder out/<name>)",
+                                      kLongestName));
 
     if (!top.has("dataset")) top.fail("dataset", "required: a [dataset] table naming packaged, file or phantom");
     s.dataset = read_dataset(top.sub("dataset"), path);
@@ -503,6 +509,7 @@ Volume load_dataset(const Scenario& scenario) {
     switch (d.source) {
         case DatasetSpec::Source::Packaged: volume = load_packaged_dataset(d.name); break;
         case DatasetSpec::Source::Phantom:
+            check_volume_fits_host(scenario.file.string(), "dataset.size", glm::ivec3(d.phantom_size), ScalarType::UInt8);
             try {
                 volume = make_phantom(d.name, d.phantom_size);
             } catch (const InputError& e) {
@@ -514,7 +521,10 @@ Volume load_dataset(const Scenario& scenario) {
             volume = load_raw(d.name, RawLayout{d.raw_dims, d.raw_type, d.raw_big_endian, d.raw_header_bytes, d.raw_spacing});
             break;
     }
-    if (d.resample_to) volume = resample(volume, *d.resample_to);
+    if (d.resample_to) {
+        check_volume_fits_host(scenario.file.string(), "dataset.resample", *d.resample_to, ScalarType::Float32);
+        volume = resample(volume, *d.resample_to);
+    }
     return volume;
 }
 

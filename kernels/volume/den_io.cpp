@@ -76,6 +76,7 @@ Volume load_den(const std::filesystem::path& path) {
                          fmt::format("is {} but map_len {} makes {}", map_length, volume_detail::dims_text(dims), count));
     }
 
+    check_volume_fits_host(file, "header.dims", dims, ScalarType::UInt8);
     const auto data = in.read_up_to(count, "voxel data");
     if (data.size() < count) {
         throw InputError(file, "voxel data",

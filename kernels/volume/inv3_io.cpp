@@ -112,6 +112,8 @@ public:
     }
 
     std::vector<std::byte> read(const TarEntry& entry) {
+        // The declared size bounds what the stream may inflate to; refuse it before reading if too big.
+        check_bytes_fit_host(file_, "archive", static_cast<double>(entry.size), "member " + entry.name);
         std::vector<std::byte> data = gz_.read_up_to(entry.size, "archive");
         if (data.size() < entry.size) cut_short(entry, data.size());
         skip_bytes(padding(entry.size));  // a cut in the padding alone loses nothing; the next header tells

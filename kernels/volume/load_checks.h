@@ -2,6 +2,7 @@
 // Checks every volume loader shares, so that the same problem reads the same way whichever format it
 // turns up in. Internal to kernels/volume.
 
+#include "kernels/volume/host_memory.h"
 #include "kernels/volume/volume.h"
 
 #include <glm/vec3.hpp>
@@ -25,6 +26,8 @@ void check_axis_size(const std::string& file, const std::string& field, long lon
 void check_spacing(const std::string& file, const std::string& field, double value);
 
 std::size_t voxel_count(glm::ivec3 dims);
+
+
 std::string dims_text(glm::ivec3 dims);  // "10x10x11"
 
 // "file holds 1000 bytes of voxel data but dims 10x10x11 of int16 need 2200"

@@ -203,6 +203,7 @@ Volume load_nifti(const std::filesystem::path& path) {
                          fmt::format("is {} but the file ends before it{}", vox_offset, cut_short_note(in)));
     }
     const std::size_t need = volume_detail::voxel_count(dims) * scalar_size_bytes(type);
+    check_volume_fits_host(file, "header.dim", dims, type);
     const auto data = in.read_up_to(need, "voxel data");
     if (data.size() < need)
         throw InputError(file, "voxel data", volume_detail::size_mismatch(data.size(), dims, type) + cut_short_note(in));

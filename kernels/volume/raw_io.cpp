@@ -58,6 +58,7 @@ Volume load_raw(const std::filesystem::path& path, const RawLayout& layout) {
     errno = 0;
     const std::unique_ptr<std::FILE, FileCloser> in(std::fopen(path.c_str(), "rb"));
     if (!in) throw InputError(file, "file", std::string("cannot be opened: ") + std::strerror(errno));
+    check_volume_fits_host(file, "dims", layout.dims, layout.type);
     std::vector<std::byte> data(need);
     if (std::fseek(in.get(), static_cast<long>(layout.header_bytes), SEEK_SET) != 0 ||
         std::fread(data.data(), 1, need, in.get()) != need) {

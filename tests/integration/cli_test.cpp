@@ -427,4 +427,46 @@ TEST(Cli, UsageErrorsExitTwoWithADidYouMean) {
     EXPECT_EQ(version.output.rfind("pp5sim ", 0), 0u) << version.output;
 }
 
+// Output paths are checked before any work (a file, a path under a file, /dev/null, a trace under a
+// file: exit 2, nothing written); a folder where an output file goes stops the commit before any file
+// is written; a rerun with fewer frames leaves none of the last run's; a scenario cannot name its
+// output folder "..".
+TEST(Cli, OutputsAreCheckedFirstWrittenWholeAndNeverMixed) {
+    const fs::path dir = scratch("outputs");
+    const fs::path file = dir / "a_file";
+    std::ofstream(file) << "x";
+    for (const std::string& args : {"--out " + file.string(), "--out " + (file / "sub").string(), std::string("--out /dev/null"),
+                                    "--out " + (dir / "t").string() + " --trace " + (file / "trace.json").string()}) {
+        const RunResult r = run("render sphere " + args, dir);
+        EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
+        EXPECT_EQ(r.output.find("internal error"), std::string::npos) << r.output;
+        EXPECT_EQ(r.output.find("host time"), std::string::npos) << args << ": the run went ahead\n" << r.output;
+    }
+    EXPECT_FALSE(fs::exists(dir / "t"));
+
+    const fs::path out = dir / "run";
+    ASSERT_EQ(run("render head-phantom --out " + out.string(), dir).exit_code, 0);
+    EXPECT_TRUE(fs::exists(out / "frame_0003.png"));
+    ASSERT_EQ(run("render sphere --out " + out.string() + " --trace " + (dir / "trace.json").string(), dir).exit_code, 0);
+    EXPECT_TRUE(fs::exists(out / "frame_0000.png"));
+    EXPECT_FALSE(fs::exists(out / "frame_0003.png")) << "the last run's frames were left beside this one's";
+    EXPECT_TRUE(fs::exists(dir / "trace.json"));
+    EXPECT_EQ(nlohmann::json::parse(read_file(out / "stats.json"))["summary"]["scenario"], "sphere");
+
+    const fs::path blocked = dir / "blocked";
+    fs::create_directories(blocked / "stats.json");
+    const RunResult r = run("render sphere --out " + blocked.string(), dir);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("is a folder where pp5sim would write a file"), std::string::npos) << r.output;
+    for (const auto& entry : fs::directory_iterator(blocked)) EXPECT_EQ(entry.path().filename(), "stats.json") << entry.path();
+
+    const fs::path escape = dir / "escape.toml";
+    std::string text = read_file(scenario("sphere.toml"));
+    text.replace(text.find("name = \"sphere\""), 15, "name = \"..\"");
+    std::ofstream(escape) << text;
+    const RunResult up = run("render " + escape.string(), dir);
+    EXPECT_EQ(up.exit_code, 2) << up.output;
+    EXPECT_NE(up.output.find("scenario.name"), std::string::npos) << up.output;
+}
+
 }  // namespace

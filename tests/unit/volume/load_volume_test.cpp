@@ -64,6 +64,22 @@ TEST(LoadVolume, MissingFileIsReportedBeforeTheExtension) {
     EXPECT_EQ(e.field(), "file");
 }
 
+// A small gzip file whose header declares more than this computer could hold (here 4096^3 voxels, a
+// third of a terabyte) is refused before a byte of the samples is inflated, saying what it would need.
+TEST(LoadVolume, AHeaderDeclaringMoreThanTheHostHoldsIsRefusedBeforeReading) {
+    TempDir dir;
+    NiftiSpec spec;
+    spec.set_dims(4096, 4096, 4096);
+    write_gz(dir / "bomb.nii.gz", nifti_bytes(spec, Bytes(4096)));
+    // (A .den header's 32-bit voxel count cannot declare more than about 11 GB.)
+    for (const char* name : {"bomb.nii.gz"}) {
+        const InputError e = input_error_from([&] { load_volume(dir / name); });
+        EXPECT_THAT(e.reason(), HasSubstr("GB to load")) << name << ": " << e.what();
+        EXPECT_THAT(e.reason(), HasSubstr("this computer has")) << e.what();
+        EXPECT_THAT(e.field(), HasSubstr("header.")) << e.what();
+    }
+}
+
 TEST(PackagedDatasets, ListsTheDebianVolumes) {
     const auto all = packaged_datasets();
     ASSERT_EQ(all.size(), 4u);
