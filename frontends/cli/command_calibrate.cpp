@@ -100,8 +100,18 @@ std::filesystem::path output_folder(const CalibrateOptions& o, const char* comma
     return folder;
 }
 
+bool has_fitted_rows(const TargetSet& targets) {
+    return std::any_of(targets.targets.begin(), targets.targets.end(), [](const Target& t) { return t.fitted && !t.is_formula(); });
+}
+
 int run_fit(const CalibrateOptions& o) {
     const std::filesystem::path folder = output_folder(o, "fit");
+    // Refused before any scenario is rendered.
+    const std::filesystem::path targets_file = resolve_targets_file(o.targets);
+    if (!has_fitted_rows(load_targets(targets_file)))
+        throw InputError(targets_file.string(), "targets",
+                         "no row is to be fitted (every one is held out or a formula): nothing to fit; set use = \"fit\" on "
+                         "some, or compare them with `pp5sim reproduce --uncalibrated`");
     std::optional<tbb::global_control> parallelism;
     const auto model = prepare(o, parallelism);
     const FitReport report = fit(*model, o);
@@ -188,9 +198,11 @@ int run_reproduce(const CalibrateOptions& o) {
     const std::filesystem::path folder = output_folder(o, "reproduce");
     std::optional<tbb::global_control> parallelism;
     const auto model = prepare(o, parallelism);
+    // With no row to fit (formula rows, say) there is nothing to calibrate: the table is the model's own.
+    const bool uncalibrated = o.uncalibrated || !has_fitted_rows(model->targets());
     StagedOutput output(folder);
     FitReport report;
-    if (o.uncalibrated) {
+    if (uncalibrated) {
         report = evaluate_targets(*model, {});
     } else {
         report = fit(*model, o);
@@ -199,7 +211,7 @@ int run_reproduce(const CalibrateOptions& o) {
 
     // The table: every target with the (fitted) machines.
     const nlohmann::json table = report.to_json();
-    output.add_text("reproduction.json", nlohmann::json{{"targets", report.targets_name}, {"calibrated", !o.uncalibrated},
+    output.add_text("reproduction.json", nlohmann::json{{"targets", report.targets_name}, {"calibrated", !uncalibrated},
                                                         {"rows", table["rows"]}, {"summary", table["summary"]}}.dump(2) + "\n");
     output.add_text("reproduction.md", report.to_markdown());
 
@@ -230,7 +242,7 @@ int run_reproduce(const CalibrateOptions& o) {
     if (scaling) {
         PlotSpec spec;
         spec.title = fmt::format("Frame time against GP count ({}, frame {}, {})", scaling->scenario, scaling->frame,
-                                 o.uncalibrated ? "uncalibrated" : "calibrated");
+                                 uncalibrated ? "uncalibrated" : "calibrated");
         spec.x_label = "graphics processors";
         spec.y_label = "simulated frame time (s)";
         spec.log_x = spec.log_y = true;
@@ -287,7 +299,7 @@ int run_reproduce(const CalibrateOptions& o) {
         stage_host_check(output, *host);
     }
     const auto written = output.commit();
-    fmt::print("pp5sim reproduce: {} ({})\n", model->targets().name, o.uncalibrated ? "uncalibrated" : "calibrated");
+    fmt::print("pp5sim reproduce: {} ({})\n", model->targets().name, uncalibrated ? "uncalibrated" : "calibrated");
     if (host) {
         fmt::print("  host check: median absolute error {:.1f}% fitted, {:.1f}% held out\n", 100 * host->median_fitted_error,
                    100 * host->median_held_out_error);

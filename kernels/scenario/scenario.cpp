@@ -13,6 +13,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/constants.hpp>
 #include <glm/trigonometric.hpp>
+#include <glm/vector_relational.hpp>
 #include <tiny_obj_loader.h>
 #include "sim/core/toml_file.h"
 
@@ -427,6 +428,11 @@ void read_region(TableReader r, std::optional<RegionOfInterest>& region) {
     g.scale_inside = static_cast<float>(r.number("scale_inside", 0, 16).value_or(g.scale_inside));
     g.scale_outside = static_cast<float>(r.number("scale_outside", 0, 16).value_or(g.scale_outside));
     g.transition = static_cast<float>(r.number("transition", 0, 1000).value_or(g.transition));
+    // The PPs measure the distance to the surface in 1/128 voxel; a ramp much narrower than that is
+    // no ramp, and its slope would not fit their fields.
+    constexpr float kNarrowest = 0.01f;
+    if (g.transition > 0.0f && g.transition < kNarrowest)
+        r.fail("transition", fmt::format("is {} voxels: give 0 for a hard edge, or at least {}", g.transition, kNarrowest));
     const bool off = !r.boolean("enabled").value_or(true);
     r.finish();
     region = off ? std::nullopt : std::optional<RegionOfInterest>(g);
@@ -525,6 +531,11 @@ Volume load_dataset(const Scenario& scenario) {
         check_volume_fits_host(scenario.file.string(), "dataset.resample", *d.resample_to, ScalarType::Float32);
         volume = resample(volume, *d.resample_to);
     }
+    // Rendering interpolates between neighbouring samples: every axis needs two.
+    if (glm::any(glm::lessThan(volume.dims(), glm::ivec3(2))))
+        throw InputError(scenario.file.string(), d.resample_to ? "dataset.resample" : "dataset",
+                         fmt::format("the volume is {}x{}x{}; rendering needs at least two voxels along each axis", volume.dims().x,
+                                     volume.dims().y, volume.dims().z));
     return volume;
 }
 

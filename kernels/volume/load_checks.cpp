@@ -33,8 +33,11 @@ void check_axis_size(const std::string& file, const std::string& field, long lon
 }
 
 void check_spacing(const std::string& file, const std::string& field, double value) {
-    if (!(std::isfinite(value) && value > 0.0))
-        throw InputError(file, field, fmt::format("is {}: a voxel spacing must be positive and finite", value));
+    // Beyond these the products and inverses the renderers take of it overflow or underflow a float.
+    constexpr double kFinest = 1e-6, kCoarsest = 1e6;
+    if (!(std::isfinite(value) && value >= kFinest && value <= kCoarsest))
+        throw InputError(file, field, fmt::format("is {}: a voxel spacing must lie from {} to {} (in the file's units, mm for scans)", value,
+                                                  kFinest, kCoarsest));
 }
 
 std::size_t voxel_count(glm::ivec3 dims) {

@@ -22,7 +22,8 @@ void require_regular_file(const std::filesystem::path& path);
 // Throws InputError(file, field, ...) unless 1 <= value <= kMaxAxisVoxels.
 void check_axis_size(const std::string& file, const std::string& field, long long value);
 
-// Throws InputError(file, field, ...) unless value is positive and finite.
+// Throws InputError(file, field, ...) unless value lies in [1e-6, 1e6]: positive, finite, and far from
+// what would overflow or underflow the renderers' arithmetic.
 void check_spacing(const std::string& file, const std::string& field, double value);
 
 std::size_t voxel_count(glm::ivec3 dims);

@@ -469,4 +469,30 @@ TEST(Cli, OutputsAreCheckedFirstWrittenWholeAndNeverMixed) {
     EXPECT_NE(up.output.find("scenario.name"), std::string::npos) << up.output;
 }
 
+// A volume with one voxel along an axis cannot be rendered (samples interpolate between neighbours):
+// one line naming the dataset, not an internal error.
+TEST(Cli, AVolumeOneVoxelThinIsRefusedAsInput) {
+    const fs::path dir = scratch("thin");
+    std::ofstream(dir / "thin.raw", std::ios::binary) << std::string(64, '\x40');
+    std::ofstream(dir / "thin.toml") << "[dataset]\nfile = \"thin.raw\"\nraw = { dims = [1, 8, 8], type = \"uint8\" }\n"
+                                        "[classification]\nkind = \"isovalue-contours\"\ncontours = [{ value = 50.0, opacity = 0.9, thickness = 1.5 }]\n";
+    const RunResult r = run("render " + (dir / "thin.toml").string() + " --out " + (dir / "out").string(), dir);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("at least two voxels along each axis"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
+// A target file with nothing to fit is refused by fit before any scenario is rendered; reproduce
+// compares it uncalibrated.
+TEST(Cli, FitRefusesATargetFileWithNothingToFit) {
+    const fs::path dir = scratch("fit_nothing");
+    const RunResult fit = run("fit --targets lim-shin --out " + (dir / "fit").string(), dir);
+    EXPECT_EQ(fit.exit_code, 2) << fit.output;
+    EXPECT_NE(fit.output.find("nothing to fit"), std::string::npos) << fit.output;
+    EXPECT_FALSE(fs::exists(dir / "fit"));
+    const RunResult reproduce = run("reproduce --targets lim-shin --no-host-check --out " + (dir / "rep").string(), dir);
+    EXPECT_EQ(reproduce.exit_code, 0) << reproduce.output;
+    EXPECT_NE(reproduce.output.find("uncalibrated"), std::string::npos) << reproduce.output;
+}
+
 }  // namespace

@@ -134,6 +134,8 @@ TEST(Scenario, BadGeometryNamesTheFieldOrFile) {
     expect_bad("empty_mesh", ok + "[[meshes]]\nfile = \"" + empty.string() + "\"\n", "meshes[0].file");
     expect_bad("bad_region", ok + "[region]\nhalf_size = [0, 1, 1]\n", "region.half_size");
     expect_bad("bad_region_shape", ok + "[region]\nshape = \"torus\"\n", "region.shape");
+    expect_bad("hairline_ramp", ok + "[region]\ntransition = 1e-30\n", "region.transition");  // its slope would not fit the PPs
+    expect_bad("dot_dot_name", "[scenario]\nname = \"..\"\n" + ok, "scenario.name");
 }
 
 }  // namespace

@@ -319,6 +319,11 @@ TEST_F(NiftiTest, NegativeOrNaNPixdim) {
     spec.pixdim[2] = 1.0f;
     spec.pixdim[3] = std::numeric_limits<float>::quiet_NaN();
     EXPECT_EQ(error_for(spec, uint8_samples()).field(), "header.pixdim[3]");
+    // So small or so large that the renderers' products and inverses of it would leave a float.
+    spec.pixdim[3] = 1e-30f;
+    EXPECT_EQ(error_for(spec, uint8_samples()).field(), "header.pixdim[3]");
+    spec.pixdim[3] = 3e37f;
+    EXPECT_EQ(error_for(spec, uint8_samples()).field(), "header.pixdim[3]");
 }
 
 TEST_F(NiftiTest, VoxOffsetInsideTheHeaderOrFractional) {
