@@ -1,6 +1,7 @@
 #include "kernels/volume/load_checks.h"
 
-#include <unistd.h>
+#include "sim/core/host_memory.h"
+
 
 #include "sim/core/input_error.h"
 
@@ -56,11 +57,7 @@ std::string size_mismatch(std::size_t held_bytes, glm::ivec3 dims, ScalarType ty
 namespace pp5 {
 
 void check_bytes_fit_host(const std::string& file, const std::string& field, double bytes, const std::string& what) {
-    const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
-    const double host = pages > 0 && page > 0 ? static_cast<double>(pages) * static_cast<double>(page) : 16e9;
-    if (bytes > 0.5 * host)
-        throw InputError(file, field, fmt::format("{} needs {:.1f} GB to load (and more to render); this computer has {:.1f} GB", what,
-                                                  bytes / 1e9, host / 1e9));
+    check_fits_host_memory(file, field, bytes, "loading " + what);
 }
 
 void check_volume_fits_host(const std::string& file, const std::string& field, glm::ivec3 dims, ScalarType type) {

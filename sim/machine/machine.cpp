@@ -1,6 +1,7 @@
 #include "sim/machine/machine.h"
 
 #include "sim/core/calibration.h"
+#include "sim/core/host_memory.h"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -23,8 +24,23 @@ std::vector<std::unique_ptr<T>> build_all(std::int64_t count, const MachineConfi
 }
 }  // namespace
 
+namespace {
+
+// The renderers' backing stores are the machine's one large allocation; refused before it is made.
+const MachineConfig& fits_host(const MachineConfig& config) {
+    const double pps = static_cast<double>(config.integer("renderer.pp_columns")) * static_cast<double>(config.integer("renderer.pp_rows"));
+    const double words = static_cast<double>((config.integer("renderer.backing_store_bits") + 63) / 64);
+    const double bytes = static_cast<double>(config.integer("renderer.count")) * pps * words * 8;
+    check_fits_host_memory("machine configuration", "renderer.count",
+                           bytes, fmt::format("simulating {} renderers of {} PPs with {} bits of backing store each",
+                                              config.integer("renderer.count"), pps, config.integer("renderer.backing_store_bits")));
+    return config;
+}
+
+}  // namespace
+
 Machine::Machine(const MachineConfig& config)
-    : config_(config),
+    : config_(fits_host(config)),
       frame_buffer_(config_),
       gps_(build_all<GraphicsProcessor>(config_.integer("gp.count"), config_)),
       renderers_(build_all<Renderer>(config_.integer("renderer.count"), config_)),

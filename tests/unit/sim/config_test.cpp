@@ -113,6 +113,16 @@ TEST(MachineConfig, KeysNestedDeeperThanAnyParameterAreRefusedBeforeParsing) {
     EXPECT_NO_THROW(config.load_file(fine));
 }
 
+// A machine whose renderers' backing stores would not fit this computer (here 35 TB of them) is refused
+// before any is allocated, saying what it would need, rather than dying of std::bad_alloc.
+TEST(Machine, ThatCannotFitThisComputerIsRefusedBeforeItIsBuilt) {
+    MachineConfig config = Machine::default_config();
+    config.apply_override("renderer.count=1024");
+    config.apply_override("renderer.backing_store_bits=16777216");
+    const std::string why = expect_input_error([&] { Machine machine(config); }, "machine configuration", "renderer.count");
+    EXPECT_NE(why.find("GB of this computer's memory"), std::string::npos) << why;
+}
+
 TEST(MachineConfig, ResolvesPresetNames) {
     EXPECT_EQ(resolve_machine_file("pxpl5").filename(), "pxpl5.toml");
     EXPECT_THROW(resolve_machine_file("no-such-machine"), InputError);
