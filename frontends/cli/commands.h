@@ -27,5 +27,6 @@ void add_reproduce_command(CLI::App& app, std::function<int()>& run);
 void add_host_check_command(CLI::App& app, std::function<int()>& run);
 void add_sweep_command(CLI::App& app, std::function<int()>& run);
 void add_compare_command(CLI::App& app, std::function<int()>& run);
+void add_scenarios_command(CLI::App& app, std::function<int()>& run);
 
 }  // namespace pp5::cli

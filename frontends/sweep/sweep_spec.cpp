@@ -86,6 +86,15 @@ std::filesystem::path resolve_sweep_file(const std::string& name_or_path) {
     return resolve_named_file(name_or_path, {"PP5SIM_SWEEPS", builtin, "sweep", "traces/sweeps/*.toml"});
 }
 
+std::vector<std::filesystem::path> shipped_sweep_files() {
+#ifdef PP5_SWEEPS_DIR
+    const char* builtin = PP5_SWEEPS_DIR;
+#else
+    const char* builtin = nullptr;
+#endif
+    return list_named_files({"PP5SIM_SWEEPS", builtin, "sweep", "traces/sweeps/*.toml"});
+}
+
 SweepSpec load_sweep_file(const std::filesystem::path& path) {
     const std::string file = path.string();
     const toml::table root = read_toml_file(file);

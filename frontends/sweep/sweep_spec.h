@@ -37,6 +37,8 @@ struct SweepSpec {
 SweepSpec load_sweep_file(const std::filesystem::path& path);
 // A sweep file by path, or the name of one shipped in traces/sweeps/.
 std::filesystem::path resolve_sweep_file(const std::string& name_or_path);
+// Every sweep file shipped (and in $PP5SIM_SWEEPS).
+std::vector<std::filesystem::path> shipped_sweep_files();
 
 // "gp.count=8,16,32" as --vary gives it.
 SweepAxis parse_vary_option(const std::string& text);

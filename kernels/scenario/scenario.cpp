@@ -333,6 +333,15 @@ std::filesystem::path resolve_scenario_file(const std::string& name_or_path) {
     return resolve_named_file(name_or_path, {"PP5SIM_SCENARIOS", builtin, "scenario", "traces/scenarios/*.toml"});
 }
 
+std::vector<std::filesystem::path> shipped_scenario_files() {
+#ifdef PP5_SCENARIOS_DIR
+    const char* builtin = PP5_SCENARIOS_DIR;
+#else
+    const char* builtin = nullptr;
+#endif
+    return list_named_files({"PP5SIM_SCENARIOS", builtin, "scenario", "traces/scenarios/*.toml"});
+}
+
 // A list of [x, y, z] points.
 std::vector<glm::vec3> read_points(TableReader& r, const std::string& key) {
     std::vector<glm::vec3> points;

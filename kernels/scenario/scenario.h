@@ -94,6 +94,8 @@ inline constexpr const char* kDefaultScenario = "mr-head";
 // A path to an existing file, or the name of a shipped scenario (traces/scenarios/NAME.toml, or
 // $PP5SIM_SCENARIOS/NAME.toml). Throws pp5::InputError naming the argument when neither exists.
 std::filesystem::path resolve_scenario_file(const std::string& name_or_path);
+// Every scenario file shipped in traces/scenarios/ (and in $PP5SIM_SCENARIOS).
+std::vector<std::filesystem::path> shipped_scenario_files();
 // Loads (and resamples) the dataset the scenario names; errors name the scenario file.
 Volume load_dataset(const Scenario& scenario);
 

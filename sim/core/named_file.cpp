@@ -3,6 +3,7 @@
 #include "sim/core/input_error.h"
 
 #include <cstdlib>
+#include <map>
 #include <vector>
 
 namespace pp5 {
@@ -17,6 +18,22 @@ std::filesystem::path resolve_named_file(const std::string& name_or_path, const 
     for (const auto& dir : directories)
         if (fs::is_regular_file(dir / file_name)) return dir / file_name;
     throw InputError(name_or_path, search.field, std::string("no such file, and not a shipped name (") + search.hint + ")");
+}
+
+std::vector<std::filesystem::path> list_named_files(const NamedFileSearch& search) {
+    namespace fs = std::filesystem;
+    std::vector<fs::path> directories;
+    if (const char* env = std::getenv(search.environment_variable)) directories.emplace_back(env);
+    if (search.builtin_directory != nullptr) directories.emplace_back(search.builtin_directory);
+    std::map<std::string, fs::path> by_name;
+    for (const auto& dir : directories) {
+        std::error_code error;
+        for (fs::directory_iterator it(dir, error), end; !error && it != end; it.increment(error))
+            if (it->path().extension() == ".toml" && it->is_regular_file()) by_name.emplace(it->path().stem().string(), it->path());
+    }
+    std::vector<fs::path> out;
+    for (auto& [name, path] : by_name) out.push_back(std::move(path));
+    return out;
 }
 
 }  // namespace pp5

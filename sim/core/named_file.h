@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace pp5 {
 
@@ -16,5 +17,8 @@ struct NamedFileSearch {
 // `name_or_path` if it is an existing file, else NAME.toml in the search directories.
 // Throws pp5::InputError naming the argument when neither exists.
 std::filesystem::path resolve_named_file(const std::string& name_or_path, const NamedFileSearch& search);
+// Every NAME.toml the search directories hold, by name (the user's directory first shadows a
+// shipped file of the same name).
+std::vector<std::filesystem::path> list_named_files(const NamedFileSearch& search);
 
 }  // namespace pp5

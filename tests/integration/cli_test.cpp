@@ -495,4 +495,16 @@ TEST(Cli, FitRefusesATargetFileWithNothingToFit) {
     EXPECT_NE(reproduce.output.find("uncalibrated"), std::string::npos) << reproduce.output;
 }
 
+// `scenarios` lists what can be run by name: every shipped scenario with its kernel, the sweeps, and
+// the packaged volumes with whether each is here.
+TEST(Cli, ScenariosListsWhatCanBeRunByName) {
+    const fs::path dir = scratch("scenarios");
+    const RunResult r = run("scenarios", dir);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    for (const auto& entry : fs::directory_iterator(std::string(PP5_SOURCE_DIR) + "/traces/scenarios"))
+        EXPECT_NE(r.output.find("  " + entry.path().stem().string() + " "), std::string::npos) << entry.path();
+    for (const char* listed : {"perm       ", "gp-ring-cache", "ch2 ", "ct-head ", "installed"}) EXPECT_NE(r.output.find(listed), std::string::npos) << listed;
+    EXPECT_EQ(r.output.find("cannot be read"), std::string::npos) << r.output;
+}
+
 }  // namespace
