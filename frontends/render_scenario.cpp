@@ -48,6 +48,9 @@ std::string describe_frame(const nlohmann::json& f, const KernelRun& run) {
                                    f["label"].get<std::string>(), f["reference"]["samples"].dump(),
                                    f["reference"]["samples_skipped"].dump());
     line += run.describe(f);
+    // Levoy's figures are rates: the frame's beside its milliseconds.
+    if (f.contains("simulated_seconds") && f["simulated_seconds"].is_number() && f["simulated_seconds"].get<double>() > 0)
+        line += fmt::format(" ({:.1f} frames a second)", 1.0 / f["simulated_seconds"].get<double>());
     if (f.contains("fidelity")) {
         const auto& psnr = f["fidelity"]["psnr_db"];
         line += psnr.is_number() ? fmt::format("; PSNR {:.1f} dB against the reference", psnr.get<double>())

@@ -147,11 +147,12 @@ public:
                                 f["geometry"]["simulated_seconds"].get<double>() * 1e3,
                                 f["geometry"]["polygons_per_second"].get<double>());
         const auto& m = f["machine"];
-        line += fmt::format("\n    GPs: {} rays in {} passes, {} samples ({} skipped), cache hit rate {:.1f}%; crude {:.1f} ms, "
+        const double crude = m["crude_seconds"].get<double>();
+        line += fmt::format("\n    GPs: {} rays in {} passes, {} samples ({} skipped), cache hit rate {:.1f}%; crude {:.1f} ms{}, "
                             "refined {:.1f} ms simulated",
                             m["rays"].dump(), m["passes"].size(), m["samples"].dump(), m["samples_skipped"].dump(),
-                            100.0 * m["cache"]["hit_rate"].get<double>(), m["crude_seconds"].get<double>() * 1e3,
-                            m["refined_seconds"].get<double>() * 1e3);
+                            100.0 * m["cache"]["hit_rate"].get<double>(), crude * 1e3,
+                            crude > 0 ? fmt::format(" ({:.1f} a second)", 1.0 / crude) : std::string(), m["refined_seconds"].get<double>() * 1e3);
         return line;
     }
 
