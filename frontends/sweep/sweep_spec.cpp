@@ -77,23 +77,19 @@ std::vector<Leaf> leaves_in_file_order(const toml::table& table, const std::stri
 
 }  // namespace
 
-std::filesystem::path resolve_sweep_file(const std::string& name_or_path) {
+// Where sweep files are found by name: $PP5SIM_SWEEPS, then the source tree's traces/sweeps.
+static NamedFileSearch sweep_search() {
 #ifdef PP5_SWEEPS_DIR
     const char* builtin = PP5_SWEEPS_DIR;
 #else
     const char* builtin = nullptr;
 #endif
-    return resolve_named_file(name_or_path, {"PP5SIM_SWEEPS", builtin, "sweep", "traces/sweeps/*.toml"});
+    return {"PP5SIM_SWEEPS", builtin, "sweep", "traces/sweeps/*.toml"};
 }
 
-std::vector<std::filesystem::path> shipped_sweep_files() {
-#ifdef PP5_SWEEPS_DIR
-    const char* builtin = PP5_SWEEPS_DIR;
-#else
-    const char* builtin = nullptr;
-#endif
-    return list_named_files({"PP5SIM_SWEEPS", builtin, "sweep", "traces/sweeps/*.toml"});
-}
+std::filesystem::path resolve_sweep_file(const std::string& name_or_path) { return resolve_named_file(name_or_path, sweep_search()); }
+
+std::vector<std::filesystem::path> shipped_sweep_files() { return list_named_files(sweep_search()); }
 
 SweepSpec load_sweep_file(const std::filesystem::path& path) {
     const std::string file = path.string();

@@ -324,23 +324,19 @@ Camera CameraSpec::camera_for(glm::vec3 center, float radius) const {
     return camera;
 }
 
-std::filesystem::path resolve_scenario_file(const std::string& name_or_path) {
+// Where scenarios are found by name: $PP5SIM_SCENARIOS, then the source tree's traces/scenarios.
+static NamedFileSearch scenario_search() {
 #ifdef PP5_SCENARIOS_DIR
     const char* builtin = PP5_SCENARIOS_DIR;
 #else
     const char* builtin = nullptr;
 #endif
-    return resolve_named_file(name_or_path, {"PP5SIM_SCENARIOS", builtin, "scenario", "traces/scenarios/*.toml"});
+    return {"PP5SIM_SCENARIOS", builtin, "scenario", "traces/scenarios/*.toml"};
 }
 
-std::vector<std::filesystem::path> shipped_scenario_files() {
-#ifdef PP5_SCENARIOS_DIR
-    const char* builtin = PP5_SCENARIOS_DIR;
-#else
-    const char* builtin = nullptr;
-#endif
-    return list_named_files({"PP5SIM_SCENARIOS", builtin, "scenario", "traces/scenarios/*.toml"});
-}
+std::filesystem::path resolve_scenario_file(const std::string& name_or_path) { return resolve_named_file(name_or_path, scenario_search()); }
+
+std::vector<std::filesystem::path> shipped_scenario_files() { return list_named_files(scenario_search()); }
 
 // A list of [x, y, z] points.
 std::vector<glm::vec3> read_points(TableReader& r, const std::string& key) {

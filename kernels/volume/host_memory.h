@@ -14,7 +14,5 @@ namespace pp5 {
 // Throws InputError(file, field, ...) when holding a volume of `dims` (its source bytes while reading,
 // then four bytes a voxel) would take more than half of this computer's memory (sim/core/host_memory.h).
 void check_volume_fits_host(const std::string& file, const std::string& field, glm::ivec3 dims, ScalarType type);
-// The same for `bytes` of anything else a loader would hold (an archive member), named by `what`.
-void check_bytes_fit_host(const std::string& file, const std::string& field, double bytes, const std::string& what);
 
 }  // namespace pp5

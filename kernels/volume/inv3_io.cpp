@@ -16,6 +16,7 @@
 #include "kernels/volume/gz_file.h"
 #include "kernels/volume/load_checks.h"
 #include "kernels/volume/sample_decode.h"
+#include "sim/core/host_memory.h"
 #include "sim/core/input_error.h"
 
 #include <fmt/format.h>
@@ -113,7 +114,7 @@ public:
 
     std::vector<std::byte> read(const TarEntry& entry) {
         // The declared size bounds what the stream may inflate to; refuse it before reading if too big.
-        check_bytes_fit_host(file_, "archive", static_cast<double>(entry.size), "member " + entry.name);
+        check_fits_host_memory(file_, "archive", static_cast<double>(entry.size), "loading member " + entry.name);
         std::vector<std::byte> data = gz_.read_up_to(entry.size, "archive");
         if (data.size() < entry.size) cut_short(entry, data.size());
         skip_bytes(padding(entry.size));  // a cut in the padding alone loses nothing; the next header tells

@@ -56,13 +56,9 @@ std::string size_mismatch(std::size_t held_bytes, glm::ivec3 dims, ScalarType ty
 
 namespace pp5 {
 
-void check_bytes_fit_host(const std::string& file, const std::string& field, double bytes, const std::string& what) {
-    check_fits_host_memory(file, field, bytes, "loading " + what);
-}
-
 void check_volume_fits_host(const std::string& file, const std::string& field, glm::ivec3 dims, ScalarType type) {
     const double needed = static_cast<double>(volume_detail::voxel_count(dims)) * static_cast<double>(scalar_size_bytes(type) + sizeof(float));
-    check_bytes_fit_host(file, field, needed, fmt::format("a {} volume of {}", volume_detail::dims_text(dims), to_string(type)));
+    check_fits_host_memory(file, field, needed, fmt::format("loading a {} volume of {}", volume_detail::dims_text(dims), to_string(type)));
 }
 
 }  // namespace pp5
