@@ -29,10 +29,12 @@ public:
 
     const MachineConfig& config() const { return config_; }
     EventQueue& events() { return events_; }
+    const EventQueue& events() const { return events_; }
     Host& host() { return host_; }
     FrameBuffer& frame_buffer() { return frame_buffer_; }
     const FrameBuffer& frame_buffer() const { return frame_buffer_; }
     RingNetwork& ring() { return ring_; }
+    const RingNetwork& ring() const { return ring_; }
     std::vector<std::unique_ptr<GraphicsProcessor>>& gps() { return gps_; }
     const std::vector<std::unique_ptr<GraphicsProcessor>>& gps() const { return gps_; }
     std::vector<std::unique_ptr<Renderer>>& renderers() { return renderers_; }

@@ -1,0 +1,208 @@
+#include "frontends/render_session.h"
+
+#include "kernels/registry/registry.h"
+#include "kernels/scenario/scenario_inputs.h"
+#include "sim/timing/frame_engine.h"
+
+#include <fmt/core.h>
+
+#include <chrono>
+#include <cmath>
+
+namespace pp5 {
+
+namespace {
+
+using Seconds = std::chrono::duration<double>;
+
+nlohmann::json psnr_json(double psnr_db) { return std::isfinite(psnr_db) ? nlohmann::json(psnr_db) : nlohmann::json("inf"); }
+
+// One frame's record in stats.json: what changed, what the kernel and the machine did, how far the
+// picture is from the reference renderer's.
+nlohmann::json frame_record(std::size_t index, const FrameSpec& frame, const std::string& image_name, const FrameTiming& timing,
+                            nlohmann::json kernel_stats, const std::optional<ImageDifference>& fidelity, double host_seconds,
+                            bool polygons) {
+    nlohmann::json record = {
+        {"index", index},
+        {"label", frame.label},
+        {"image", image_name},
+        {"changed", {{"camera", frame.camera_changed}, {"lighting", frame.lighting_changed},
+                     {"classification", frame.classification_changed}, {"region", frame.region_changed}}},
+        {"simulated_seconds", ticks_to_seconds(timing.duration_ps())},
+        {"host_seconds", host_seconds}};
+    for (auto& [key, value] : kernel_stats.items()) record[key] = std::move(value);
+    if (fidelity) {
+        record["fidelity"] = {{"against", polygons ? "reference renderer, which has no polygons: the difference includes them"
+                                                   : "reference renderer"},
+                              {"psnr_db", psnr_json(fidelity->psnr_db)},
+                              {"rms_error", fidelity->rms_error},
+                              {"max_error", fidelity->max_error}};
+    }
+    return record;
+}
+
+std::string describe_frame(const nlohmann::json& f, const KernelRun& run) {
+    std::string line = fmt::format("  frame {} ({}): host reference {} samples ({} skipped as empty)", f["index"].get<std::size_t>(),
+                                   f["label"].get<std::string>(), f["reference"]["samples"].dump(),
+                                   f["reference"]["samples_skipped"].dump());
+    line += run.describe(f);
+    // Levoy's figures are rates: the frame's beside its milliseconds.
+    if (f.contains("simulated_seconds") && f["simulated_seconds"].is_number() && f["simulated_seconds"].get<double>() > 0)
+        line += fmt::format(" ({:.1f} frames a second)", 1.0 / f["simulated_seconds"].get<double>());
+    if (f.contains("fidelity")) {
+        const auto& psnr = f["fidelity"]["psnr_db"];
+        line += psnr.is_number() ? fmt::format("; PSNR {:.1f} dB against the reference", psnr.get<double>())
+                                 : std::string("; identical to the reference");
+    }
+    return line;
+}
+
+// Busy time so far, summed over each kind of component.
+struct BusyTotals {
+    std::uint64_t gps = 0, renderers = 0, ring = 0;
+};
+
+BusyTotals busy_totals(const Machine& machine) {
+    BusyTotals t;
+    for (const auto& gp : machine.gps()) t.gps += gp->busy_ps.value();
+    for (const auto& r : machine.renderers()) t.renderers += r->busy_ps.value();
+    t.ring = machine.ring().busy_ps();
+    return t;
+}
+
+FrameActivity activity_between(const BusyTotals& before, const BusyTotals& after, const Machine& machine, Tick duration) {
+    const auto share = [&](std::uint64_t busy, std::size_t count) {
+        const double capacity = static_cast<double>(duration) * static_cast<double>(count);
+        return capacity > 0 ? static_cast<double>(busy) / capacity : 0.0;
+    };
+    return {share(after.gps - before.gps, machine.gps().size()), share(after.renderers - before.renderers, machine.renderers().size()),
+            share(after.ring - before.ring, static_cast<std::size_t>(machine.ring().channel_count()))};
+}
+
+const Kernel& checked_kernel(const Scenario& scenario) {
+    const Kernel& kernel = kernel_for(scenario);
+    kernel.check(scenario);
+    return kernel;
+}
+
+}  // namespace
+
+const Image* SessionFrame::find(FrameImage::Kind kind, std::size_t pass) const {
+    for (auto it = images.rbegin(); it != images.rend(); ++it)
+        if (it->kind == kind && (kind == FrameImage::Kind::Frame || it->pass == pass)) return &it->image;
+    return nullptr;
+}
+
+Volume RenderSession::load_checked_volume(TraceRecorder* trace) {
+    if (trace != nullptr) machine_.attach_trace(trace);
+    // What the picture needs of the frame buffer is known before the volume is read.
+    if (kernel_.runs_on_machine()) check_picture_fits(machine_, scenario_.image.width, scenario_.image.height);
+    return load_dataset(scenario_);
+}
+
+RenderSession::RenderSession(const Scenario& scenario, const MachineConfig& config, TraceRecorder* trace, std::string extension)
+    : scenario_(scenario),
+      config_(config),
+      kernel_(checked_kernel(scenario_)),
+      extension_(std::move(extension)),
+      machine_(config_),
+      volume_(load_checked_volume(trace)) {
+    // The kernel sets the scenario up on the machine first: a volume that does not fit stops here.
+    run_ = kernel_.start(machine_, config_, scenario_, volume_);
+    // The oracle every machine kernel's pictures are compared with.
+    if (kernel_.runs_on_machine()) reference_.emplace(volume_);
+}
+
+SessionFrame RenderSession::render(FrameSpec frame) {
+    if (frames_rendered_ == 0) frame.camera_changed = frame.lighting_changed = frame.classification_changed = true;
+    const std::size_t index = frames_rendered_;
+    const auto frame_start = std::chrono::steady_clock::now();
+    std::optional<Image> reference_image;
+    RenderStats reference_counts;
+    if (reference_) {
+        if (frame.classification_changed) reference_->set_classification(frame.classification, frame.colors);
+        if (frame.lighting_changed) reference_->set_lighting(frame.lighting);
+        reference_image = reference_->render(frame_camera(frame, volume_), reference_render_settings(scenario_.image), &reference_counts);
+    }
+
+    SessionFrame out;
+    out.index = index;
+    std::unique_ptr<KernelFrame> recorded = run_->record_frame(frame);
+    const bool on_machine = kernel_.runs_on_machine();
+    const BusyTotals before = busy_totals(machine_);
+    out.timing = on_machine ? time_frame(machine_, recorded->work) : FrameTiming{};
+    out.activity = activity_between(before, busy_totals(machine_), machine_, out.timing.duration_ps());
+
+    // Each stage against the reference, with its difference image, for kernels whose stages are
+    // alternatives (the low-resolution volume alone, then with its points).
+    nlohmann::json pass_fidelity = nlohmann::json::array();
+    if (reference_image && recorded->compare_passes_with_reference) {
+        for (std::size_t p = 0; p < recorded->pass_images.size(); ++p) {
+            const Image& pass = recorded->pass_images[p];
+            const ImageDifference d = compare_images(pass, *reference_image);
+            const std::string name = fmt::format("frame_{:04}_pass_{}_difference.{}", index, p, extension_);
+            out.images.push_back({FrameImage::Kind::Difference, p, name, inverted_difference(pass, *reference_image)});
+            pass_fidelity.push_back({{"pass", p}, {"psnr_db", psnr_json(d.psnr_db)}, {"rms_error", d.rms_error}, {"difference_image", name}});
+        }
+    }
+    Image image = std::move(recorded->pass_images.back());
+    std::vector<std::string> pass_names;
+    if (on_machine) {
+        for (std::size_t p = 0; p < recorded->pass_images.size(); ++p) {
+            pass_names.push_back(fmt::format("frame_{:04}_pass_{}.{}", index, p, extension_));
+            out.images.push_back({FrameImage::Kind::Pass, p, pass_names.back(),
+                                  p + 1 == recorded->pass_images.size() ? Image(image) : std::move(recorded->pass_images[p])});
+        }
+    }
+    nlohmann::json kernel_stats = run_->frame_stats(*recorded, out.timing, pass_names);
+    if (reference_) kernel_stats["reference"] = reference_stats(reference_counts);
+    if (!pass_fidelity.empty()) kernel_stats["fidelity_by_pass"] = std::move(pass_fidelity);
+    if (on_machine)
+        kernel_stats["utilisation"] = {{"gps", out.activity.gps}, {"renderers", out.activity.renderers}, {"ring", out.activity.ring}};
+    std::optional<ImageDifference> fidelity;
+    if (reference_image) fidelity = compare_images(image, *reference_image);
+    const std::string image_name = fmt::format("frame_{:04}.{}", index, extension_);
+    out.images.push_back({FrameImage::Kind::Frame, 0, image_name, std::move(image)});
+    const double host = Seconds(std::chrono::steady_clock::now() - frame_start).count();
+    out.record = frame_record(index, frame, image_name, out.timing, std::move(kernel_stats), fidelity, host, !scenario_.polygons.empty());
+    ++frames_rendered_;
+    return out;
+}
+
+nlohmann::json RenderSession::stats(const nlohmann::json& frames, double host_seconds) const {
+    nlohmann::json simulated = nlohmann::json::array();
+    for (const auto& f : frames) simulated.push_back(f["simulated_seconds"]);
+    const nlohmann::json summary = {{"scenario", scenario_.name},
+                                    {"kernel", kernel_.name()},
+                                    {"machine", config_.machine_name()},
+                                    {"frames", frames.size()},
+                                    {"image_size", {scenario_.image.width, scenario_.image.height}},
+                                    {"simulated_seconds", simulated},
+                                    {"timing_model", kernel_.timing_summary()},
+                                    {"host_seconds", host_seconds}};
+    nlohmann::json stats = {
+        {"summary", summary},
+        {"dataset",
+         {{"name", volume_.name()},
+          {"dims", {volume_.dims().x, volume_.dims().y, volume_.dims().z}},
+          {"spacing", {volume_.spacing().x, volume_.spacing().y, volume_.spacing().z}},
+          {"type", std::string(to_string(volume_.source_type()))},
+          {"value_range", {volume_.min_value(), volume_.max_value()}}}},
+        {"frames", frames},
+        {"simulation", {{"events_run", machine_.events().events_run()}, {"simulated_ticks_ps", machine_.events().now()}}},
+        {"components", machine_.statistics()}};
+    if (nlohmann::json placement = run_->run_stats(); !placement.is_null()) stats["placement"] = std::move(placement);
+    return stats;
+}
+
+std::vector<std::string> RenderSession::summary_lines(const nlohmann::json& frames) const {
+    std::vector<std::string> lines;
+    lines.push_back(fmt::format("pp5sim render: scenario {} on machine {} ({} kernel)", scenario_.name, config_.machine_name(), kernel_.name()));
+    lines.push_back(fmt::format("  {}", machine_.summary()));
+    lines.push_back(fmt::format("  dataset {}: {}x{}x{} {}, values {} to {}", volume_.name(), volume_.dims().x, volume_.dims().y,
+                                volume_.dims().z, to_string(volume_.source_type()), volume_.min_value(), volume_.max_value()));
+    for (const auto& f : frames) lines.push_back(describe_frame(f, *run_));
+    return lines;
+}
+
+}  // namespace pp5

@@ -1,0 +1,88 @@
+#pragma once
+// A scenario's kernel running on one machine, kept alive from frame to frame: what `render` does for
+// each frame of a file, and what the Python module and `pp5sim serve` do one change at a time. The
+// kernel's run keeps its state (the PPs' shaded volume, the GPs' caches, the pyramid), so a frame that
+// only moves the light reshades and casts again, as Levoy's animation cases say, and its statistics
+// accumulate as one run's.
+
+#include "frontends/image_io.h"
+#include "kernels/interface/kernel.h"
+#include "kernels/reference/reference_renderer.h"
+#include "kernels/scenario/scenario.h"
+#include "sim/core/config.h"
+#include "sim/core/trace_recorder.h"
+#include "sim/machine/machine.h"
+
+#include <nlohmann/json.hpp>
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace pp5 {
+
+// How busy each kind of component was over one frame: busy time over count x the frame's time.
+struct FrameActivity {
+    double gps = 0.0;
+    double renderers = 0.0;
+    double ring = 0.0;
+};
+
+// One picture a frame produced, with the file name `render` gives it.
+struct FrameImage {
+    enum class Kind { Pass, Difference, Frame };
+    Kind kind = Kind::Frame;
+    std::size_t pass = 0;  // Pass and Difference: which stage
+    std::string name;      // "frame_0003_pass_1.png"
+    Image image;
+};
+
+struct SessionFrame {
+    std::size_t index = 0;
+    FrameTiming timing;
+    FrameActivity activity;
+    std::vector<FrameImage> images;  // the passes (on the machine), difference images, then the frame
+    nlohmann::json record;           // the frame's record in stats.json
+    // The last image of a kind ("the frame", or pass p); nullptr when there is none.
+    const Image* find(FrameImage::Kind kind, std::size_t pass = 0) const;
+};
+
+class RenderSession {
+public:
+    // Checks the scenario against its kernel and the machine, loads the volume and starts the kernel
+    // (InputError when something cannot fit, before any frame). Frames are named with `extension`.
+    RenderSession(const Scenario& scenario, const MachineConfig& config, TraceRecorder* trace = nullptr,
+                  std::string extension = "png");
+
+    // Computes and times the next frame. `frame` says what changed since the frame before (the first
+    // frame of a session changes everything, whatever it says).
+    SessionFrame render(FrameSpec frame);
+
+    // stats.json's document for the frames rendered so far (`frames`: their records, in order).
+    nlohmann::json stats(const nlohmann::json& frames, double host_seconds) const;
+    // A few lines for a terminal: the machine, the dataset, then one per frame record.
+    std::vector<std::string> summary_lines(const nlohmann::json& frames) const;
+
+    const Scenario& scenario() const { return scenario_; }
+    const Kernel& kernel() const { return kernel_; }
+    const MachineConfig& config() const { return config_; }
+    const Machine& machine() const { return machine_; }
+    const Volume& volume() const { return volume_; }
+    std::size_t frames_rendered() const { return frames_rendered_; }
+
+private:
+    Volume load_checked_volume(TraceRecorder* trace);
+
+    Scenario scenario_;
+    MachineConfig config_;
+    const Kernel& kernel_;
+    std::string extension_;
+    Machine machine_;
+    Volume volume_;
+    std::unique_ptr<KernelRun> run_;
+    std::optional<ReferenceRenderer> reference_;
+    std::size_t frames_rendered_ = 0;
+};
+
+}  // namespace pp5
