@@ -8,6 +8,20 @@ find_package(TBB CONFIG REQUIRED)
 find_package(ZLIB REQUIRED)
 find_package(OpenImageIO CONFIG REQUIRED)
 find_package(tinyobjloader CONFIG REQUIRED)
+# cpp-httplib (the browser tool's server) ships a pkg-config file, not a CMake package.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(CPP_HTTPLIB REQUIRED IMPORTED_TARGET cpp-httplib)
+
+# The Python module is built against Debian's own Python (where python3-numpy lives), not whatever
+# python3 comes first on the PATH.
+if(PP5_BUILD_PYTHON)
+  if(NOT DEFINED Python3_EXECUTABLE AND EXISTS /usr/bin/python3)
+    set(Python3_EXECUTABLE /usr/bin/python3)
+  endif()
+  find_package(Python3 REQUIRED COMPONENTS Interpreter Development.Module)
+  set(PYBIND11_FINDPYTHON ON)
+  find_package(pybind11 CONFIG REQUIRED)
+endif()
 
 # Debian's OpenImageIO 2.4 exports /usr/include/opencv4 as an include directory even when OpenCV's
 # headers are absent, which makes every consumer fail to configure. Drop the path when it is missing.

@@ -2,6 +2,7 @@
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -72,6 +73,47 @@ void write_image(const Image& image, const std::filesystem::path& path, ImageFor
     }
     if (!ok) throw std::runtime_error("cannot write " + path.string() + ": " + out->geterror());
     if (!out->close()) throw std::runtime_error("cannot finish " + path.string() + ": " + out->geterror());
+}
+
+namespace {
+
+// Encodes `frames` (one, or several as an animation) in the format `extension` names, in memory.
+std::string encode_rgb8(const std::vector<const Image*>& frames, const char* extension, float frames_per_second) {
+    const std::string name = std::string("memory.") + extension;
+    OIIO::Filesystem::IOVecOutput memory;
+    auto out = OIIO::ImageOutput::create(name, &memory);
+    if (!out) throw std::runtime_error(std::string("cannot encode ") + extension + ": " + OIIO::geterror());
+    if (frames.size() > 1 && !out->supports("multiimage"))
+        throw std::runtime_error(std::string("OpenImageIO cannot write animated ") + extension);
+    for (std::size_t f = 0; f < frames.size(); ++f) {
+        const Image& image = *frames[f];
+        OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
+        if (frames.size() > 1) spec.attribute("FramesPerSecond", OIIO::TypeRational, std::vector<int>{static_cast<int>(frames_per_second * 100), 100}.data());
+        void* proxy = &memory;  // the attribute holds a pointer, given by its address
+        spec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+        const auto mode = f == 0 ? OIIO::ImageOutput::Create : OIIO::ImageOutput::AppendSubimage;
+        const std::vector<unsigned char> rgb = to_rgb8(image);
+        if (!out->open(name, spec, mode) || !out->write_image(OIIO::TypeDesc::UINT8, rgb.data()))
+            throw std::runtime_error(std::string("cannot encode ") + extension + ": " + out->geterror());
+    }
+    if (!out->close()) throw std::runtime_error(std::string("cannot encode ") + extension + ": " + out->geterror());
+    const std::vector<unsigned char>& bytes = memory.buffer();
+    return std::string(bytes.begin(), bytes.end());
+}
+
+}  // namespace
+
+std::string encode_png(const Image& image) { return encode_rgb8({&image}, "png", 0.0f); }
+
+std::string encode_gif(const std::vector<Image>& frames, float frames_per_second) {
+    if (frames.empty()) throw std::invalid_argument("encode_gif: no frames");
+    std::vector<const Image*> pointers;
+    for (const Image& f : frames) {
+        if (f.width != frames.front().width || f.height != frames.front().height)
+            throw std::invalid_argument("encode_gif: the frames differ in size");
+        pointers.push_back(&f);
+    }
+    return encode_rgb8(pointers, "gif", frames_per_second);
 }
 
 }  // namespace pp5

@@ -4,6 +4,8 @@
 #include "kernels/render/image.h"
 
 #include <filesystem>
+#include <string>
+#include <vector>
 
 namespace pp5 {
 
@@ -25,6 +27,11 @@ ImageDifference compare_images(const Image& image, const Image& reference);
 // 1 - |image - reference| per colour channel (opaque): dark where they differ, as Wilson et al. print
 // their Figure 3. Throws std::invalid_argument if the sizes differ.
 Image inverted_difference(const Image& image, const Image& reference);
+
+// The bytes of a PNG file of `image`, made in memory (to send, or to stage with other outputs).
+std::string encode_png(const Image& image);
+// The bytes of an animated GIF showing `frames` in turn (each the same size), looping.
+std::string encode_gif(const std::vector<Image>& frames, float frames_per_second);
 
 // The 8-bit RGB bytes a PNG of `image` holds, row 0 at the top: what tests compare.
 std::vector<unsigned char> to_rgb8(const Image& image);

@@ -165,6 +165,7 @@ SessionFrame RenderSession::render(FrameSpec frame) {
     out.images.push_back({FrameImage::Kind::Frame, 0, image_name, std::move(image)});
     const double host = Seconds(std::chrono::steady_clock::now() - frame_start).count();
     out.record = frame_record(index, frame, image_name, out.timing, std::move(kernel_stats), fidelity, host, !scenario_.polygons.empty());
+    out.recorded = std::move(recorded);
     ++frames_rendered_;
     return out;
 }

@@ -90,6 +90,7 @@ int main(int argc, char** argv) {
     pp5::cli::add_sweep_command(app, run);
     pp5::cli::add_compare_command(app, run);
     pp5::cli::add_scenarios_command(app, run);
+    pp5::cli::add_serve_command(app, run);
 
     try {
         app.parse(argc, argv);

@@ -1,0 +1,247 @@
+#include "frontends/serve/interactive_view.h"
+
+#include "kernels/registry/registry.h"
+#include "kernels/scenario/scenario_inputs.h"
+#include "sim/core/input_error.h"
+
+#include <fmt/core.h>
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+namespace pp5 {
+
+namespace {
+
+const char* const kRequest = "request";
+
+[[noreturn]] void refuse(const std::string& field, const std::string& reason) { throw InputError(kRequest, field, reason); }
+
+void only_keys(const nlohmann::json& object, const std::string& field, const std::set<std::string>& allowed) {
+    if (!object.is_object()) refuse(field, "expected an object");
+    for (const auto& [key, value] : object.items()) {
+        if (allowed.count(key) == 0) {
+            std::string names;
+            for (const std::string& a : allowed) names += (names.empty() ? "" : ", ") + a;
+            refuse(field.empty() ? key : field + "." + key, "unknown field (expected one of " + names + ")");
+        }
+    }
+}
+
+double number(const nlohmann::json& value, const std::string& field, double low, double high) {
+    if (!value.is_number()) refuse(field, "expected a number");
+    const double v = value.get<double>();
+    if (!std::isfinite(v) || v < low || v > high) refuse(field, fmt::format("must lie in [{}, {}]", low, high));
+    return v;
+}
+
+glm::vec3 vector3(const nlohmann::json& value, const std::string& field, double low, double high) {
+    if (!value.is_array() || value.size() != 3) refuse(field, "expected three numbers [x, y, z]");
+    glm::vec3 v;
+    for (int i = 0; i < 3; ++i) v[i] = static_cast<float>(number(value[static_cast<std::size_t>(i)], fmt::format("{}[{}]", field, i), low, high));
+    return v;
+}
+
+nlohmann::json to_json(glm::vec3 v) { return {v.x, v.y, v.z}; }
+
+// Voxels the region moves for one pixel of drag along the screen's right and up: what lets the page
+// move the region under the pointer.
+nlohmann::json drag_basis(const FrameSpec& frame, const Volume& volume, const ImageSpec& image) {
+    const Camera camera = frame_camera(frame, volume);
+    const ViewBasis basis = view_basis(camera);
+    const float world_per_pixel =
+        camera.projection == Projection::Parallel
+            ? camera.view_height / static_cast<float>(image.height)
+            : 2.0f * std::tan(glm::radians(camera.fov_y_degrees) * 0.5f) * glm::length(camera.target - camera.eye) /
+                  static_cast<float>(image.height);
+    const glm::vec3 spacing = volume.spacing();
+    return {{"right", to_json(basis.right * world_per_pixel / spacing)}, {"up", to_json(basis.up * world_per_pixel / spacing)}};
+}
+
+}  // namespace
+
+InteractiveView::InteractiveView(Scenario scenario, MachineConfig config) : scenario_(std::move(scenario)), config_(std::move(config)) {
+    current_ = scenario_.frames.front();
+    session_ = std::make_unique<RenderSession>(scenario_, config_);
+    render(current_);
+}
+
+void InteractiveView::apply(const nlohmann::json& change) {
+    only_keys(change, "", {"camera", "light", "region", "kernel"});
+    FrameSpec next = current_;
+    next.label = "change";
+    next.camera_changed = next.lighting_changed = next.classification_changed = next.region_changed = false;
+    const glm::vec3 dims(session_->volume().dims());
+
+    if (change.contains("camera")) {
+        const auto& c = change["camera"];
+        only_keys(c, "camera", {"azimuth", "elevation", "zoom"});
+        if (c.contains("azimuth")) next.camera.azimuth_degrees = static_cast<float>(std::remainder(number(c["azimuth"], "camera.azimuth", -1e6, 1e6), 360.0));
+        if (c.contains("elevation")) next.camera.elevation_degrees = static_cast<float>(number(c["elevation"], "camera.elevation", -89.0, 89.0));
+        if (c.contains("zoom")) next.camera.zoom = static_cast<float>(number(c["zoom"], "camera.zoom", 0.1, 20.0));
+        next.camera_changed = !(next.camera.azimuth_degrees == current_.camera.azimuth_degrees &&
+                                next.camera.elevation_degrees == current_.camera.elevation_degrees && next.camera.zoom == current_.camera.zoom);
+    }
+    if (change.contains("light")) {
+        const auto& l = change["light"];
+        only_keys(l, "light", {"direction", "headlight"});
+        if (l.contains("headlight")) {
+            if (!l["headlight"].is_boolean()) refuse("light.headlight", "expected true or false");
+            next.lighting.light_follows_camera = l["headlight"].get<bool>();
+        }
+        if (l.contains("direction")) {
+            const glm::vec3 d = vector3(l["direction"], "light.direction", -1e3, 1e3);
+            if (glm::length(d) < 1e-6f) refuse("light.direction", "a direction towards the light cannot be zero");
+            next.lighting.light_direction = glm::normalize(d);
+            if (!l.contains("headlight")) next.lighting.light_follows_camera = false;
+        }
+        next.lighting_changed = !(next.lighting == current_.lighting);
+    }
+    if (change.contains("region")) {
+        const auto& r = change["region"];
+        if (r.is_null()) {
+            next.region.reset();
+        } else {
+            only_keys(r, "region", {"shape", "center", "half_size", "scale_inside", "scale_outside", "transition"});
+            RegionOfInterest region = current_.region.value_or(RegionOfInterest{});
+            if (!current_.region) {
+                // A new region starts as a cut-away cube in the middle of the volume.
+                region.center = 0.5f * (dims - 1.0f);
+                region.half_size = glm::vec3(0.15f * std::min({dims.x, dims.y, dims.z}));
+                region.scale_inside = 0.0f;
+                region.transition = 2.0f;
+            }
+            if (r.contains("shape")) {
+                if (r["shape"] == "box") region.shape = RegionOfInterest::Shape::Box;
+                else if (r["shape"] == "ellipsoid") region.shape = RegionOfInterest::Shape::Ellipsoid;
+                else refuse("region.shape", "must be \"box\" or \"ellipsoid\"");
+            }
+            const double reach = 2.0 * std::max({dims.x, dims.y, dims.z});
+            if (r.contains("center")) region.center = vector3(r["center"], "region.center", -reach, reach);
+            if (r.contains("half_size")) region.half_size = vector3(r["half_size"], "region.half_size", 0.5, reach);
+            if (r.contains("scale_inside")) region.scale_inside = static_cast<float>(number(r["scale_inside"], "region.scale_inside", 0.0, 16.0));
+            if (r.contains("scale_outside")) region.scale_outside = static_cast<float>(number(r["scale_outside"], "region.scale_outside", 0.0, 16.0));
+            if (r.contains("transition")) {
+                region.transition = static_cast<float>(number(r["transition"], "region.transition", 0.0, 100.0));
+                if (region.transition > 0.0f && region.transition < 0.01f) refuse("region.transition", "is 0 (a hard edge) or at least 0.01 voxels");
+            }
+            validate_region(region, kRequest, "region");
+            next.region = region;
+        }
+        next.region_changed = next.region != current_.region;
+    }
+
+    if (change.contains("kernel")) {
+        if (!change["kernel"].is_string()) refuse("kernel", "expected a kernel's name");
+        const std::string name = change["kernel"].get<std::string>();
+        if (name != scenario_.kernel) {
+            Scenario other = scenario_;
+            other.kernel = name;
+            other.frames = {next};
+            try {
+                auto session = std::make_unique<RenderSession>(other, config_);
+                scenario_ = std::move(other);
+                session_ = std::move(session);
+                phase_names_.clear();
+            } catch (const InputError& e) {
+                refuse("kernel", fmt::format("{} cannot render this view: {}", name, e.what()));
+            }
+            next.camera_changed = next.lighting_changed = next.classification_changed = true;
+            next.region_changed = next.region.has_value();
+        }
+    }
+    if (!session_->kernel().runs_on_machine() || session_->frames_rendered() == 0 || next.camera_changed || next.lighting_changed ||
+        next.classification_changed || next.region_changed)
+        render(next);
+}
+
+void InteractiveView::render(FrameSpec frame) {
+    SessionFrame rendered = session_->render(frame);
+    current_ = frame;
+    current_.camera_changed = current_.lighting_changed = current_.classification_changed = current_.region_changed = false;
+
+    pass_pngs_.clear();
+    for (const FrameImage& image : rendered.images)
+        if (image.kind == FrameImage::Kind::Pass) pass_pngs_.push_back(encode_png(image.image));
+    frame_png_ = encode_png(*rendered.find(FrameImage::Kind::Frame));
+    ++version_;
+
+    const Kernel& kernel = session_->kernel();
+    nlohmann::json metrics = nlohmann::json::array();
+    for (const KernelMetric& m : kernel.metrics()) {
+        try {
+            metrics.push_back({{"name", m.name}, {"unit", m.unit}, {"description", m.description},
+                               {"value", kernel.metric(m.name, *rendered.recorded, rendered.timing)}});
+        } catch (const std::domain_error&) {
+            // This frame cannot give it (a polygon rate without polygons): not shown.
+        }
+    }
+    // Every phase this session has run, so that what a change did not need shows as kept.
+    for (const PhaseTiming& p : rendered.timing.phases)
+        if (std::find(phase_names_.begin(), phase_names_.end(), p.name) == phase_names_.end()) phase_names_.push_back(p.name);
+    nlohmann::json phases = nlohmann::json::array();
+    for (const std::string& name : phase_names_) {
+        const PhaseTiming* p = rendered.timing.phase(name);
+        const Tick duration = p != nullptr ? p->duration_ps() : 0;
+        phases.push_back({{"name", name}, {"seconds", ticks_to_seconds(duration)}, {"ran", duration > 0}});
+    }
+    const double seconds = ticks_to_seconds(rendered.timing.duration_ps());
+    const auto& record = rendered.record;
+    last_ = {{"index", rendered.index},
+             {"changed", record["changed"]},
+             {"simulated_seconds", seconds},
+             {"frames_per_second", seconds > 0 ? nlohmann::json(1.0 / seconds) : nlohmann::json(nullptr)},
+             {"metrics", metrics},
+             {"phases", phases},
+             {"passes", pass_pngs_.size()},
+             {"utilisation", {{"gps", rendered.activity.gps}, {"renderers", rendered.activity.renderers}, {"ring", rendered.activity.ring}}},
+             {"psnr_db", record.contains("fidelity") ? record["fidelity"]["psnr_db"] : nlohmann::json(nullptr)},
+             {"host_seconds", record["host_seconds"]},
+             {"record", record}};
+}
+
+nlohmann::json InteractiveView::state() const {
+    nlohmann::json kernels = nlohmann::json::array();
+    for (const Kernel* k : pp5::kernels()) {
+        Scenario other = scenario_;
+        other.kernel = k->name();
+        bool usable = true;
+        try {
+            k->check(other);
+        } catch (const InputError&) {
+            usable = false;
+        }
+        if (usable) kernels.push_back({{"name", k->name()}, {"description", k->description()}});
+    }
+    const Volume& volume = session_->volume();
+    nlohmann::json region = nullptr;
+    if (current_.region) {
+        const RegionOfInterest& r = *current_.region;
+        region = {{"shape", r.shape == RegionOfInterest::Shape::Box ? "box" : "ellipsoid"},
+                  {"center", to_json(r.center)},
+                  {"half_size", to_json(r.half_size)},
+                  {"scale_inside", r.scale_inside},
+                  {"scale_outside", r.scale_outside},
+                  {"transition", r.transition}};
+    }
+    return {{"version", version_},
+            {"scenario", scenario_.name},
+            {"description", scenario_.description},
+            {"kernel", scenario_.kernel},
+            {"kernels", kernels},
+            {"machine", config_.machine_name()},
+            {"machine_summary", session_->machine().summary()},
+            {"image", {{"width", scenario_.image.width}, {"height", scenario_.image.height}}},
+            {"volume", {{"name", volume.name()}, {"dims", {volume.dims().x, volume.dims().y, volume.dims().z}}}},
+            {"camera", {{"azimuth", current_.camera.azimuth_degrees}, {"elevation", current_.camera.elevation_degrees}, {"zoom", current_.camera.zoom}}},
+            {"light", {{"direction", to_json(current_.lighting.light_direction)}, {"headlight", current_.lighting.light_follows_camera}}},
+            {"region", region},
+            {"region_drag", drag_basis(current_, volume, scenario_.image)},
+            {"frame", last_}};
+}
+
+}  // namespace pp5

@@ -1,0 +1,137 @@
+// The browser tool's view without HTTP: each change is the next frame of one running session, so only
+// what it invalidates is recomputed; a bad change is refused naming its field and leaves the view as
+// it was; and the rate the page shows is the frame's simulated time.
+
+#include "frontends/serve/interactive_view.h"
+#include "kernels/registry/run_config.h"
+#include "sim/core/input_error.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+namespace pp5 {
+namespace {
+
+namespace fs = std::filesystem;
+
+Scenario small_scenario(bool region) {
+    const fs::path file = fs::temp_directory_path() / ("pp5_view_test_" + std::to_string(getpid()) + (region ? "_region" : "") + ".toml");
+    std::ofstream(file) << "[scenario]\nname = \"view-test\"\n[dataset]\nphantom = \"head\"\nsize = 32\n[image]\nwidth = 48\nheight = 48\n"
+                           "[classification]\nkind = \"piecewise-linear\"\npoints = [{ value = 40.0, opacity = 0.0 }, { value = 120.0, opacity = 0.9 }]\n"
+                           "[shading]\nlight_direction = [0.4, 1.0, 0.5]\nspecular = 0.0\n"
+                           "[camera]\nazimuth = 30.0\nelevation = 10.0\n"
+                        << (region ? "[region]\nshape = \"box\"\ncenter = [16.0, 10.0, 16.0]\nhalf_size = [6.0, 6.0, 6.0]\nscale_inside = 0.0\n" : "")
+                        << "[[frames]]\nlabel = \"first\"\n";
+    Scenario s = load_scenario(file);
+    fs::remove(file);
+    return s;
+}
+
+const nlohmann::json& phase(const nlohmann::json& state, const std::string& name) {
+    for (const auto& p : state["frame"]["phases"])
+        if (p["name"] == name) return p;
+    throw std::runtime_error("no phase " + name);
+}
+
+TEST(InteractiveView, ALightMoveReshadesAndCastsButKeepsTheClassificationAndPyramid) {
+    InteractiveView view(small_scenario(false), load_run_config("pxpl5", {}));
+    const std::string first = view.frame_png();
+    EXPECT_TRUE(phase(view.state(), "pyramid")["ran"].get<bool>());
+    view.apply({{"light", {{"direction", {-0.6, 1.0, 0.3}}}}});
+    const nlohmann::json s = view.state();
+    EXPECT_EQ(s["frame"]["index"], 1);
+    EXPECT_TRUE(s["frame"]["changed"]["lighting"].get<bool>());
+    EXPECT_FALSE(s["frame"]["changed"]["camera"].get<bool>());
+    EXPECT_TRUE(phase(s, "shading")["ran"].get<bool>());
+    EXPECT_TRUE(phase(s, "ray_casting")["ran"].get<bool>());
+    EXPECT_FALSE(phase(s, "classification")["ran"].get<bool>());
+    EXPECT_FALSE(phase(s, "pyramid")["ran"].get<bool>());
+    EXPECT_NE(view.frame_png(), first);
+    // The rate shown is the frame's simulated time, as stats.json records it.
+    const double seconds = s["frame"]["simulated_seconds"].get<double>();
+    EXPECT_DOUBLE_EQ(seconds, s["frame"]["record"]["simulated_seconds"].get<double>());
+    EXPECT_DOUBLE_EQ(s["frame"]["frames_per_second"].get<double>(), 1.0 / seconds);
+    for (const char* kind : {"gps", "renderers", "ring"}) {
+        EXPECT_GT(s["frame"]["utilisation"][kind].get<double>(), 0.0) << kind;
+        EXPECT_LE(s["frame"]["utilisation"][kind].get<double>(), 1.0) << kind;
+    }
+}
+
+TEST(InteractiveView, AnOrbitCastsAgainWithoutReshadingAndAChangeOfNothingRendersNothing) {
+    InteractiveView view(small_scenario(false), load_run_config("pxpl5", {}));
+    view.apply({{"camera", {{"azimuth", 45.0}}}});
+    const nlohmann::json s = view.state();
+    EXPECT_FALSE(phase(s, "shading")["ran"].get<bool>());
+    EXPECT_TRUE(phase(s, "ray_casting")["ran"].get<bool>());
+    EXPECT_FLOAT_EQ(s["camera"]["azimuth"].get<float>(), 45.0f);
+    const std::size_t version = view.version();
+    view.apply({{"camera", {{"azimuth", 45.0}}}});
+    EXPECT_EQ(view.version(), version);
+}
+
+TEST(InteractiveView, MovingTheRegionReclassifiesAndChangesThePicture) {
+    InteractiveView view(small_scenario(true), load_run_config("pxpl5", {}));
+    const std::string before = view.frame_png();
+    view.apply({{"region", {{"center", {16.0, 14.0, 16.0}}}}});
+    const nlohmann::json s = view.state();
+    EXPECT_TRUE(s["frame"]["changed"]["region"].get<bool>());
+    EXPECT_TRUE(phase(s, "region_of_interest")["ran"].get<bool>());
+    EXPECT_FALSE(phase(s, "shading")["ran"].get<bool>());
+    EXPECT_FLOAT_EQ(s["region"]["center"][1].get<float>(), 14.0f);
+    EXPECT_NE(view.frame_png(), before);
+    view.apply({{"region", nullptr}});
+    EXPECT_TRUE(view.state()["region"].is_null());
+}
+
+TEST(InteractiveView, BadChangesNameTheirFieldAndChangeNothing) {
+    InteractiveView view(small_scenario(true), load_run_config("pxpl5", {}));
+    const nlohmann::json before = view.state();
+    const std::vector<std::pair<nlohmann::json, std::string>> bad = {
+        {{{"camera", {{"azimuth", "east"}}}}, "camera.azimuth"},
+        {{{"camera", {{"elevation", 95.0}}}}, "camera.elevation"},
+        {{{"camera", {{"roll", 1.0}}}}, "camera.roll"},
+        {{{"light", {{"direction", {0.0, 0.0, 0.0}}}}}, "light.direction"},
+        {{{"light", {{"direction", {1.0, 2.0}}}}}, "light.direction"},
+        {{{"region", {{"half_size", {0.0, 1.0, 1.0}}}}}, "region.half_size[0]"},
+        {{{"region", {{"scale_inside", 17.0}}}}, "region.scale_inside"},
+        {{{"region", {{"shape", "torus"}}}}, "region.shape"},
+        {{{"kernel", "no-such-kernel"}}, "kernel"},
+        {{{"kernel", "yuan"}}, "kernel"},  // Yuan's kernel has no volume-of-interest tool
+        {{{"zoom", 2.0}}, "zoom"},
+        {nlohmann::json::array(), ""},
+        // A valid camera with a bad light: nothing of the change is applied.
+        {{{"camera", {{"azimuth", 90.0}}}, {"light", {{"headlight", 3}}}}, "light.headlight"},
+    };
+    for (const auto& [change, field] : bad) {
+        try {
+            view.apply(change);
+            ADD_FAILURE() << "accepted " << change.dump();
+        } catch (const InputError& e) {
+            EXPECT_EQ(e.file(), "request");
+            EXPECT_EQ(e.field(), field) << change.dump() << ": " << e.what();
+        }
+    }
+    const nlohmann::json after = view.state();
+    EXPECT_EQ(after["version"], before["version"]);
+    EXPECT_EQ(after["camera"], before["camera"]);
+    EXPECT_EQ(after["kernel"], "levoy");
+}
+
+TEST(InteractiveView, ChoosingAnotherKernelRendersTheSameViewWithIt) {
+    InteractiveView view(small_scenario(false), load_run_config("pxpl5", {}));
+    std::vector<std::string> kernels;
+    const nlohmann::json state = view.state();
+    for (const auto& k : state["kernels"]) kernels.push_back(k["name"].get<std::string>());
+    EXPECT_NE(std::find(kernels.begin(), kernels.end(), "yuan"), kernels.end());
+    view.apply({{"camera", {{"azimuth", 50.0}}}, {"kernel", "yuan"}});
+    const nlohmann::json s = view.state();
+    EXPECT_EQ(s["kernel"], "yuan");
+    EXPECT_FLOAT_EQ(s["camera"]["azimuth"].get<float>(), 50.0f);
+    EXPECT_GT(s["frame"]["simulated_seconds"].get<double>(), 0.0);
+}
+
+}  // namespace
+}  // namespace pp5
