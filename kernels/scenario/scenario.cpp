@@ -443,9 +443,20 @@ void read_region(TableReader r, std::optional<RegionOfInterest>& region) {
     region = off ? std::nullopt : std::optional<RegionOfInterest>(g);
 }
 
-Scenario load_scenario(const std::filesystem::path& path) {
+namespace {
+Scenario read_scenario(const toml::table& root, const std::filesystem::path& path);
+}  // namespace
+
+Scenario load_scenario(const std::filesystem::path& path) { return read_scenario(read_toml_file(path.string()), path); }
+
+Scenario load_scenario_text(const std::string& text, const std::filesystem::path& path) {
+    return read_scenario(read_toml_text(text, path.string()), path);
+}
+
+namespace {
+
+Scenario read_scenario(const toml::table& root, const std::filesystem::path& path) {
     const std::string file = path.string();
-    const toml::table root = read_toml_file(file);
     TableReader top(&root, "", file);
     Scenario s;
     s.file = path;
@@ -513,6 +524,8 @@ Scenario load_scenario(const std::filesystem::path& path) {
     top.finish();
     return s;
 }
+
+}  // namespace
 
 Volume load_dataset(const Scenario& scenario) {
     const DatasetSpec& d = scenario.dataset;

@@ -87,6 +87,9 @@ struct Scenario {
 };
 
 Scenario load_scenario(const std::filesystem::path& path);
+// A scenario from TOML text in memory, as if read from `path` (which errors name, and relative dataset
+// and mesh paths start from).
+Scenario load_scenario_text(const std::string& text, const std::filesystem::path& path);
 
 // The scenario that `pp5sim render` runs when given none: the real MR head.
 inline constexpr const char* kDefaultScenario = "mr-head";

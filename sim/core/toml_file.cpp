@@ -81,7 +81,12 @@ toml::table read_toml_file(const std::string& file) {
     if (!in) throw InputError(file, "", "cannot be opened");
     std::stringstream buffer;
     buffer << in.rdbuf();
-    const std::string text = buffer.str();
+    return read_toml_text(buffer.str(), file);
+}
+
+toml::table read_toml_text(const std::string& text, const std::string& file) {
+    if (text.size() > kMostBytes)
+        throw InputError(file, "", fmt::format("is {} MB; a pp5sim input is at most {} MB", text.size() >> 20, kMostBytes >> 20));
     check_key_depth(text, file);
     try {
         return toml::parse(text, file);

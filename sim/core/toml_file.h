@@ -9,5 +9,7 @@
 namespace pp5 {
 
 toml::table read_toml_file(const std::string& file);
+// The same for text already in memory (a scenario built in Python, say); `file` names it in errors.
+toml::table read_toml_text(const std::string& text, const std::string& file);
 
 }  // namespace pp5

@@ -1,0 +1,115 @@
+"""The pp5sim Python module: scenarios and machines through the CLI's loaders, renders as NumPy arrays
+and nested dicts, re-timing a recording on another machine, the browser tool's view, and InputError
+carrying the CLI's file, field and reason. Run by ctest with build/python on PYTHONPATH."""
+
+import unittest
+
+import numpy as np
+import pp5sim
+
+SMALL = """
+[scenario]
+name = "python-test"
+[dataset]
+phantom = "sphere"
+size = 24
+[image]
+width = 32
+height = 32
+[classification]
+kind = "piecewise-linear"
+points = [{ value = 50.0, opacity = 0.0 }, { value = 150.0, opacity = 0.8 }]
+[shading]
+specular = 0.0
+light_direction = [0.4, 1.0, 0.5]
+[[frames]]
+label = "first"
+[[frames]]
+label = "orbit"
+camera = { azimuth = 30.0 }
+"""
+
+
+class ModuleTest(unittest.TestCase):
+    def test_lists_the_shipped_scenarios_and_kernels(self):
+        self.assertIn("mr-head", pp5sim.scenarios())
+        names = [k["name"] for k in pp5sim.kernels()]
+        for name in ("levoy", "yuan", "wilson", "perm", "reference"):
+            self.assertIn(name, names)
+
+    def test_renders_frames_as_arrays_with_stats_and_config(self):
+        scenario = pp5sim.scenario_from_toml(SMALL)
+        self.assertEqual(scenario.frame_labels, ["first", "orbit"])
+        run = pp5sim.render(scenario)
+        self.assertEqual(len(run.frames), 2)
+        frame = run.frames[1]
+        self.assertEqual(frame.image.shape, (32, 32, 4))
+        self.assertEqual(frame.image.dtype, np.float32)
+        self.assertGreater(float(frame.image[..., :3].max()), 0.1)  # the sphere is there
+        self.assertGreaterEqual(len(frame.passes), 1)
+        np.testing.assert_array_equal(frame.passes[-1], frame.image)
+        self.assertAlmostEqual(frame.simulated_seconds, run.stats["frames"][1]["simulated_seconds"])
+        self.assertEqual(frame.record["label"], "orbit")
+        self.assertFalse(frame.record["changed"]["lighting"])
+        self.assertGreater(frame.utilisation["gps"], 0.0)
+        # Statistics carry units and descriptions, as stats.json does.
+        gp = run.stats["components"]["gp[0]"]
+        busy = gp["busy_time"]
+        self.assertEqual(busy["unit"], "ps")
+        self.assertTrue(busy["description"])
+        self.assertEqual(run.config["parameters"]["gp.count"]["value"], 32)
+
+    def test_the_same_inputs_give_the_same_picture(self):
+        scenario = pp5sim.scenario_from_toml(SMALL)
+        a = pp5sim.render(scenario, frames=1)
+        b = pp5sim.render(scenario, frames=1)
+        np.testing.assert_array_equal(a.frames[0].image, b.frames[0].image)
+        self.assertEqual(a.frames[0].simulated_seconds, b.frames[0].simulated_seconds)
+
+    def test_a_recording_retimes_as_a_fresh_render_would(self):
+        scenario = pp5sim.scenario_from_toml(SMALL)
+        recording = pp5sim.record(scenario)
+        faster_ring = pp5sim.Machine("pxpl5", {"gp.count": 8})
+        retimed = recording.time_on(faster_ring)
+        fresh = pp5sim.render(scenario, machine=faster_ring)
+        self.assertEqual(len(retimed), 2)
+        for timed, rendered in zip(retimed, fresh.frames):
+            self.assertAlmostEqual(timed["simulated_seconds"], rendered.simulated_seconds, places=12)
+            self.assertIn("refined_seconds", timed["metrics"])
+        stock = recording.time_on(pp5sim.Machine())
+        self.assertGreater(retimed[0]["simulated_seconds"], stock[0]["simulated_seconds"])
+
+    def test_machines_set_parameters_and_refuse_bad_ones(self):
+        machine = pp5sim.Machine("pxpl5", {"gp.count": 64, "ring.clock_mhz": 80.0})
+        self.assertEqual(machine["gp.count"], 64)
+        self.assertEqual(machine.with_set({"gp.count": 16})["gp.count"], 16)
+        with self.assertRaises(pp5sim.InputError) as caught:
+            pp5sim.Machine("pxpl5", {"gp.count": -3})
+        self.assertEqual(caught.exception.field, "gp.count")
+        self.assertIn("range", caught.exception.reason)
+        with self.assertRaises(pp5sim.InputError) as caught:
+            pp5sim.Machine("pxpl5", {"gp.no_such_thing": 1})
+        self.assertIn("gp.no_such_thing", str(caught.exception))
+
+    def test_bad_scenarios_name_their_field(self):
+        with self.assertRaises(pp5sim.InputError) as caught:
+            pp5sim.scenario_from_toml(SMALL.replace("size = 24", "size = -1"))
+        self.assertEqual(caught.exception.field, "dataset.size")
+        self.assertTrue(caught.exception.file.endswith("<python>.toml"))
+        with self.assertRaises(ValueError):  # InputError is a ValueError
+            pp5sim.load_scenario("no-such-scenario")
+
+    def test_the_view_recomputes_only_what_a_change_needs(self):
+        view = pp5sim.View(pp5sim.scenario_from_toml(SMALL))
+        view.apply({"light": {"direction": [-0.6, 1.0, 0.3]}})
+        phases = {p["name"]: p["ran"] for p in view.state["frame"]["phases"]}
+        self.assertTrue(phases["shading"])
+        self.assertFalse(phases["pyramid"])
+        self.assertEqual(view.png[1:4], b"PNG")
+        with self.assertRaises(pp5sim.InputError) as caught:
+            view.apply({"camera": {"elevation": 120}})
+        self.assertEqual(caught.exception.field, "camera.elevation")
+
+
+if __name__ == "__main__":
+    unittest.main()
