@@ -2,9 +2,30 @@
 
 #include "frontends/render_session.h"
 
+#include "frontends/lecture_pictures.h"
+
+#include <fmt/core.h>
+
 #include <chrono>
 
 namespace pp5 {
+
+namespace {
+
+void add_lecture_pictures(const SessionFrame& frame, std::size_t gp_count, StagedOutput& output) {
+    std::vector<Image> passes;
+    for (const FrameImage& image : frame.images)
+        if (image.kind == FrameImage::Kind::Pass) passes.push_back(image.image);
+    if (passes.size() > 1) {
+        output.add_image(fmt::format("frame_{:04}_passes_strip.png", frame.index), passes_strip(passes), ImageFormat::Png);
+        output.add_text(fmt::format("frame_{:04}_passes.gif", frame.index), encode_gif(passes, 1.5f));
+    }
+    if (const Image* picture = frame.find(FrameImage::Kind::Frame))
+        if (auto map = gp_tile_map(frame.recorded->work, frame.timing, gp_count, *picture))
+            output.add_image(fmt::format("frame_{:04}_gp_tiles.png", frame.index), std::move(*map), ImageFormat::Png);
+}
+
+}  // namespace
 
 ScenarioRender render_scenario(const Scenario& scenario, const MachineConfig& config, StagedOutput& output,
                                const ScenarioRenderOptions& options) {
@@ -14,6 +35,7 @@ ScenarioRender render_scenario(const Scenario& scenario, const MachineConfig& co
     nlohmann::json frames = nlohmann::json::array();
     for (std::size_t i = 0; i < scenario.frames.size(); ++i) {
         SessionFrame frame = session.render(scenario.frames[i]);
+        if (options.lecture_pictures) add_lecture_pictures(frame, session.machine().gps().size(), output);
         for (FrameImage& image : frame.images) output.add_image(image.name, std::move(image.image), format);
         frames.push_back(std::move(frame.record));
         if (options.progress) options.progress(i + 1, scenario.frames.size());

@@ -40,6 +40,7 @@ struct RenderOptions {
     std::string trace;                  // Chrome trace-event JSON file; empty: none
     std::string trace_window = "0:inf"; // simulated milliseconds
     std::size_t trace_limit = 500000;   // events
+    bool pictures = false;
 };
 
 // "START:END" in simulated milliseconds ("inf" for no end).
@@ -96,6 +97,7 @@ int run_render(const RenderOptions& o) {
     ScenarioRenderOptions options;
     options.format = format;
     options.trace = trace ? &*trace : nullptr;
+    options.lecture_pictures = o.pictures;
     options.progress = [&progress](std::size_t done, std::size_t) { progress.update(done); };
     const ScenarioRender rendered = render_scenario(scenario, config, output, options);
     const double host_seconds = Seconds(std::chrono::steady_clock::now() - started).count();
@@ -132,6 +134,8 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--trace-window", o->trace_window, "Simulated milliseconds to trace, START:END (END may be inf)")
         ->capture_default_str();
     cmd->add_option("--trace-limit", o->trace_limit, "Most events the trace keeps")->check(whole_number())->capture_default_str();
+    cmd->add_flag("--pictures", o->pictures,
+                  "Also write each frame's refinement passes as a strip and an animated GIF, and a map of which GP cast which tile");
     cmd->callback([o, &run] { run = [o] { return run_render(*o); }; });
 }
 

@@ -37,6 +37,7 @@ int run_serve(const ServeCommandOptions& o) {
         if (o.image_size < 16 || o.image_size > 2048) throw InputError("--image-size", "--image-size", "a picture is 16 to 2048 pixels square");
         scenario.image.width = scenario.image.height = o.image_size;
     }
+    if (o.port > 65535) throw InputError("--port", "--port", "a port is 0 (any free one) to 65535");
     ServeOptions options;
     options.host = o.host;
     options.port = o.port;

@@ -212,6 +212,11 @@ Phase LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& report) 
         GpTask task;
         task.group = pass;
         task.key = tile_key(t);
+        {
+            const int x0 = (t % tiles_x) * tile, y0 = (t / tiles_x) * tile;
+            task.screen = {static_cast<std::uint16_t>(x0), static_cast<std::uint16_t>(y0), static_cast<std::uint16_t>(std::min(width, x0 + tile) - x0),
+                           static_cast<std::uint16_t>(std::min(height, y0 + tile) - y0)};
+        }
         task.first_item = first_item;
         task.item_count = static_cast<std::uint32_t>(job.items.size()) - first_item;
         task.first_op = static_cast<std::uint32_t>(job.ops.size());

@@ -166,6 +166,11 @@ PermFrame PermRayCaster::cast(const Classification& classification, const ColorM
         TileResult& result = results[static_cast<std::size_t>(t)];
         GpTask task;
         task.key = static_cast<std::uint32_t>(t + kRowSkew * (t / tiles_x));
+        {
+            const int x0 = (t % tiles_x) * tile, y0 = (t / tiles_x) * tile;
+            task.screen = {static_cast<std::uint16_t>(x0), static_cast<std::uint16_t>(y0),
+                           static_cast<std::uint16_t>(std::min(cs.width, x0 + tile) - x0), static_cast<std::uint16_t>(std::min(cs.height, y0 + tile) - y0)};
+        }
         task.first_item = static_cast<std::uint32_t>(work.items.size());
         for (const RayRecord& r : result.rays) {
             GpItem item{static_cast<std::uint32_t>(work.steps.size()), 0};

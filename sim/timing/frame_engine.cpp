@@ -424,6 +424,7 @@ int GpAgent::start_item(Tick& t) {
         if (!run_.group_open(run_.task(tasks_.front()).group)) return -1;  // wait for the group before
         task_ = tasks_.front();
         tasks_.pop_front();
+        run_.timing.task_gp[task_] = static_cast<std::uint32_t>(gp_.index());
         have_task_ = true;
         next_item_ = 0;
         const GpTask& task = run_.task(task_);
@@ -682,6 +683,7 @@ GpPhaseRun::GpPhaseRun(FrameRun& frame_in, Machine& machine_in, const GpPhase& p
         region_costs.push_back(std::move(costs));
     }
     timing.gp.renderer_drawing.assign(machine.renderers().size(), 0);
+    timing.task_gp.assign(phase.tasks.size(), std::numeric_limits<std::uint32_t>::max());
 }
 
 void GpPhaseRun::start(Tick t) {

@@ -49,6 +49,7 @@ struct PhaseTiming {
     std::vector<PpPassTiming> passes;  // PpPhase
     std::vector<Tick> group_end_ps;    // GpPhase: when each group's last pixels reached the frame buffer
     GpPhaseCounts gp;                  // GpPhase
+    std::vector<std::uint32_t> task_gp;  // GpPhase: the GP that ran each task
     Tick duration_ps() const { return end_ps - start_ps; }
 };
 

@@ -114,6 +114,11 @@ struct GpItem {
     std::uint32_t step_count = 0;
 };
 
+// Pixels of the picture, for a task that is a screen tile (width 0: it is not).
+struct ScreenRect {
+    std::uint16_t x = 0, y = 0, width = 0, height = 0;
+};
+
 struct GpTask {
     std::uint32_t group = 0;     // groups run in order (refinement passes)
     std::uint32_t key = 0;       // static assignment gives the task to GP key mod G (a tile's number)
@@ -122,6 +127,7 @@ struct GpTask {
     std::uint32_t first_finish_op = 0, finish_op_count = 0;  // after its last item (filling pixels)
     std::uint32_t pixels = 0;    // then sent to the frame buffer (0: nothing is sent)
     std::uint32_t first_batch = 0, batch_count = 0;    // then sent to renderers, in order (GpPhase::batches)
+    ScreenRect screen;           // the tile it casts, if it is one (for a map of which GP cast what)
 };
 
 // A message of primitives (or a block of pixels) a GP sends to the renderer that owns part of the screen.

@@ -276,9 +276,42 @@ TEST(Cli, ParamsListsEveryParameterWithProvenance) {
     EXPECT_NE(text.output.find("ring.channel_width_bits"), std::string::npos);
 }
 
+// `--pictures` adds what a lecture shows beside each frame: the refinement passes as a strip and an
+// animated GIF (one image per pass), and the map of which GP cast which tile.
+TEST(Cli, RenderWritesLecturePicturesOnRequest) {
+    const fs::path dir = scratch("pictures");
+    const RunResult r = run("render " + scenario("head-phantom.toml") + " --pictures --out " + (dir / "out").string(), dir);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const auto stats = nlohmann::json::parse(read_file(dir / "out/stats.json"));
+    const std::size_t passes = stats["frames"][0]["machine"]["passes"].size();
+    ASSERT_GE(passes, 2u);
+    const std::string gif = read_file(dir / "out/frame_0000_passes.gif");
+    EXPECT_EQ(gif.substr(0, 6), "GIF89a");
+    std::size_t images = 0;  // each image of an animated GIF has an image descriptor after a graphic control block
+    for (std::size_t at = gif.find("\x21\xF9\x04"); at != std::string::npos; at = gif.find("\x21\xF9\x04", at + 1)) ++images;
+    EXPECT_EQ(images, passes);
+    EXPECT_TRUE(fs::exists(dir / "out/frame_0000_passes_strip.png"));
+    EXPECT_TRUE(fs::exists(dir / "out/frame_0000_gp_tiles.png"));
+    // Without the flag, none of them.
+    const RunResult plain = run("render " + scenario("head-phantom.toml") + " --out " + (dir / "plain").string(), dir);
+    ASSERT_EQ(plain.exit_code, 0) << plain.output;
+    EXPECT_FALSE(fs::exists(dir / "plain/frame_0000_passes.gif"));
+}
+
+// serve refuses what it cannot do before it renders or listens.
+TEST(Cli, ServeRefusesBadOptionsUpFront) {
+    const fs::path dir = scratch("serve");
+    for (const char* args : {"serve sphere --port 70000", "serve sphere --image-size 5", "serve sphere --port -1", "serve no-such-scenario",
+                             "serve sphere --host 203.0.113.9 --port 0"}) {
+        const RunResult r = run(args, dir);
+        EXPECT_EQ(r.exit_code, 2) << args << ": " << r.output;
+        EXPECT_NE(r.output.find("error"), std::string::npos) << args << ": " << r.output;
+    }
+}
+
 TEST(Cli, HelpOnEveryCommand) {
     const fs::path dir = scratch("help");
-    for (const char* command : {"--help", "render --help", "params --help", "volume-info --help", "fit --help", "reproduce --help"}) {
+    for (const char* command : {"--help", "render --help", "params --help", "volume-info --help", "fit --help", "reproduce --help", "serve --help"}) {
         const RunResult r = run(command, dir);
         EXPECT_EQ(r.exit_code, 0) << command << r.output;
         EXPECT_NE(r.output.find("Usage"), std::string::npos) << command << r.output;

@@ -67,7 +67,7 @@ public:
         for (std::uint32_t pass = 0; pass < 2; ++pass)
             for (int y = 0; y < height_; ++y) {
                 GpTask task{pass, static_cast<std::uint32_t>(y), static_cast<std::uint32_t>(shade.items.size()),
-                            static_cast<std::uint32_t>(width_), 0, 0, 0, 0, static_cast<std::uint32_t>(width_)};
+                            static_cast<std::uint32_t>(width_), 0, 0, 0, 0, static_cast<std::uint32_t>(width_), 0, 0, {}};
                 for (int x = 0; x < width_; ++x) {
                     shade.items.push_back(GpItem{static_cast<std::uint32_t>(shade.steps.size()), 1});
                     shade.steps.push_back(GpStep{0, 1, static_cast<std::uint32_t>((x + y) % kBlocks)});

@@ -1,0 +1,89 @@
+#include "frontends/lecture_pictures.h"
+
+#include <glm/common.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+#include <variant>
+
+namespace pp5 {
+
+namespace {
+
+// Well-separated hues for any number of GPs: the golden angle around the colour wheel.
+glm::vec3 gp_colour(std::uint32_t gp) {
+    const float hue = std::fmod(static_cast<float>(gp) * 0.61803398875f, 1.0f) * 6.0f;
+    const float x = 1.0f - std::abs(std::fmod(hue, 2.0f) - 1.0f);
+    const int sector = static_cast<int>(hue);
+    const glm::vec3 rgb = sector == 0 ? glm::vec3(1, x, 0) : sector == 1 ? glm::vec3(x, 1, 0) : sector == 2 ? glm::vec3(0, 1, x)
+                        : sector == 3 ? glm::vec3(0, x, 1) : sector == 4 ? glm::vec3(x, 0, 1) : glm::vec3(1, 0, x);
+    return 0.25f + 0.75f * rgb;
+}
+
+}  // namespace
+
+Image passes_strip(const std::vector<Image>& passes) {
+    if (passes.empty()) throw std::invalid_argument("passes_strip: no passes");
+    constexpr int kGap = 4;
+    const int w = passes.front().width, h = passes.front().height;
+    const int count = static_cast<int>(passes.size());
+    Image strip(count * w + (count - 1) * kGap, h);
+    std::fill(strip.pixels.begin(), strip.pixels.end(), glm::vec4(1.0f));
+    for (int p = 0; p < count; ++p) {
+        const Image& pass = passes[static_cast<std::size_t>(p)];
+        if (pass.width != w || pass.height != h) throw std::invalid_argument("passes_strip: the passes differ in size");
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) strip.at(p * (w + kGap) + x, y) = pass.at(x, y);
+    }
+    return strip;
+}
+
+std::optional<Image> gp_tile_map(const FrameWork& work, const FrameTiming& timing, std::size_t gp_count, const Image& frame,
+                                 const std::string& phase_name) {
+    const GpPhase* phase = nullptr;
+    for (const Phase& p : work.phases)
+        if (p.name == phase_name) phase = std::get_if<GpPhase>(&p.work);
+    const PhaseTiming* timed = timing.phase(phase_name);
+    if (phase == nullptr || timed == nullptr || timed->task_gp.size() != phase->tasks.size()) return std::nullopt;
+
+    // Per tile (by its corner), the GP that cast most of its rays.
+    struct Tile {
+        ScreenRect rect;
+        std::map<std::uint32_t, std::uint64_t> items_by_gp;
+    };
+    std::map<std::pair<int, int>, Tile> tiles;
+    for (std::size_t t = 0; t < phase->tasks.size(); ++t) {
+        const GpTask& task = phase->tasks[t];
+        if (task.screen.width == 0 || timed->task_gp[t] >= gp_count) continue;
+        Tile& tile = tiles[{task.screen.x, task.screen.y}];
+        tile.rect = task.screen;
+        tile.items_by_gp[timed->task_gp[t]] += std::max<std::uint32_t>(task.item_count, 1);
+    }
+    if (tiles.empty()) return std::nullopt;
+
+    Image map(frame.width, frame.height);
+    for (std::size_t i = 0; i < map.pixels.size(); ++i) {
+        const glm::vec4& p = frame.pixels[i];
+        const float brightness = glm::clamp(0.3f * p.r + 0.59f * p.g + 0.11f * p.b, 0.0f, 1.0f);
+        map.pixels[i] = glm::vec4(glm::vec3(0.15f + 0.35f * brightness), 1.0f);  // untouched tiles stay grey
+    }
+    for (const auto& [corner, tile] : tiles) {
+        const auto busiest = std::max_element(tile.items_by_gp.begin(), tile.items_by_gp.end(),
+                                              [](const auto& a, const auto& b) { return a.second < b.second; });
+        const glm::vec3 colour = gp_colour(busiest->first);
+        for (int y = tile.rect.y; y < std::min<int>(frame.height, tile.rect.y + tile.rect.height); ++y)
+            for (int x = tile.rect.x; x < std::min<int>(frame.width, tile.rect.x + tile.rect.width); ++x) {
+                const glm::vec4& p = frame.at(x, y);
+                const float brightness = glm::clamp(0.3f * p.r + 0.59f * p.g + 0.11f * p.b, 0.0f, 1.0f);
+                const bool edge = x == tile.rect.x || y == tile.rect.y;
+                map.at(x, y) = glm::vec4(edge ? 0.5f * colour : colour * (0.45f + 0.55f * brightness), 1.0f);
+            }
+    }
+    return map;
+}
+
+}  // namespace pp5
