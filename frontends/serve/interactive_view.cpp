@@ -164,10 +164,11 @@ void InteractiveView::render(FrameSpec frame) {
     current_ = frame;
     current_.camera_changed = current_.lighting_changed = current_.classification_changed = current_.region_changed = false;
 
-    pass_pngs_.clear();
-    for (const FrameImage& image : rendered.images)
-        if (image.kind == FrameImage::Kind::Pass) pass_pngs_.push_back(encode_png(image.image));
-    frame_png_ = encode_png(*rendered.find(FrameImage::Kind::Frame));
+    passes_.clear();
+    for (FrameImage& image : rendered.images)
+        if (image.kind == FrameImage::Kind::Pass) passes_.push_back(std::move(image.image));
+    const Image* picture = rendered.find(FrameImage::Kind::Frame);
+    frame_png_ = encode_png(*picture);
     ++version_;
 
     const Kernel& kernel = session_->kernel();
@@ -197,7 +198,7 @@ void InteractiveView::render(FrameSpec frame) {
              {"frames_per_second", seconds > 0 ? nlohmann::json(1.0 / seconds) : nlohmann::json(nullptr)},
              {"metrics", metrics},
              {"phases", phases},
-             {"passes", pass_pngs_.size()},
+             {"passes", passes_.size()},
              {"utilisation", {{"gps", rendered.activity.gps}, {"renderers", rendered.activity.renderers}, {"ring", rendered.activity.ring}}},
              {"psnr_db", record.contains("fidelity") ? record["fidelity"]["psnr_db"] : nlohmann::json(nullptr)},
              {"host_seconds", record["host_seconds"]},

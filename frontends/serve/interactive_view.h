@@ -32,8 +32,10 @@ public:
     nlohmann::json state() const;
     // The last frame's picture as PNG bytes.
     const std::string& frame_png() const { return frame_png_; }
-    // Pass images of the last frame, PNG (empty for a kernel with one stage).
-    const std::vector<std::string>& pass_pngs() const { return pass_pngs_; }
+    // The last frame's refinement passes (none for a kernel without them), and pass p as PNG bytes
+    // (encoded when asked for: most changes never show them).
+    std::size_t pass_count() const { return passes_.size(); }
+    std::string pass_png(std::size_t pass) const { return encode_png(passes_.at(pass)); }
     std::size_t version() const { return version_; }
 
 private:
@@ -46,7 +48,7 @@ private:
     nlohmann::json last_;  // the last frame's state
     std::vector<std::string> phase_names_;  // every phase the session has timed, in first-seen order
     std::string frame_png_;
-    std::vector<std::string> pass_pngs_;
+    std::vector<Image> passes_;
     std::size_t version_ = 0;
 };
 

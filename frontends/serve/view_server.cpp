@@ -57,10 +57,10 @@ struct ViewServer::Impl {
         server.Get(R"(/api/pass/(\d{1,3})\.png)", [this](const httplib::Request& req, httplib::Response& res) {
             const std::lock_guard lock(mutex);
             const std::size_t pass = std::strtoul(req.matches[1].str().c_str(), nullptr, 10);
-            if (pass >= view.pass_pngs().size())
-                return send_error(res, 404, "pass", fmt::format("the last frame has {} passes", view.pass_pngs().size()));
+            if (pass >= view.pass_count())
+                return send_error(res, 404, "pass", fmt::format("the last frame has {} passes", view.pass_count()));
             no_caching(res);
-            res.set_content(view.pass_pngs()[pass], "image/png");
+            res.set_content(view.pass_png(pass), "image/png");
         });
         server.Post("/api/change", [this](const httplib::Request& req, httplib::Response& res) {
             const std::string type = req.get_header_value("Content-Type");
