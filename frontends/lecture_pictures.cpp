@@ -86,4 +86,39 @@ std::optional<Image> gp_tile_map(const FrameWork& work, const FrameTiming& timin
     return map;
 }
 
+PlotSpec utilisation_over_time(const TraceRecorder& trace, Tick start, Tick end, const std::map<std::string, std::size_t>& counts,
+                               int bins) {
+    if (end <= start || bins < 1) throw std::invalid_argument("utilisation_over_time: an empty span of time");
+    const double width = static_cast<double>(end - start) / bins;
+    PlotSpec spec;
+    spec.title = "utilisation over the frame";
+    spec.x_label = "simulated milliseconds from the frame's start";
+    spec.y_label = "busy fraction";
+    spec.extra_commands = {"set yrange [0:1.05]", "set key outside right"};
+    for (const auto& [group, count] : counts) {
+        const auto spans = trace.busy_spans().find(group);
+        if (count == 0 || spans == trace.busy_spans().end()) continue;
+        std::vector<double> busy(static_cast<std::size_t>(bins), 0.0);
+        for (const auto& [from, to] : spans->second) {
+            const Tick a = std::max(from, start), b = std::min(to, end);
+            if (b <= a) continue;
+            const int first = static_cast<int>(static_cast<double>(a - start) / width);
+            const int last = std::min(bins - 1, static_cast<int>(static_cast<double>(b - start) / width));
+            for (int i = first; i <= last; ++i) {
+                const double lo = static_cast<double>(start) + i * width, hi = lo + width;
+                busy[static_cast<std::size_t>(i)] += std::max(0.0, std::min(hi, static_cast<double>(b)) - std::max(lo, static_cast<double>(a)));
+            }
+        }
+        PlotSeries series;
+        series.title = group;
+        series.style = "steps lw 2";
+        for (int i = 0; i < bins; ++i) {
+            series.x.push_back(ticks_to_seconds(static_cast<Tick>(i * width)) * 1e3);
+            series.y.push_back(busy[static_cast<std::size_t>(i)] / (width * static_cast<double>(count)));
+        }
+        spec.series.push_back(std::move(series));
+    }
+    return spec;
+}
+
 }  // namespace pp5

@@ -1,13 +1,18 @@
 #pragma once
 // Pictures a lecture needs beside a frame, made from what the frame already computed: its refinement
-// passes side by side (and as an animated GIF), and a map of which GP cast which screen tile, from the
-// timing engine's own record of who ran each task.
+// passes side by side (and as an animated GIF), a map of which GP cast which screen tile, from the
+// timing engine's own record of who ran each task, and the components' utilisation over time, from the
+// busy spans the trace recorder keeps.
 
+#include "frontends/plot.h"
 #include "kernels/render/image.h"
+#include "sim/core/trace_recorder.h"
 #include "sim/timing/frame_timing.h"
 #include "sim/timing/recorded_work.h"
 
+#include <map>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace pp5 {
@@ -20,5 +25,10 @@ Image passes_strip(const std::vector<Image>& passes);
 // phase's tasks are not screen tiles.
 std::optional<Image> gp_tile_map(const FrameWork& work, const FrameTiming& timing, std::size_t gp_count, const Image& frame,
                                  const std::string& phase_name = "ray_casting");
+
+// How busy each kind of component was over [start, end), in `bins` slices of time: for each group the
+// trace recorded busy spans for (keep_busy_spans), busy time in the bin over `counts[group]` x the bin.
+PlotSpec utilisation_over_time(const TraceRecorder& trace, Tick start, Tick end, const std::map<std::string, std::size_t>& counts,
+                               int bins = 120);
 
 }  // namespace pp5

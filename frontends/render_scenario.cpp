@@ -7,12 +7,14 @@
 #include <fmt/core.h>
 
 #include <chrono>
+#include <optional>
 
 namespace pp5 {
 
 namespace {
 
-void add_lecture_pictures(const SessionFrame& frame, std::size_t gp_count, StagedOutput& output) {
+void add_lecture_pictures(const SessionFrame& frame, const Machine& machine, const TraceRecorder& trace, StagedOutput& output) {
+    const std::size_t gp_count = machine.gps().size();
     std::vector<Image> passes;
     for (const FrameImage& image : frame.images)
         if (image.kind == FrameImage::Kind::Pass) passes.push_back(image.image);
@@ -23,6 +25,13 @@ void add_lecture_pictures(const SessionFrame& frame, std::size_t gp_count, Stage
     if (const Image* picture = frame.find(FrameImage::Kind::Frame))
         if (auto map = gp_tile_map(frame.recorded->work, frame.timing, gp_count, *picture))
             output.add_image(fmt::format("frame_{:04}_gp_tiles.png", frame.index), std::move(*map), ImageFormat::Png);
+    if (frame.timing.duration_ps() > 0) {
+        const std::map<std::string, std::size_t> counts = {{"GPs", gp_count},
+                                                           {"renderers", machine.renderers().size()},
+                                                           {"ring", static_cast<std::size_t>(machine.ring().channel_count())}};
+        const std::string name = fmt::format("frame_{:04}_utilisation", frame.index);
+        output.add_text(name + ".png", render_plot(utilisation_over_time(trace, frame.timing.start_ps, frame.timing.end_ps, counts), name).png);
+    }
 }
 
 }  // namespace
@@ -31,11 +40,17 @@ ScenarioRender render_scenario(const Scenario& scenario, const MachineConfig& co
                                const ScenarioRenderOptions& options) {
     const auto started = std::chrono::steady_clock::now();
     const ImageFormat format = options.format;
-    RenderSession session(scenario, config, options.trace, format == ImageFormat::Png ? "png" : "exr");
+    // The lecture pictures' utilisation plot is drawn from the trace's busy spans: record them (into the
+    // user's trace if there is one, else into one that keeps nothing else).
+    std::optional<TraceRecorder> spans_only;
+    TraceRecorder* trace = options.trace;
+    if (options.lecture_pictures && trace == nullptr) trace = &spans_only.emplace(0, 0, 0);
+    if (options.lecture_pictures) trace->keep_busy_spans(true);
+    RenderSession session(scenario, config, trace, format == ImageFormat::Png ? "png" : "exr");
     nlohmann::json frames = nlohmann::json::array();
     for (std::size_t i = 0; i < scenario.frames.size(); ++i) {
         SessionFrame frame = session.render(scenario.frames[i]);
-        if (options.lecture_pictures) add_lecture_pictures(frame, session.machine().gps().size(), output);
+        if (options.lecture_pictures) add_lecture_pictures(frame, session.machine(), *trace, output);
         for (FrameImage& image : frame.images) output.add_image(image.name, std::move(image.image), format);
         frames.push_back(std::move(frame.record));
         if (options.progress) options.progress(i + 1, scenario.frames.size());

@@ -15,6 +15,7 @@ int TraceRecorder::track(const std::string& group, const std::string& name) {
     auto [g, new_group] = groups_.try_emplace(group, static_cast<int>(groups_.size()) + 1);
     const int pid = g->second;
     if (new_group) {
+        group_names_.push_back(group);
         records_.push_back(nlohmann::json{{"ph", "M"}, {"name", "process_name"}, {"pid", pid}, {"args", {{"name", group}}}}.dump());
     }
     auto [t, new_track] = tracks_.try_emplace({pid, name}, static_cast<int>(tracks_.size()) + 1);
@@ -34,6 +35,10 @@ bool TraceRecorder::take() {
 }
 
 void TraceRecorder::slice(int track, const std::string& name, Tick start, Tick end) {
+    if (keep_busy_ && name != "waiting" && end > start) {
+        const auto group = static_cast<std::size_t>(track / 100000);
+        if (group >= 1 && group <= group_names_.size()) busy_[group_names_[group - 1]].emplace_back(start, end);
+    }
     if (!in_window(start, end) || !take()) return;
     records_.push_back(nlohmann::json{{"ph", "X"}, {"name", name}, {"pid", track / 100000}, {"tid", track % 100000},
                                       {"ts", microseconds(start)}, {"dur", microseconds(end - start)}}

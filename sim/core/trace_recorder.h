@@ -25,6 +25,11 @@ public:
     // An arrow from one track at `from` to another at `to`.
     void flow(int from_track, Tick from, int to_track, Tick to, const std::string& name);
 
+    // Also keep every slice's span by track group ("GPs", "renderers", "ring"), whatever the window and
+    // the event limit: what a utilisation-over-time plot is drawn from. A "waiting" slice is idle time.
+    void keep_busy_spans(bool keep) { keep_busy_ = keep; }
+    const std::map<std::string, std::vector<std::pair<Tick, Tick>>>& busy_spans() const { return busy_; }
+
     bool full() const { return events_ >= max_events_; }
     std::size_t events() const { return events_; }
     std::size_t dropped() const { return dropped_; }
@@ -44,6 +49,9 @@ private:
     std::map<std::string, int> groups_;
     std::map<std::pair<int, std::string>, int> tracks_;
     std::vector<std::string> records_;  // serialised events, in the order recorded
+    std::vector<std::string> group_names_;  // by group number - 1
+    bool keep_busy_ = false;
+    std::map<std::string, std::vector<std::pair<Tick, Tick>>> busy_;
 };
 
 }  // namespace pp5

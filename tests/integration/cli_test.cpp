@@ -277,7 +277,7 @@ TEST(Cli, ParamsListsEveryParameterWithProvenance) {
 }
 
 // `--pictures` adds what a lecture shows beside each frame: the refinement passes as a strip and an
-// animated GIF (one image per pass), and the map of which GP cast which tile.
+// animated GIF (one image per pass), the map of which GP cast which tile, and the utilisation over time.
 TEST(Cli, RenderWritesLecturePicturesOnRequest) {
     const fs::path dir = scratch("pictures");
     const RunResult r = run("render " + scenario("head-phantom.toml") + " --pictures --out " + (dir / "out").string(), dir);
@@ -292,10 +292,13 @@ TEST(Cli, RenderWritesLecturePicturesOnRequest) {
     EXPECT_EQ(images, passes);
     EXPECT_TRUE(fs::exists(dir / "out/frame_0000_passes_strip.png"));
     EXPECT_TRUE(fs::exists(dir / "out/frame_0000_gp_tiles.png"));
-    // Without the flag, none of them.
+    EXPECT_EQ(read_file(dir / "out/frame_0000_utilisation.png").substr(1, 3), "PNG");
+    // Without the flag, none of them, and the same statistics: recording the busy spans only observes.
     const RunResult plain = run("render " + scenario("head-phantom.toml") + " --out " + (dir / "plain").string(), dir);
     ASSERT_EQ(plain.exit_code, 0) << plain.output;
     EXPECT_FALSE(fs::exists(dir / "plain/frame_0000_passes.gif"));
+    EXPECT_FALSE(fs::exists(dir / "plain/frame_0000_utilisation.png"));
+    EXPECT_EQ(without_host_fields(nlohmann::json::parse(read_file(dir / "plain/stats.json"))), without_host_fields(stats));
 }
 
 // serve refuses what it cannot do before it renders or listens.

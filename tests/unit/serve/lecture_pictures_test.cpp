@@ -61,3 +61,28 @@ TEST(LecturePictures, TheTileMapColoursEachTileByTheGpThatRanIt) {
 
 }  // namespace
 }  // namespace pp5
+
+namespace pp5 {
+namespace {
+
+TEST(LecturePictures, UtilisationOverTimeIsBusyTimePerBinOverTheComponentCount) {
+    TraceRecorder trace(0, 0, 0);  // keeps no events, only the busy spans
+    trace.keep_busy_spans(true);
+    const int gp0 = trace.track("GPs", "gp[0]"), gp1 = trace.track("GPs", "gp[1]"), ring = trace.track("ring", "channel[0]");
+    trace.slice(gp0, "computing", 0, 100);     // the whole first half
+    trace.slice(gp1, "computing", 50, 100);    // half of it
+    trace.slice(gp1, "waiting", 100, 200);     // idle: not counted
+    trace.slice(ring, "fetch_request", 150, 200);
+    const PlotSpec spec = utilisation_over_time(trace, 0, 200, {{"GPs", 2}, {"ring", 1}, {"renderers", 4}}, 2);
+    ASSERT_EQ(spec.series.size(), 2u);  // nothing recorded for the renderers
+    const PlotSeries& gps = spec.series[0].title == "GPs" ? spec.series[0] : spec.series[1];
+    const PlotSeries& channel = spec.series[0].title == "GPs" ? spec.series[1] : spec.series[0];
+    EXPECT_DOUBLE_EQ(gps.y[0], (100.0 + 50.0) / (2 * 100.0));
+    EXPECT_DOUBLE_EQ(gps.y[1], 0.0);
+    EXPECT_DOUBLE_EQ(channel.y[0], 0.0);
+    EXPECT_DOUBLE_EQ(channel.y[1], 0.5);
+    EXPECT_EQ(trace.events(), 0u);
+}
+
+}  // namespace
+}  // namespace pp5
