@@ -24,6 +24,9 @@ glm::vec3 gp_colour(std::uint32_t gp) {
     return 0.25f + 0.75f * rgb;
 }
 
+// A pixel's luminance, clamped to [0, 1]: the picture shows through the map's tint.
+float brightness(const glm::vec4& p) { return glm::clamp(0.3f * p.r + 0.59f * p.g + 0.11f * p.b, 0.0f, 1.0f); }
+
 }  // namespace
 
 Image passes_strip(const std::vector<Image>& passes) {
@@ -66,21 +69,16 @@ std::optional<Image> gp_tile_map(const FrameWork& work, const FrameTiming& timin
     if (tiles.empty()) return std::nullopt;
 
     Image map(frame.width, frame.height);
-    for (std::size_t i = 0; i < map.pixels.size(); ++i) {
-        const glm::vec4& p = frame.pixels[i];
-        const float brightness = glm::clamp(0.3f * p.r + 0.59f * p.g + 0.11f * p.b, 0.0f, 1.0f);
-        map.pixels[i] = glm::vec4(glm::vec3(0.15f + 0.35f * brightness), 1.0f);  // untouched tiles stay grey
-    }
+    for (std::size_t i = 0; i < map.pixels.size(); ++i)
+        map.pixels[i] = glm::vec4(glm::vec3(0.15f + 0.35f * brightness(frame.pixels[i])), 1.0f);  // untouched tiles stay grey
     for (const auto& [corner, tile] : tiles) {
         const auto busiest = std::max_element(tile.items_by_gp.begin(), tile.items_by_gp.end(),
                                               [](const auto& a, const auto& b) { return a.second < b.second; });
         const glm::vec3 colour = gp_colour(busiest->first);
         for (int y = tile.rect.y; y < std::min<int>(frame.height, tile.rect.y + tile.rect.height); ++y)
             for (int x = tile.rect.x; x < std::min<int>(frame.width, tile.rect.x + tile.rect.width); ++x) {
-                const glm::vec4& p = frame.at(x, y);
-                const float brightness = glm::clamp(0.3f * p.r + 0.59f * p.g + 0.11f * p.b, 0.0f, 1.0f);
                 const bool edge = x == tile.rect.x || y == tile.rect.y;
-                map.at(x, y) = glm::vec4(edge ? 0.5f * colour : colour * (0.45f + 0.55f * brightness), 1.0f);
+                map.at(x, y) = glm::vec4(edge ? 0.5f * colour : colour * (0.45f + 0.55f * brightness(frame.at(x, y))), 1.0f);
             }
     }
     return map;
