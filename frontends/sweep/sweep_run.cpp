@@ -5,9 +5,9 @@
 #include "kernels/registry/run_config.h"
 #include "kernels/scenario/scenario.h"
 #include "sim/core/input_error.h"
+#include "sim/core/parallel.h"
 
 #include <fmt/format.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -216,7 +216,7 @@ SweepResult run_sweep(const SweepSpec& spec, const Shard& shard, const SweepProg
         } catch (const InputError& e) {
             group_error = e.what();
         }
-        tbb::parallel_for(std::size_t{0}, members.size(), [&](std::size_t m) {
+        pp5::parallel_for(std::size_t{0}, members.size(), [&](std::size_t m) {
             const SweepPoint& point = plan[members[m]];
             SweepPointResult r{point, group_error, nlohmann::json::object(), {}};
             const MachineConfig config = load_run_config(spec.machine, overrides_of(spec, point.parameters, true));

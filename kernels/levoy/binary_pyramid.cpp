@@ -1,7 +1,7 @@
 #include "kernels/levoy/binary_pyramid.h"
+#include "sim/core/parallel.h"
 
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <numeric>
@@ -45,7 +45,7 @@ BinaryPyramid BinaryPyramid::from_opacity(const ShadedVolume& volume, const Shad
     base.dims = dims - 1;
     base.bits.assign(static_cast<std::size_t>(base.dims.x) * static_cast<std::size_t>(base.dims.y) * static_cast<std::size_t>(base.dims.z), 0);
     // A voxel row's non-empty flags, ORed with the next voxel's: the x extent of each cell.
-    tbb::parallel_for(tbb::blocked_range<int>(0, base.dims.z), [&](const tbb::blocked_range<int>& r) {
+    pp5::parallel_for(tbb::blocked_range<int>(0, base.dims.z), [&](const tbb::blocked_range<int>& r) {
         std::vector<std::uint8_t> row(static_cast<std::size_t>(dims.x));
         for (int z = r.begin(); z != r.end(); ++z) {
             for (int y = 0; y < base.dims.y; ++y) {

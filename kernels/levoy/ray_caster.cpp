@@ -3,9 +3,9 @@
 #include "kernels/reference/ray_march.h"
 #include "kernels/reference/trilinear.h"
 #include "kernels/render/front_to_back.h"
+#include "sim/core/parallel.h"
 
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -126,7 +126,7 @@ CastBatch RayCaster::cast(std::span<const std::uint32_t> pixels, std::span<const
     constexpr std::size_t kChunk = 256;
     const std::size_t chunks = (pixels.size() + kChunk - 1) / kChunk;
     std::vector<std::vector<BlockTouch>> chunk_touches(chunks);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks), [&](const tbb::blocked_range<std::size_t>& r) {
+    pp5::parallel_for(tbb::blocked_range<std::size_t>(0, chunks), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t c = r.begin(); c != r.end(); ++c) {
             auto& touches = chunk_touches[c];
             for (std::size_t i = c * kChunk; i < std::min(pixels.size(), (c + 1) * kChunk); ++i) {

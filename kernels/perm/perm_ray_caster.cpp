@@ -5,9 +5,9 @@
 #include "kernels/reference/sample_shader.h"
 #include "kernels/reference/shading_view.h"
 #include "kernels/render/front_to_back.h"
+#include "sim/core/parallel.h"
 
 #include <glm/geometric.hpp>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -84,7 +84,7 @@ PermFrame PermRayCaster::cast(const Classification& classification, const ColorM
     PermFrame out;
     out.image = Image(cs.width, cs.height);
     std::vector<TileResult> results(static_cast<std::size_t>(tiles));
-    tbb::parallel_for(0, tiles, [&](int t) {
+    pp5::parallel_for(0, tiles, [&](int t) {
         TileResult& result = results[static_cast<std::size_t>(t)];
         const int x0 = (t % tiles_x) * tile, y0 = (t / tiles_x) * tile;
         for (int py = y0; py < std::min(y0 + tile, cs.height); ++py)

@@ -2,9 +2,9 @@
 
 #include "kernels/reference/shading_view.h"
 #include "sim/core/input_error.h"
+#include "sim/core/parallel.h"
 
 #include <fmt/format.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <stdexcept>
@@ -56,7 +56,7 @@ PermRecordShading::PermRecordShading(Machine& machine, const PermStructure& stru
         slots_[r] = static_cast<int>(bits / static_cast<std::uint64_t>(layout_.bits()));
     }
     // Load: position e of renderer r (its records' positions in order) goes to PP e mod P of slot e / P.
-    tbb::parallel_for(std::size_t{0}, renderers.size(), [&](std::size_t r) {
+    pp5::parallel_for(std::size_t{0}, renderers.size(), [&](std::size_t r) {
         PpArray& array = renderers[r]->array();
         const auto pps = static_cast<std::uint64_t>(array.size());
         std::uint64_t e = 0;
@@ -81,7 +81,7 @@ PpPassWork PermRecordShading::run(const PpProgram& program) {
     auto& renderers = machine_.renderers();
     PpPassWork work{program, std::vector<std::uint64_t>(renderers.size(), 0), std::vector<PpRunCounts>(renderers.size())};
     // Each renderer runs over its own slots only, so the thread count changes nothing.
-    tbb::parallel_for(std::size_t{0}, renderers.size(), [&](std::size_t r) {
+    pp5::parallel_for(std::size_t{0}, renderers.size(), [&](std::size_t r) {
         PpArray& array = renderers[r]->array();
         for (int slot = 0; slot < slots_[r]; ++slot) {
             PpSlotContext context;
@@ -111,7 +111,7 @@ PpPassWork PermRecordShading::shade(const ColorMap& colors, const PhongLighting&
 
 void PermRecordShading::read_back() {
     auto& renderers = machine_.renderers();
-    tbb::parallel_for(std::size_t{0}, renderers.size(), [&](std::size_t r) {
+    pp5::parallel_for(std::size_t{0}, renderers.size(), [&](std::size_t r) {
         const PpArray& array = renderers[r]->array();
         const auto pps = static_cast<std::uint64_t>(array.size());
         std::uint64_t e = 0;

@@ -2,10 +2,10 @@
 
 #include "kernels/reference/gradient_field.h"
 #include "sim/core/input_error.h"
+#include "sim/core/parallel.h"
 
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -39,7 +39,7 @@ void reduce(const Volume& volume, const GradientField& gradients, const Classifi
     enum : std::uint8_t { kEmpty, kTranslucent, kOpaque };
     std::vector<std::uint8_t> kind(cells, kEmpty);
     const PositionTable density(s.density_positions, s.qbm, s.positions), gradient(s.gradient_positions, s.qbm, s.positions);
-    tbb::parallel_for(std::size_t{0}, per_slice.size(), [&](std::size_t z) {
+    pp5::parallel_for(std::size_t{0}, per_slice.size(), [&](std::size_t z) {
         for (const glm::ivec3& o : per_slice[z]) {
             float values[8];
             glm::vec3 grads[8];
@@ -186,7 +186,7 @@ PermStructure PermStructure::build(const Volume& volume, const Classification& c
     // Candidates, z slice by z slice (in parallel), then numbered in storage order.
     p.index_.assign(volume.samples().size(), kNull);
     std::vector<std::vector<glm::ivec3>> per_slice(static_cast<std::size_t>(std::max(d.z - 1, 0)));
-    tbb::parallel_for(0, std::max(d.z - 1, 0), [&](int z) {
+    pp5::parallel_for(0, std::max(d.z - 1, 0), [&](int z) {
         for (int y = 0; y + 1 < d.y; ++y)
             for (int x = 0; x + 1 < d.x; ++x) {
                 bool candidate;
@@ -228,7 +228,7 @@ PermStructure PermStructure::build(const Volume& volume, const Classification& c
     p.density_.resize(n * dn);
     p.gradient_.resize(n * gn * 3);
     p.signs_.resize(n * gn);
-    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t m) {
+    pp5::parallel_for(std::size_t{0}, n, [&](std::size_t m) {
         const glm::ivec3 o = p.cell_origin_[m];
         float values[8];
         glm::vec3 grads[8];

@@ -1,10 +1,10 @@
 #include "kernels/pp_volume/pp_shading.h"
 
 #include "sim/core/input_error.h"
+#include "sim/core/parallel.h"
 #include "sim/timing/frame_engine.h"
 
 #include <fmt/format.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <stdexcept>
@@ -83,7 +83,7 @@ void PpShading::load_volume(const Volume& volume) {
     const VoxelRecordLayout& layout = settings_.layout;
     const int record_bits = layout.bits();
     auto& renderers = machine_.renderers();
-    tbb::parallel_for(std::size_t{0}, renderers.size(), [&](std::size_t r) {
+    pp5::parallel_for(std::size_t{0}, renderers.size(), [&](std::size_t r) {
         PpArray& array = renderers[r]->array();
         const int renderer = static_cast<int>(r);
         for (int slot = 0; slot < placement_.slots_needed(); ++slot) {
@@ -127,7 +127,7 @@ PpPassWork PpShading::execute(const PpProgram& program, const SlotSelector& sele
     PpPassWork work{program, std::vector<std::uint64_t>(renderers.size(), 0), std::vector<PpRunCounts>(renderers.size())};
     // Every renderer's PPs run the program over their slots (renderers in parallel; each renderer's
     // result depends on its own data only, so the thread count changes nothing).
-    tbb::parallel_for(std::size_t{0}, renderers.size(), [&](std::size_t r) {
+    pp5::parallel_for(std::size_t{0}, renderers.size(), [&](std::size_t r) {
         PpArray& array = renderers[r]->array();
         for (int slot = 0; slot < placement_.slots_needed(); ++slot) {
             const SlotFrame frame = placement_.frame(static_cast<int>(r), slot);
@@ -179,7 +179,7 @@ ShadedVolume PpShading::shaded_volume() const {
     const float color_max = static_cast<float>(mask(layout.color_bits));
     const float opacity_max = static_cast<float>(mask(layout.opacity_bits));
     auto& renderers = machine_.renderers();
-    tbb::parallel_for(std::size_t{0}, renderers.size(), [&](std::size_t r) {
+    pp5::parallel_for(std::size_t{0}, renderers.size(), [&](std::size_t r) {
         const PpArray& array = renderers[r]->array();
         for (int slot = 0; slot < placement_.slots_needed(); ++slot) {
             const SlotFrame frame = placement_.frame(static_cast<int>(r), slot);

@@ -1,7 +1,7 @@
 #include "kernels/reference/gradient_field.h"
+#include "sim/core/parallel.h"
 
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 
@@ -16,7 +16,7 @@ GradientField compute_gradients(const Volume& volume) {
     const std::size_t row = static_cast<std::size_t>(dims.x);
     const std::size_t slice = row * static_cast<std::size_t>(dims.y);
 
-    tbb::parallel_for(tbb::blocked_range<int>(0, dims.z), [&](const tbb::blocked_range<int>& slices) {
+    pp5::parallel_for(tbb::blocked_range<int>(0, dims.z), [&](const tbb::blocked_range<int>& slices) {
         for (int z = slices.begin(); z != slices.end(); ++z) {
             const std::size_t z_lo = static_cast<std::size_t>(std::max(z - 1, 0)) * slice;
             const std::size_t z_hi = static_cast<std::size_t>(std::min(z + 1, dims.z - 1)) * slice;

@@ -1,9 +1,9 @@
 #include "kernels/reference/occupancy_grid.h"
+#include "sim/core/parallel.h"
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -33,7 +33,7 @@ OccupancyGrid build_grid(glm::ivec3 dims, Decide&& decide) {
     const OccupancyGrid layout(dims);
     std::vector<std::uint8_t> flags(layout.block_count(), 0);
     const glm::ivec3 blocks = layout.block_dims();
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, layout.block_count()), [&](const tbb::blocked_range<std::size_t>& r) {
+    pp5::parallel_for(tbb::blocked_range<std::size_t>(0, layout.block_count()), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t i = r.begin(); i != r.end(); ++i) flags[i] = decide(layout, block_of_index(i, blocks)) ? 1 : 0;
     });
     return OccupancyGrid(dims, flags);
@@ -48,7 +48,7 @@ void chebyshev_pass(std::vector<std::uint8_t>& distance, glm::ivec3 blocks, int 
     const int u_axis = axis == 0 ? 1 : 0;
     const int v_axis = axis == 2 ? 1 : 2;
     const int lines = blocks[u_axis] * blocks[v_axis];
-    tbb::parallel_for(tbb::blocked_range<int>(0, lines), [&](const tbb::blocked_range<int>& r) {
+    pp5::parallel_for(tbb::blocked_range<int>(0, lines), [&](const tbb::blocked_range<int>& r) {
         std::vector<std::uint8_t> line(static_cast<std::size_t>(length));
         for (int l = r.begin(); l != r.end(); ++l) {
             const std::size_t start = static_cast<std::size_t>(l % blocks[u_axis]) * stride[u_axis] +
@@ -160,7 +160,7 @@ BlockValueRanges compute_block_value_ranges(const Volume& volume, const Gradient
     ranges.max_value.resize(layout.block_count());
     ranges.max_gradient.resize(layout.block_count());
     const std::span<const float> values = volume.samples();
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, layout.block_count()), [&](const tbb::blocked_range<std::size_t>& r) {
+    pp5::parallel_for(tbb::blocked_range<std::size_t>(0, layout.block_count()), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t b = r.begin(); b != r.end(); ++b) {
             float lo = std::numeric_limits<float>::infinity();
             float hi = -lo;

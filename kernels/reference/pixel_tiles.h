@@ -4,10 +4,10 @@
 // the counters are the same at any thread count.
 
 #include "kernels/render/image.h"
+#include "sim/core/parallel.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/combinable.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 
@@ -20,7 +20,7 @@ Counters for_each_pixel_tiled(Image& image, PixelFn&& pixel) {
     const int tiles_x = (image.width + kTile - 1) / kTile;
     const int tiles_y = (image.height + kTile - 1) / kTile;
     tbb::combinable<Counters> partial;
-    tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y), [&](const tbb::blocked_range<int>& r) {
+    pp5::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y), [&](const tbb::blocked_range<int>& r) {
         Counters& local = partial.local();
         for (int tile = r.begin(); tile != r.end(); ++tile) {
             const int x0 = (tile % tiles_x) * kTile;

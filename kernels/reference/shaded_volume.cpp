@@ -1,7 +1,7 @@
 #include "kernels/reference/shaded_volume.h"
+#include "sim/core/parallel.h"
 
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include <atomic>
 #include <stdexcept>
@@ -77,7 +77,7 @@ std::uint64_t reshade_voxels(ShadedVolume& shaded, const Volume& volume, const G
     const BlockShader shader(volume, gradients, opacities, occupancy, color_map, lighting, view);
     const std::vector<glm::ivec3> blocks = occupancy.occupied_blocks();
     std::atomic<std::uint64_t> shaded_count{0};
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size()), [&](const tbb::blocked_range<std::size_t>& r) {
+    pp5::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size()), [&](const tbb::blocked_range<std::size_t>& r) {
         std::uint64_t count = 0;
         for (std::size_t b = r.begin(); b != r.end(); ++b) count += shader.shade(blocks[b], shaded);
         shaded_count += count;

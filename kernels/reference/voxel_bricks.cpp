@@ -1,7 +1,7 @@
 #include "kernels/reference/voxel_bricks.h"
+#include "sim/core/parallel.h"
 
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include <stdexcept>
 
@@ -33,7 +33,7 @@ void VoxelBricks::for_each_voxel(Visit&& visit) const {
     const glm::ivec3 blocks = layout.block_dims();
     const std::size_t row = static_cast<std::size_t>(volume_dims_.x);
     const std::size_t slice = row * static_cast<std::size_t>(volume_dims_.y);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, layout.block_count()), [&](const tbb::blocked_range<std::size_t>& r) {
+    pp5::parallel_for(tbb::blocked_range<std::size_t>(0, layout.block_count()), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t b = r.begin(); b != r.end(); ++b) {
             const std::size_t nx = static_cast<std::size_t>(blocks.x);
             const std::size_t ny = static_cast<std::size_t>(blocks.y);

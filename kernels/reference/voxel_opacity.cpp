@@ -1,8 +1,8 @@
 #include "kernels/reference/voxel_opacity.h"
+#include "sim/core/parallel.h"
 
 #include <glm/geometric.hpp>
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include <stdexcept>
 
@@ -14,7 +14,7 @@ std::vector<float> classify_voxels(const Volume& volume, const GradientField& gr
     std::vector<float> opacity(volume.voxel_count());
     const std::span<const float> values = volume.samples();
     const std::size_t slice = static_cast<std::size_t>(volume.dims().x) * static_cast<std::size_t>(volume.dims().y);
-    tbb::parallel_for(tbb::blocked_range<int>(0, volume.dims().z), [&](const tbb::blocked_range<int>& slices) {
+    pp5::parallel_for(tbb::blocked_range<int>(0, volume.dims().z), [&](const tbb::blocked_range<int>& slices) {
         const std::size_t begin = static_cast<std::size_t>(slices.begin()) * slice;
         const std::size_t end = static_cast<std::size_t>(slices.end()) * slice;
         for (std::size_t i = begin; i < end; ++i) {

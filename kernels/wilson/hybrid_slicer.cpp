@@ -3,9 +3,9 @@
 #include "kernels/screen_regions/screen_projection.h"
 #include "kernels/wilson/slice_geometry.h"
 #include "kernels/wilson/wilson_costs.h"
+#include "sim/core/parallel.h"
 
 #include <glm/geometric.hpp>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -142,7 +142,7 @@ private:
     void make_quads() {
         plane_quads.assign(static_cast<std::size_t>(n[a]), {});
         plane_counts.assign(static_cast<std::size_t>(n[a]), {});
-        tbb::parallel_for(0, n[a], [&](int s) {
+        pp5::parallel_for(0, n[a], [&](int s) {
             const SlicePlane& plane = planes[static_cast<std::size_t>(s)];
             HybridCounts& pc = plane_counts[static_cast<std::size_t>(s)];
             // The plane's texels with their opacity corrected.
@@ -218,7 +218,7 @@ private:
         const double grid_spacing = 1.0 / hybrid_->error_grid_factor();
         const double point_world = std::max({spacing_.x, spacing_.y, spacing_.z}) * grid_spacing;
         const NormalTable& normals = NormalTable::get();
-        tbb::parallel_for(std::size_t{0}, stored.size(), [&](std::size_t m) {
+        pp5::parallel_for(std::size_t{0}, stored.size(), [&](std::size_t m) {
             const HybridPoint& hp = stored[m];
             DrawnPoint& p = points[m];
             p.index = static_cast<std::uint32_t>(m);
@@ -325,7 +325,7 @@ private:
             std::uint64_t quad_pixels = 0, composites = 0, composited_pixels = 0, point_pixels = 0, blocks = 0, block_pixels = 0;
         };
         std::vector<RegionTally> tallies(region_count);
-        tbb::parallel_for(std::size_t{0}, region_count, [&](std::size_t r) {
+        pp5::parallel_for(std::size_t{0}, region_count, [&](std::size_t r) {
             const int ox = static_cast<int>(r % static_cast<std::size_t>(regions_x)) * rc;
             const int oy = static_cast<int>(r / static_cast<std::size_t>(regions_x)) * rr;
             for (const bool with_points : {true, false}) {

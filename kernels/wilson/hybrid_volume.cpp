@@ -1,11 +1,11 @@
 #include "kernels/wilson/hybrid_volume.h"
 
 #include "sim/core/input_error.h"
+#include "sim/core/parallel.h"
 
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -56,7 +56,7 @@ std::vector<float> resample_axis(const std::vector<float>& in, glm::ivec3 dims, 
         tap.weight = catmull_rom(p - base);
         for (int m = 0; m < 4; ++m) tap.index[m] = std::clamp(static_cast<int>(base) - 1 + m, 0, n - 1);
     }
-    tbb::parallel_for(0, out_dims.z, [&](int z) {
+    pp5::parallel_for(0, out_dims.z, [&](int z) {
         glm::ivec3 at;
         for (int y = 0; y < out_dims.y; ++y)
             for (int x = 0; x < out_dims.x; ++x) {
@@ -109,7 +109,7 @@ std::vector<float> downsample(const Volume& v, int k, glm::ivec3 low, const Wils
     if (s.downsample == Downsample::Cubic) out = resample_cubic(v, low, centre);
     if (s.downsample == Downsample::Box) {
         out.assign(count(low), 0.0f);
-        tbb::parallel_for(0, low.z, [&](int z) {
+        pp5::parallel_for(0, low.z, [&](int z) {
             for (int y = 0; y < low.y; ++y)
                 for (int x = 0; x < low.x; ++x) {
                     double sum = 0;
@@ -130,7 +130,7 @@ std::vector<float> downsample(const Volume& v, int k, glm::ivec3 low, const Wils
         const double c = centre(j);
         return std::pair<int, int>{std::max(0, static_cast<int>(std::floor(c - k)) + 1), std::min(n - 1, static_cast<int>(std::ceil(c + k)) - 1)};
     };
-    tbb::parallel_for(0, low.z, [&](int z) {
+    pp5::parallel_for(0, low.z, [&](int z) {
         const auto [z0, z1] = range(z, dims.z);
         for (int y = 0; y < low.y; ++y) {
             const auto [y0, y1] = range(y, dims.y);
@@ -238,7 +238,7 @@ HybridVolume HybridVolume::build(const Volume& v, const WilsonSettings& s, bool 
     std::vector<float> largest(static_cast<std::size_t>(h.grid_.z), 0.0f);
     std::vector<std::array<std::uint64_t, 5>> paper_counts(static_cast<std::size_t>(h.grid_.z), std::array<std::uint64_t, 5>{});
     if (range > 0) {
-        tbb::parallel_for(0, h.grid_.z, [&](int z) {
+        pp5::parallel_for(0, h.grid_.z, [&](int z) {
             auto& out = per_plane[static_cast<std::size_t>(z)];
             double sum = 0;
             float most = 0;
@@ -289,7 +289,7 @@ HybridVolume HybridVolume::build(const Volume& v, const WilsonSettings& s, bool 
     std::vector<glm::vec3> gradients(chosen.size());
     h.points_.resize(chosen.size());
     const glm::ivec3 grid = h.grid_;
-    tbb::parallel_for(std::size_t{0}, chosen.size(), [&](std::size_t n) {
+    pp5::parallel_for(std::size_t{0}, chosen.size(), [&](std::size_t n) {
         const std::uint64_t i = chosen[n].index;
         const int x = static_cast<int>(i % static_cast<std::uint64_t>(grid.x));
         const int y = static_cast<int>((i / static_cast<std::uint64_t>(grid.x)) % static_cast<std::uint64_t>(grid.y));

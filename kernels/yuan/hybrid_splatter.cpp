@@ -3,11 +3,10 @@
 #include "kernels/yuan/screen_primitives.h"
 #include "kernels/yuan/splat_geometry.h"
 #include "kernels/yuan/yuan_costs.h"
+#include "sim/core/parallel.h"
 
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <cmath>
@@ -78,7 +77,7 @@ SplatFrame HybridSplatter::render(const ShadedVolume& voxels, const Camera& came
     const auto brick_count = static_cast<std::size_t>(bricks_.x) * static_cast<std::size_t>(bricks_.y) * static_cast<std::size_t>(bricks_.z);
     std::vector<std::vector<Item>> per_brick(brick_count);
     std::vector<std::vector<std::uint32_t>> brick_parts(brick_count);  // per renderer: voxels streamed
-    tbb::parallel_for(std::size_t{0}, brick_count, [&](std::size_t b) {
+    pp5::parallel_for(std::size_t{0}, brick_count, [&](std::size_t b) {
         const glm::ivec3 bc(static_cast<int>(b % static_cast<std::size_t>(bricks_.x)),
                             static_cast<int>((b / static_cast<std::size_t>(bricks_.x)) % static_cast<std::size_t>(bricks_.y)),
                             static_cast<int>(b / (static_cast<std::size_t>(bricks_.x) * static_cast<std::size_t>(bricks_.y))));
@@ -118,12 +117,12 @@ SplatFrame HybridSplatter::render(const ShadedVolume& voxels, const Camera& came
     // Bands are centred on the nearest voxel's depth, so that a layer of voxels at one depth (a slab face
     // on) falls in the middle of a band, not on the rounding edge between two.
     for (Item& item : items) item.band = static_cast<std::uint32_t>(std::floor((item.depth - nearest) / band_depth + 0.5));
-    tbb::parallel_sort(items.begin(), items.end(), key_less);
+    pp5::parallel_sort(items.begin(), items.end(), key_less);
 
     // 3. Each voxel's primitive (in parallel; each from its own voxel only).
     const double point_radius = settings_.point_radius_pixels();
     std::vector<ScreenPrimitive> primitives(items.size());
-    tbb::parallel_for(std::size_t{0}, items.size(), [&](std::size_t k) {
+    pp5::parallel_for(std::size_t{0}, items.size(), [&](std::size_t k) {
         Item& item = items[k];
         ScreenPrimitive& p = primitives[k];
         const glm::vec4 rgba = voxels.rgba[item.voxel];
@@ -173,7 +172,7 @@ SplatFrame HybridSplatter::render(const ShadedVolume& voxels, const Camera& came
     const SplatIndexMode mode = exact ? SplatIndexMode::Exact : SplatIndexMode::Affine;
     const SplatBlend blend = programs_.blend();
     const bool gp_sheets = settings_.point_path == PointPath::GpSheets;
-    tbb::parallel_for(std::size_t{0}, region_count, [&](std::size_t r) {
+    pp5::parallel_for(std::size_t{0}, region_count, [&](std::size_t r) {
         const int ox = static_cast<int>(r % static_cast<std::size_t>(regions_x)) * rc;
         const int oy = static_cast<int>(r / static_cast<std::size_t>(regions_x)) * rr;
         RegionPixels region(rc, rr);
