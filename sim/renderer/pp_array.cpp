@@ -204,10 +204,10 @@ void PpArray::check_backing_access(int pp, int bit_offset, int bits) const {
 }
 
 std::span<const std::int64_t> PpArray::field_values(const PpField& field) const {
-    if (field.id < 0 || field.id >= static_cast<int>(fields_.size())) {
-        throw std::out_of_range(fmt::format("PpArray: no field with id {} in the last run", field.id));
+    if (field.storage < 0 || field.storage >= static_cast<int>(fields_.size())) {
+        throw std::out_of_range(fmt::format("PpArray: no field with id {} (storage {}) in the last run", field.id, field.storage));
     }
-    return fields_[static_cast<std::size_t>(field.id)];
+    return fields_[static_cast<std::size_t>(field.storage)];
 }
 
 namespace {
@@ -224,6 +224,11 @@ void validate(const PpProgram& program, const PpSlotContext& context, int local_
         fail(fmt::format("evaluates {} QEE expressions; the slot gives {}", program.expressions, context.expressions.size()));
     }
     const int field_count = static_cast<int>(program.fields.size());
+    for (const PpField& f : program.fields) {
+        if (f.storage < 0 || f.storage >= program.storage_slots) {
+            fail(fmt::format("field id {}: storage slot {} of {}", f.id, f.storage, program.storage_slots));
+        }
+    }
     for (std::size_t k = 0; k < program.instructions.size(); ++k) {
         const PpInstruction& in = program.instructions[k];
         const Operands uses = operands_of(in.op);
@@ -278,8 +283,9 @@ PP5_VECTOR_CLONES
 PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context) {
     validate(program, context, local_memory_bits_, backing_store_bits_);
     const auto total = static_cast<std::size_t>(size());
-    if (fields_.size() < program.fields.size()) fields_.resize(program.fields.size());
-    for (std::size_t id = 0; id < program.fields.size(); ++id) fields_[id].resize(total, 0);  // kept across runs
+    const auto slots = static_cast<std::size_t>(program.storage_slots);
+    if (fields_.size() < slots) fields_.resize(slots);
+    for (std::size_t slot = 0; slot < slots; ++slot) fields_[slot].resize(total, 0);  // kept across runs
 
     const auto columns = static_cast<std::size_t>(columns_);
     std::uint64_t* const store = backing_.data();
@@ -301,7 +307,9 @@ PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context)
     counts.instructions = program.instructions.size();
     for (std::size_t first = 0; first < total; first += kBlock) {
         const std::size_t n = std::min(kBlock, total - first);
-        auto field = [&](int id) { return fields_[static_cast<std::size_t>(id)].data() + first; };
+        auto field = [&](int id) {
+            return fields_[static_cast<std::size_t>(program.fields[static_cast<std::size_t>(id)].storage)].data() + first;
+        };
         std::uint8_t* en = enabled_.data() + first;
         std::fill(en, en + n, std::uint8_t{1});
         std::uint64_t enabled_count = n;

@@ -68,7 +68,7 @@ private:
     int backing_store_bits_;
     int backing_words_;                               // 64-bit words per PP
     std::vector<std::uint64_t> backing_;              // word-major: word w of PP p at [w * size() + p]
-    std::vector<std::vector<std::int64_t>> fields_;   // by field id, one value per PP
+    std::vector<std::vector<std::int64_t>> fields_;   // by storage slot (PpField::storage), one value per PP
     std::vector<std::uint8_t> enabled_;
 };
 

@@ -178,6 +178,12 @@ PpField PpProgramBuilder::alloc(const std::string& name, int bits, bool is_signe
     program_.local_memory_bits_used = std::max(program_.local_memory_bits_used, in_use + bits);
 
     PpField field{static_cast<int>(program_.fields.size()), offset, bits, is_signed};
+    if (free_storage_.empty()) {
+        field.storage = program_.storage_slots++;
+    } else {
+        field.storage = free_storage_.back();
+        free_storage_.pop_back();
+    }
     program_.fields.push_back(field);
     program_.field_names.push_back(name);
     live_.push_back(true);
@@ -192,7 +198,8 @@ void PpProgramBuilder::check_live(const PpField& field) const {
     }
     const auto id = static_cast<std::size_t>(field.id);
     const PpField& known = program_.fields[id];
-    if (known.offset != field.offset || known.bits != field.bits || known.is_signed != field.is_signed) {
+    if (known.offset != field.offset || known.bits != field.bits || known.is_signed != field.is_signed ||
+        known.storage != field.storage) {
         throw std::invalid_argument(fmt::format("PP program {}: field id {} ({}) does not match this program's field",
                                                 program_.name, field.id, program_.field_names[id]));
     }
@@ -205,6 +212,7 @@ void PpProgramBuilder::check_live(const PpField& field) const {
 void PpProgramBuilder::release(PpField field) {
     check_live(field);
     live_[static_cast<std::size_t>(field.id)] = false;
+    free_storage_.push_back(program_.fields[static_cast<std::size_t>(field.id)].storage);
     for (int i = 0; i < field.bits; ++i) used_[static_cast<std::size_t>(field.offset + i)] = false;
 }
 

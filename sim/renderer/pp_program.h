@@ -24,6 +24,10 @@ struct PpField {
     int offset = 0;         // first bit in local memory
     int bits = 0;           // 1..kMaxPpFieldBits
     bool is_signed = false;
+    // Where the host keeps the field's values (PpArray's storage slots). Fields whose lifetimes do not
+    // overlap share one, as they share local-memory bits on the PPs, so the host holds no more fields
+    // than are alive at once, however long the program (a classification of a thousand contours).
+    int storage = -1;
 
     bool valid() const { return id >= 0; }
     std::int64_t max_value() const { return is_signed ? (std::int64_t{1} << (bits - 1)) - 1 : (std::int64_t{1} << bits) - 1; }
@@ -87,6 +91,7 @@ struct PpProgram {
     std::vector<PpTable> tables;
     int expressions = 0;                       // QEE expressions a slot context must supply
     int local_memory_bits_used = 0;            // the peak of simultaneously allocated bits
+    int storage_slots = 0;                     // host storage slots its fields use (PpField::storage)
 };
 
 class PpProgramBuilder {
@@ -150,6 +155,7 @@ private:
     std::string machine_field_;
     std::vector<bool> used_;     // per bit of local memory
     std::vector<bool> live_;     // per field id
+    std::vector<int> free_storage_;  // host storage slots of released fields, for the next fields
     std::vector<Range> ranges_;  // per field id: the values it may hold
 };
 

@@ -107,8 +107,9 @@ TEST(PpArray, EveryResultWrapsToItsFieldsWidth) {
     // bit-serial hardware would keep (the builder never makes such a program, except by QEE).
     PpProgram p;
     p.name = "narrow";
-    p.fields = {PpField{0, 0, 8, false}, PpField{1, 8, 4, true}, PpField{2, 12, 4, false}, PpField{3, 16, 8, false},
-                PpField{4, 24, 3, true}, PpField{5, 27, 5, false}, PpField{6, 32, 6, true}};
+    p.fields = {PpField{0, 0, 8, false, 0}, PpField{1, 8, 4, true, 1},  PpField{2, 12, 4, false, 2}, PpField{3, 16, 8, false, 3},
+                PpField{4, 24, 3, true, 4}, PpField{5, 27, 5, false, 5}, PpField{6, 32, 6, true, 6}};
+    p.storage_slots = 7;
     p.field_names = {"a", "twice", "next", "k", "lut", "prod", "neg"};
     p.tables = {PpTable{"wide", {}}};
     for (int i = 0; i < 256; ++i) p.tables[0].entries.push_back(i * 3 - 300);

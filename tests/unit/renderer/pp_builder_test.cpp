@@ -383,3 +383,37 @@ TEST(PpBuilder, StoreIntoARecordFieldFillsEveryBit) {
 
 }  // namespace
 }  // namespace pp5
+
+namespace pp5 {
+namespace {
+
+// A long program whose temporaries are released as it goes (a classification of many contours) keeps
+// only as many fields on the host as are alive at once, and computes what one field each would.
+TEST(PpBuilder, ReleasedFieldsShareHostStorage) {
+    constexpr int kSteps = 500;
+    PpProgramBuilder b("long", 208);
+    const PpField x = b.load("x", 0, 8, false);
+    PpField total = b.set_const("total", 0, 20, false);
+    for (int k = 0; k < kSteps; ++k) {
+        const PpField term = b.add_const("term", x, k % 7);  // alive for one step only
+        const PpField next = b.add("next", total, term);
+        b.release(term);
+        b.release(total);
+        total = b.move("total", next);
+        b.release(next);
+    }
+    const PpProgram p = b.finish();
+    EXPECT_GT(p.fields.size(), static_cast<std::size_t>(3 * kSteps));
+    EXPECT_LE(p.storage_slots, 4);  // x, total, and the two alive within a step
+
+    PpArray array(4, 2, 208, 64);
+    for (int pp = 0; pp < array.size(); ++pp) array.write_backing(pp, 0, 8, static_cast<std::uint64_t>(pp * 3));
+    array.run(p, PpSlotContext{});
+    const auto values = array.field_values(total);
+    std::int64_t step_sum = 0;
+    for (int k = 0; k < kSteps; ++k) step_sum += k % 7;
+    for (int pp = 0; pp < array.size(); ++pp) EXPECT_EQ(values[static_cast<std::size_t>(pp)], kSteps * pp * 3 + step_sum) << pp;
+}
+
+}  // namespace
+}  // namespace pp5
