@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -508,6 +509,15 @@ std::string fitted_machine_file(const CalibrationModel& model, const FitReport& 
         return b == std::string::npos ? std::string() : t.substr(b, e - b + 1);
     };
     std::ostringstream out;
+    // Its own header first: what this file is and how well it fits, before the preset's description.
+    const std::string stem = std::filesystem::path(machine).stem().string();
+    out << fmt::format("# {}-fitted: the {} machine with its calibration.* scales fitted by `pp5sim fit` to the targets of {}\n",
+                       stem, stem, model.targets().file.string());
+    out << fmt::format("# ({}). Targets within 10%: {} of {} fitted, {} of {} held out; mean error {:.1f}% fitted, {:.1f}% held out.\n",
+                       model.targets().name, report.fitted.within_10, report.fitted.count, report.held_out.within_10,
+                       report.held_out.count, 100.0 * report.fitted.mean_absolute_error, 100.0 * report.held_out.mean_absolute_error);
+    out << "# The fit's report (fit.md, fit.json) is beside this file; below are the preset as it was and the fitted\n"
+           "# [calibration] table. Use it with: pp5sim render --machine <this file>\n\n";
     std::string line;
     bool skipping = false;
     bool in_machine = false;

@@ -2,6 +2,7 @@
 
 #include "kernels/registry/registry.h"
 #include "kernels/scenario/scenario_inputs.h"
+#include "sim/core/calibration.h"
 #include "sim/timing/frame_engine.h"
 
 #include <fmt/core.h>
@@ -179,7 +180,9 @@ nlohmann::json RenderSession::stats(const nlohmann::json& frames, double host_se
                                     {"frames", frames.size()},
                                     {"image_size", {scenario_.image.width, scenario_.image.height}},
                                     {"simulated_seconds", simulated},
-                                    {"timing_model", kernel_.timing_summary()},
+                                    {"timing_model", kernel_.runs_on_machine()
+                                                         ? kernel_.timing_summary() + "; " + describe_calibration(config_)
+                                                         : kernel_.timing_summary()},
                                     {"host_seconds", host_seconds}};
     nlohmann::json stats = {
         {"summary", summary},

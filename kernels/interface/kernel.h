@@ -75,7 +75,7 @@ public:
     virtual ~Kernel() = default;
     virtual std::string name() const = 0;
     virtual std::string description() const = 0;
-    // How its simulated time comes about, for stats.json's summary.
+    // How its simulated time comes about, for stats.json's summary (which adds the calibration in force).
     virtual std::string timing_summary() const = 0;
     // The kernel's own parameters ("<kernel>.*") and the machine's costs of its operations
     // ("gp_cost.<kernel>.*"), set like machine parameters.

@@ -153,6 +153,12 @@ public:
                             m["rays"].dump(), m["passes"].size(), m["samples"].dump(), m["samples_skipped"].dump(),
                             100.0 * m["cache"]["hit_rate"].get<double>(), crude * 1e3,
                             crude > 0 ? fmt::format(" ({:.1f} a second)", 1.0 / crude) : std::string(), m["refined_seconds"].get<double>() * 1e3);
+        // Where the frame's time went, phase by phase (each phase starts when the one before ends).
+        const auto& phases = m["phases"];
+        const auto ms = [&](const char* key) { return phases[key].get<double>() * 1e3; };
+        line += fmt::format("\n    time: PPs {:.2f} ms, pyramid {:.2f} ms, ray casting {:.2f} ms with the GPs {:.0f}% busy", ms("pixel_processors_seconds"),
+                            ms("pyramid_seconds"), ms("ray_casting_seconds"),
+                            100.0 * m["ray_casting_breakdown"].value("gp_busy_fraction", 0.0));
         return line;
     }
 
@@ -183,7 +189,7 @@ public:
     }
     std::string timing_summary() const override {
         return "event-driven: PP passes from their programs' operations, the pyramid's distribution and building, and the GPs' "
-               "ray casting with voxel requests over the ring; uncalibrated default costs";
+               "ray casting with voxel requests over the ring";
     }
     std::vector<const ParamGroup*> param_groups() const override { return {&VoxelStoreSettings::params(), &LevoySettings::params(), &levoy_cost_params()}; }
     bool runs_on_machine() const override { return true; }

@@ -292,8 +292,7 @@ public:
     }
     std::string timing_summary() const override {
         return "event-driven: the GPs' rays, each sample's look-up and shading on the GP (or the PPs' classification and shading "
-               "passes over the records first), each cell's record fetched over the ring through the GP cache; uncalibrated "
-               "default costs";
+               "passes over the records first), each cell's record fetched over the ring through the GP cache";
     }
     std::vector<const ParamGroup*> param_groups() const override {
         return {&PermSettings::params(), &VoxelStoreSettings::params(), &perm_cost_params()};

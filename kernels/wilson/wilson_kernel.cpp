@@ -249,7 +249,7 @@ public:
     std::string timing_summary() const override {
         return "event-driven: PP shading passes over the low-resolution voxels, then per slice the GPs' bricks fetched over the ring "
                "and turned into quad and point batches, drawn by each renderer in back-to-front order from its region programs' "
-               "operations; uncalibrated default costs";
+               "operations";
     }
     std::vector<const ParamGroup*> param_groups() const override {
         return {&VoxelStoreSettings::params(), &WilsonSettings::params(), &wilson_cost_params()};

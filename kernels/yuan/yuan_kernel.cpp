@@ -144,7 +144,7 @@ public:
     }
     std::string timing_summary() const override {
         return "event-driven: PP shading passes, then the GPs' bricks fetched over the ring and turned into primitive batches, "
-               "drawn by each renderer in depth order from its region programs' operations; uncalibrated default costs";
+               "drawn by each renderer in depth order from its region programs' operations";
     }
     std::vector<const ParamGroup*> param_groups() const override {
         return {&VoxelStoreSettings::params(), &YuanSettings::params(), &yuan_cost_params()};

@@ -1,5 +1,9 @@
 #include "sim/core/calibration.h"
 
+#include <fmt/format.h>
+
+#include <vector>
+
 namespace pp5 {
 
 const ParamGroup& CalibrationScales::params() {
@@ -21,6 +25,17 @@ const ParamGroup& CalibrationScales::params() {
 CalibrationScales CalibrationScales::from(const MachineConfig& config) {
     return CalibrationScales{config.real("calibration.gp_flops_scale"), config.real("calibration.gp_cycles_scale"),
                              config.real("calibration.pp_cycles_scale")};
+}
+
+std::string describe_calibration(const MachineConfig& config) {
+    std::vector<std::string> scaled;
+    for (const ParamSpec& spec : CalibrationScales::params().specs()) {
+        const std::string key = "calibration." + spec.name;
+        const double value = config.real(key);
+        if (value != 1.0) scaled.push_back(fmt::format("{} = {:.6g} (from {})", key, value, config.origin(key)));
+    }
+    if (scaled.empty()) return "documented costs, uncalibrated (every calibration scale 1)";
+    return fmt::format("documented costs scaled by {}", fmt::join(scaled, ", "));
 }
 
 }  // namespace pp5

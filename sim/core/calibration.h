@@ -7,6 +7,8 @@
 #include "sim/core/config.h"
 #include "sim/core/param.h"
 
+#include <string>
+
 namespace pp5 {
 
 struct CalibrationScales {
@@ -17,5 +19,9 @@ struct CalibrationScales {
     static const ParamGroup& params();
     static CalibrationScales from(const MachineConfig& config);
 };
+
+// The calibration in force, for stats.json's timing model: "documented costs, uncalibrated (every
+// calibration scale 1)", or the scales that differ from 1 and where each was set.
+std::string describe_calibration(const MachineConfig& config);
 
 }  // namespace pp5

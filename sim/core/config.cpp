@@ -184,6 +184,8 @@ nlohmann::json MachineConfig::to_json() const {
     return {{"machine", {{"name", machine_name_}, {"description", machine_description_}, {"kind", to_string(machine_kind_)}}}, {"parameters", params}};
 }
 
+const std::string& MachineConfig::origin(const std::string& key) const { return entry(key).origin; }
+
 std::string to_string(MachineKind kind) { return kind == MachineKind::Uniprocessor ? "uniprocessor" : "multicomputer"; }
 
 std::filesystem::path resolve_machine_file(const std::string& name_or_path) {

@@ -37,6 +37,8 @@ public:
     double real(const std::string& key) const;
     bool boolean(const std::string& key) const;
     const std::string& text(const std::string& key) const;
+    // Where a parameter's value came from: "default", a machine file's path, or "--set".
+    const std::string& origin(const std::string& key) const;
 
     const std::string& machine_name() const { return machine_name_; }
     const std::string& machine_description() const { return machine_description_; }

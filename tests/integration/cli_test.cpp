@@ -183,6 +183,24 @@ TEST(Cli, OverridesReachTheMachineAndConfig) {
     EXPECT_TRUE(stats["components"].contains("gp[63]"));
 }
 
+// stats.json's timing model names the calibration in force, and the frame line where the time went.
+TEST(Cli, TheTimingModelSaysWhichCalibrationIsInForce) {
+    const fs::path dir = scratch("calibration_in_force");
+    RunResult r = run("render " + scenario("sphere.toml") + " --out " + (dir / "plain").string(), dir);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    auto summary = nlohmann::json::parse(read_file(dir / "plain/stats.json"))["summary"];
+    EXPECT_NE(summary["timing_model"].get<std::string>().find("uncalibrated (every calibration scale 1)"), std::string::npos) << summary;
+    EXPECT_NE(r.output.find("time: PPs "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("% busy"), std::string::npos) << r.output;
+
+    r = run("render " + scenario("sphere.toml") + " --set calibration.gp_flops_scale=2.5 --out " + (dir / "scaled").string(), dir);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    summary = nlohmann::json::parse(read_file(dir / "scaled/stats.json"))["summary"];
+    const std::string model = summary["timing_model"];
+    EXPECT_NE(model.find("calibration.gp_flops_scale = 2.5 (from --set)"), std::string::npos) << model;
+    EXPECT_EQ(model.find("uncalibrated"), std::string::npos) << model;
+}
+
 // A bad input: exit 2, one error line naming the file and the field, and no output directory.
 void expect_rejected(const std::string& name, const std::string& args, const std::string& must_mention) {
     const fs::path dir = scratch(name);

@@ -84,8 +84,13 @@ TEST(Fit, RecoversTheScalesItsTargetsWereMadeWith) {
     EXPECT_EQ(report.held_out.count, 1);
     EXPECT_EQ(report.all.within_10, 7);
 
-    // The fitted machine file carries the values and loads as a machine.
+    // The fitted machine file carries the values and loads as a machine, under a header of its own
+    // that says what it was fitted to and how well.
     const std::string text = fitted_machine_file(model, report, files.machine.string());
+    const std::string stem = files.machine.stem().string();
+    EXPECT_EQ(text.rfind("# " + stem + "-fitted: the " + stem + " machine with its calibration.* scales fitted", 0), 0u) << text;
+    EXPECT_NE(text.find(set.file.string()), std::string::npos) << text;
+    EXPECT_NE(text.find("Targets within 10%: 6 of 6 fitted, 1 of 1 held out"), std::string::npos) << text;
     const std::filesystem::path fitted_file = files.dir / "tiny-fitted.toml";
     std::ofstream(fitted_file) << text;
     const MachineConfig reloaded = load_run_config(fitted_file.string(), {});
