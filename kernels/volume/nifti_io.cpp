@@ -155,6 +155,9 @@ std::size_t read_vox_offset(std::span<const std::byte> header, std::endian order
                                      "(usually 352)",
                                      v));
     }
+    // Past 2^53 bytes a double no longer counts whole bytes, and no file is that long anyway.
+    constexpr double kLongestFile = 9007199254740992.0;
+    if (v > kLongestFile) throw InputError(file, "header.vox_offset", fmt::format("is {}: past the end of any file", v));
     return static_cast<std::size_t>(v);
 }
 

@@ -343,6 +343,17 @@ TEST_F(NiftiTest, VoxOffsetBeyondTheEnd) {
     EXPECT_EQ(input_error_from([&] { load_nifti(path); }).field(), "header.vox_offset");
 }
 
+// Found by fuzz_nifti: an offset too large for any size_t was converted to one (undefined behaviour).
+TEST_F(NiftiTest, VoxOffsetPastAnyFile) {
+    Bytes bytes = nifti_bytes(uint8_spec(), uint8_samples());
+    const float far = 6.5e21f;
+    std::memcpy(bytes.data() + 108, &far, sizeof far);  // vox_offset, little-endian like the spec
+    const auto path = write("beyond.nii", bytes);
+    const InputError e = input_error_from([&] { load_nifti(path); });
+    EXPECT_EQ(e.field(), "header.vox_offset");
+    EXPECT_NE(e.reason().find("past the end of any file"), std::string::npos) << e.reason();
+}
+
 TEST_F(NiftiTest, TruncatedVoxelData) {
     NiftiSpec spec = spec_for(4, 16);
     spec.set_dims(10, 10, 11);
