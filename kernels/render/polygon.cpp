@@ -2,6 +2,7 @@
 
 #include "sim/core/input_error.h"
 
+#include <fmt/format.h>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
@@ -77,6 +78,13 @@ void validate_polygon(const PolygonSpec& polygon, const std::string& file, const
     for (std::size_t i = 0; i < v.size(); ++i)
         if (!std::isfinite(v[i].x) || !std::isfinite(v[i].y) || !std::isfinite(v[i].z))
             throw InputError(file, field + ".vertices", "vertex " + std::to_string(i) + " is not a finite point");
+    for (std::size_t i = 0; i < v.size(); ++i)
+        for (int k = 0; k < 3; ++k)
+            if (std::abs(v[i][k]) > kFarthestPolygonVertex)
+                throw InputError(file, field + ".vertices",
+                                 fmt::format("vertex {} lies {:g} voxels out along an axis; the renderers' fixed-point plane and edge fields "
+                                             "hold coordinates up to {:g}",
+                                             i, std::abs(v[i][k]), kFarthestPolygonVertex));
     const auto check_count = [&](std::size_t n, const char* what) {
         if (n != 1 && n != v.size())
             throw InputError(file, field + "." + what, "give one value for the polygon or one per vertex (" + std::to_string(v.size()) + "), not " + std::to_string(n));

@@ -47,7 +47,12 @@ struct PreparedPolygon {
     bool in_sheet(glm::dvec3 p) const;  // the test every PP makes for each sample point
 };
 
-// Checks a polygon: at least three finite vertices, one colour and opacity per vertex or one for all,
+// The farthest a vertex may lie from the volume's origin, in voxels. The renderers evaluate plane and
+// edge distances in fixed point (16 fraction bits, at most 48 bits a field), which holds distances of
+// about 2^31 voxels; a hundred million leaves room for the volume's own extent.
+inline constexpr double kFarthestPolygonVertex = 1e8;
+
+// Checks a polygon: at least three finite vertices within kFarthestPolygonVertex, one colour and opacity per vertex or one for all,
 // colours and opacities in [0, 1], the vertices in one plane (within 0.01 voxel) and convex. Throws
 // InputError(file, field, reason). A polygon with no area is accepted (it covers nothing).
 void validate_polygon(const PolygonSpec& polygon, const std::string& file, const std::string& field);

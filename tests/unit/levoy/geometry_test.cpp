@@ -219,6 +219,24 @@ TEST(ScanConversion, MattingFullAndZeroCoverageMatchesTheClosedForm) {
     EXPECT_EQ(at(v, 25, 25, 10), at(plain, 25, 25, 10));
 }
 
+// Coordinates up to kFarthestPolygonVertex reach the renderers' fixed-point fields intact (a plane
+// through the volume, and a tilted one far outside it); farther ones are the user's mistake.
+TEST(ScanConversion, TheFarthestAcceptedVerticesFitThePixelProcessorsFields) {
+    const float far = static_cast<float>(kFarthestPolygonVertex);
+    const PolygonSpec across = triangle({-far, -far, 10}, {far, -far, 10}, {0, far, 10});
+    const PolygonSpec tilted = triangle({far, far, far}, {far, -far, far}, {-far, far, -far});
+    const ShadedVolume v = scan_converted({across, tilted}, 1);
+    EXPECT_FLOAT_EQ(v.rgba[static_cast<std::size_t>(16 + 32 * (16 + 32 * 10))].a, 1.0f);  // the plane z = 10 is covered
+
+    try {
+        validate_polygon(triangle({0, 0, 10}, {10 * far, 0, 10}, {0, 1, 10}), "scene.toml", "polygons[0]");
+        FAIL() << "a vertex beyond the fixed-point range was accepted";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.field(), "polygons[0].vertices");
+        EXPECT_NE(e.reason().find("fixed-point"), std::string::npos) << e.reason();
+    }
+}
+
 }  // namespace
 }  // namespace pp5
 
