@@ -99,6 +99,8 @@ int run_render(const RenderOptions& o) {
     options.trace = trace ? &*trace : nullptr;
     options.lecture_pictures = o.pictures;
     options.progress = [&progress](std::size_t done, std::size_t) { progress.update(done); };
+    StageProgress stages("render " + scenario.name);
+    const ScopedWorkListener listening(stages);
     const ScenarioRender rendered = render_scenario(scenario, config, output, options);
     const double host_seconds = Seconds(std::chrono::steady_clock::now() - started).count();
     // The trace is part of the same commit: the run's files appear together or not at all.

@@ -27,4 +27,14 @@ void Progress::update(std::size_t done) {
 
 void Progress::finish() { update(total_); }
 
+void StageProgress::on_work(std::string_view stage, std::size_t done, std::size_t total) {
+    // A new stage, or the same one starting again in the next frame.
+    if (!progress_ || stage != stage_ || done <= last_done_) {
+        stage_ = std::string(stage);
+        progress_.emplace(what_ + ": " + stage_, total);
+    }
+    last_done_ = done;
+    progress_->update(done);
+}
+
 }  // namespace pp5::cli

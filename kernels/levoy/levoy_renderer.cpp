@@ -3,6 +3,7 @@
 #include "kernels/levoy/geometry_programs.h"
 #include "kernels/levoy/ray_caster.h"
 #include "sim/core/input_error.h"
+#include "sim/core/work_progress.h"
 #include "sim/timing/frame_engine.h"
 
 #include <algorithm>
@@ -134,6 +135,7 @@ Phase LevoyRenderer::scan_convert() {
         add_op(pass.on_one_processor, kPolygonPointTest, visited * tests);
         add_op(pass.on_one_processor, kVoxelMatte, visited);
         phase.passes.push_back(std::move(pass));
+        report_work("scan-converting polygons", k + 1, polygons_.size());
     }
     return Phase{"scan_conversion", std::move(phase)};
 }

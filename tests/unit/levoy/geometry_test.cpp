@@ -7,6 +7,7 @@
 #include "kernels/render/polygon.h"
 #include "kernels/volume/phantoms.h"
 #include "sim/core/input_error.h"
+#include "sim/core/work_progress.h"
 #include "sim/machine/machine.h"
 #include "tests/unit/levoy/levoy_test_support.h"
 
@@ -217,6 +218,23 @@ TEST(ScanConversion, MattingFullAndZeroCoverageMatchesTheClosedForm) {
             EXPECT_EQ(at(v, x, y, 11), at(plain, x, y, 11));
         }
     EXPECT_EQ(at(v, 25, 25, 10), at(plain, 25, 25, 10));
+}
+
+// Scan-converting many polygons reports its progress, polygon by polygon, to whoever listens.
+TEST(ScanConversion, ReportsItsProgressPolygonByPolygon) {
+    struct Recorder final : WorkListener {
+        std::vector<std::size_t> done;
+        void on_work(std::string_view stage, std::size_t d, std::size_t total) override {
+            EXPECT_EQ(stage, "scan-converting polygons");
+            EXPECT_EQ(total, 3u);
+            done.push_back(d);
+        }
+    } recorder;
+    const ScopedWorkListener listening(recorder);
+    scan_converted({triangle({4, 4, 10}, {20, 4, 10}, {4, 20, 10}), triangle({4, 4, 12}, {20, 4, 12}, {4, 20, 12}),
+                    triangle({4, 4, 14}, {20, 4, 14}, {4, 20, 14})},
+                   1);
+    EXPECT_EQ(recorder.done, (std::vector<std::size_t>{1, 2, 3}));
 }
 
 // Coordinates up to kFarthestPolygonVertex reach the renderers' fixed-point fields intact (a plane
