@@ -70,8 +70,11 @@ RenderedPlot render_plot(const PlotSpec& spec, const std::string& name) {
     const std::string command = fmt::format("cd {} && gnuplot {} > gnuplot.log 2>&1", quoted(dir.string()), quoted(name + ".gp"));
     const int status = std::system(command.c_str());
     if (status != 0 || !std::filesystem::exists(dir / (name + ".png"))) {
-        throw std::runtime_error(fmt::format("gnuplot could not draw {}.png (is gnuplot-nox installed? .ci/install-deps installs it): {}", name,
-                                             read_all(dir / "gnuplot.log")));
+        std::string log = read_all(dir / "gnuplot.log");
+        while (!log.empty() && (log.back() == '\n' || log.back() == ' ')) log.pop_back();
+        plot.failure = fmt::format("gnuplot could not draw it (is gnuplot-nox installed? .ci/install-deps installs it){}",
+                                   log.empty() ? std::string() : ": " + log);
+        return plot;
     }
     plot.png = read_all(dir / (name + ".png"));
     return plot;

@@ -29,13 +29,14 @@ struct PlotSpec {
 };
 
 struct RenderedPlot {
-    std::string data;    // NAME.dat
-    std::string script;  // NAME.gp
-    std::string png;     // NAME.png, bytes
+    std::string data;     // NAME.dat
+    std::string script;   // NAME.gp
+    std::string png;      // NAME.png, bytes; empty when gnuplot could not draw it
+    std::string failure;  // why not (gnuplot missing, or its message), when png is empty
 };
 
-// Renders `spec`; the script refers to NAME.dat and NAME.png. Throws std::runtime_error when gnuplot
-// is missing or fails (its message included).
+// Renders `spec`; the script refers to NAME.dat and NAME.png. The data and the script are there
+// even when gnuplot is missing or fails, so the work behind a plot is never lost with its picture.
 RenderedPlot render_plot(const PlotSpec& spec, const std::string& name);
 
 }  // namespace pp5

@@ -3,6 +3,7 @@
 #include "frontends/render_session.h"
 
 #include "frontends/lecture_pictures.h"
+#include "frontends/staged_plot.h"
 
 #include <fmt/core.h>
 
@@ -13,7 +14,8 @@ namespace pp5 {
 
 namespace {
 
-void add_lecture_pictures(const SessionFrame& frame, const Machine& machine, const TraceRecorder& trace, StagedOutput& output) {
+void add_lecture_pictures(const SessionFrame& frame, const Machine& machine, const TraceRecorder& trace, StagedOutput& output,
+                          std::vector<std::string>& warnings) {
     const std::size_t gp_count = machine.gps().size();
     std::vector<Image> passes;
     for (const FrameImage& image : frame.images)
@@ -30,7 +32,8 @@ void add_lecture_pictures(const SessionFrame& frame, const Machine& machine, con
                                                            {"renderers", machine.renderers().size()},
                                                            {"ring", static_cast<std::size_t>(machine.ring().channel_count())}};
         const std::string name = fmt::format("frame_{:04}_utilisation", frame.index);
-        output.add_text(name + ".png", render_plot(utilisation_over_time(trace, frame.timing.start_ps, frame.timing.end_ps, counts), name).png);
+        if (auto warning = stage_plot(output, utilisation_over_time(trace, frame.timing.start_ps, frame.timing.end_ps, counts), name))
+            warnings.push_back(std::move(*warning));
     }
 }
 
@@ -48,9 +51,10 @@ ScenarioRender render_scenario(const Scenario& scenario, const MachineConfig& co
     if (options.lecture_pictures) trace->keep_busy_spans(true);
     RenderSession session(scenario, config, trace, format == ImageFormat::Png ? "png" : "exr");
     nlohmann::json frames = nlohmann::json::array();
+    std::vector<std::string> warnings;
     for (std::size_t i = 0; i < scenario.frames.size(); ++i) {
         SessionFrame frame = session.render(scenario.frames[i]);
-        if (options.lecture_pictures) add_lecture_pictures(frame, session.machine(), *trace, output);
+        if (options.lecture_pictures) add_lecture_pictures(frame, session.machine(), *trace, output, warnings);
         for (FrameImage& image : frame.images) output.add_image(image.name, std::move(image.image), format);
         frames.push_back(std::move(frame.record));
         if (options.progress) options.progress(i + 1, scenario.frames.size());
@@ -59,6 +63,7 @@ ScenarioRender render_scenario(const Scenario& scenario, const MachineConfig& co
     ScenarioRender result;
     result.stats = session.stats(frames, host_seconds);
     result.lines = session.summary_lines(frames);
+    result.warnings = std::move(warnings);
     output.add_text("stats.json", result.stats.dump(2) + "\n");
     output.add_text("config.json", config.to_json().dump(2) + "\n");
     return result;

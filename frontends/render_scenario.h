@@ -32,6 +32,7 @@ struct ScenarioRenderOptions {
 struct ScenarioRender {
     nlohmann::json stats;               // what stats.json holds
     std::vector<std::string> lines;     // a summary for a terminal: the machine, the dataset, each frame
+    std::vector<std::string> warnings;  // for stderr: outputs that could not be made (a plot without gnuplot)
 };
 
 // Renders every frame of `scenario` on `config` into `output` (staged; the caller commits it). Throws

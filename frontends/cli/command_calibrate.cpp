@@ -12,7 +12,7 @@
 #include "calibration/timing_model.h"
 #include "frontends/cli/commands.h"
 #include "frontends/staged_output.h"
-#include "frontends/plot.h"
+#include "frontends/staged_plot.h"
 #include "kernels/registry/run_config.h"
 #include "sim/core/input_error.h"
 
@@ -124,11 +124,9 @@ int run_fit(const CalibrateOptions& o) {
     return 0;
 }
 
-void stage_plot(StagedOutput& output, const PlotSpec& spec, const std::string& name) {
-    const RenderedPlot plot = render_plot(spec, name);
-    output.add_text(name + ".dat", plot.data);
-    output.add_text(name + ".gp", plot.script);
-    output.add_text(name + ".png", plot.png);
+// Without gnuplot a plot keeps its data and script, and the user hears why its picture is missing.
+void stage_plot_or_warn(StagedOutput& output, const PlotSpec& spec, const std::string& name) {
+    if (const auto warning = stage_plot(output, spec, name)) fmt::print(stderr, "{}\n", *warning);
 }
 
 PlotSpec reported_vs_simulated(const FitReport& report) {
@@ -176,7 +174,7 @@ void stage_host_check(StagedOutput& output, const HostCheckReport& report) {
     spec.series = {fitted, held};
     spec.extra_plots = {"x title 'predicted = measured' lw 2 lc rgb 'black'", "1.2*x title '+/- 20%' dt 2 lc rgb 'gray'",
                         "x/1.2 notitle dt 2 lc rgb 'gray'"};
-    stage_plot(output, spec, "host_check");
+    stage_plot_or_warn(output, spec, "host_check");
 }
 
 int run_host_check_command(const CalibrateOptions& o) {
@@ -225,7 +223,7 @@ int run_reproduce(const CalibrateOptions& o) {
     }
 
     // Plots.
-    stage_plot(output, reported_vs_simulated(report), "reported_vs_simulated");
+    stage_plot_or_warn(output, reported_vs_simulated(report), "reported_vs_simulated");
     // The first Pixel-planes 5 target timed in seconds sets the scenario, frame and machine; every
     // seconds metric the targets give for that frame is swept.
     const Target* scaling = nullptr;
@@ -289,7 +287,7 @@ int run_reproduce(const CalibrateOptions& o) {
             const double gps = static_cast<double>(model->base_config(t.machine).integer("gp.count"));
             spec.series.push_back(PlotSeries{"reported: " + t.id, {gps}, {t.reported}, "points pt 9 ps 2.5"});
         }
-        stage_plot(output, spec, "frame_time_vs_gps");
+        stage_plot_or_warn(output, spec, "frame_time_vs_gps");
         output.add_text("frame_time_vs_gps.json", nlohmann::json{{"scenario", scaling->scenario}, {"frame", scaling->frame},
                                                                  {"machine", scaling->machine}, {"points", sweep}}.dump(2) + "\n");
     }

@@ -112,6 +112,7 @@ int run_render(const RenderOptions& o) {
     }
 
     for (const std::string& line : rendered.lines) fmt::print("{}\n", line);
+    for (const std::string& warning : rendered.warnings) fmt::print(stderr, "{}\n", warning);
     fmt::print("  host time {:.2f} s with {} thread{}\n", host_seconds, threads, threads == 1 ? "" : "s");
     fmt::print("wrote {} files to {}\n", written.size(), output.directory().string());
     return 0;

@@ -9,8 +9,8 @@
 
 #include "frontends/cli/commands.h"
 #include "frontends/cli/progress.h"
-#include "frontends/plot.h"
 #include "frontends/staged_output.h"
+#include "frontends/staged_plot.h"
 #include "frontends/sweep/sweep_run.h"
 #include "frontends/sweep/sweep_tables.h"
 #include "kernels/scenario/scenario.h"
@@ -70,14 +70,7 @@ void stage_whole_sweep(StagedOutput& output, const SweepResult& result, std::vec
     output.add_text("sweep.json", sweep_to_json(result).dump(1) + "\n");
     output.add_text("sweep.csv", sweep_to_csv(result));
     for (const auto& [name, spec] : sweep_plots(result)) {
-        try {
-            const RenderedPlot plot = render_plot(spec, name);
-            output.add_text(name + ".dat", plot.data);
-            output.add_text(name + ".gp", plot.script);
-            output.add_text(name + ".png", plot.png);
-        } catch (const std::runtime_error& e) {
-            notes.push_back(fmt::format("  plot {} skipped: {}", name, e.what()));
-        }
+        if (auto warning = stage_plot(output, spec, name)) notes.push_back("  " + std::move(*warning));
     }
 }
 

@@ -33,12 +33,20 @@ fs::path scratch(const std::string& name) {
 }
 
 
-RunResult run(const std::string& args, const fs::path& log_dir) {
+RunResult run_command(const std::string& command_line, const fs::path& log_dir) {
     const fs::path log = log_dir / "log.txt";
-    const std::string command = std::string(PP5SIM_BINARY) + " " + args + " > " + log.string() + " 2>&1";
+    const std::string command = command_line + " > " + log.string() + " 2>&1";
     const int status = std::system(command.c_str());
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_file(log)};
 }
+
+RunResult run(const std::string& args, const fs::path& log_dir) { return run_command(std::string(PP5SIM_BINARY) + " " + args, log_dir); }
+
+// The same with PATH set to `path` alone (pp5sim itself is named by its full path).
+RunResult run_with_path(const fs::path& path, const std::string& args, const fs::path& log_dir) {
+    return run_command("env PATH=" + path.string() + " " + std::string(PP5SIM_BINARY) + " " + args, log_dir);
+}
+
 
 std::string scenario(const std::string& name) { return std::string(PP5_SOURCE_DIR) + "/traces/scenarios/" + name; }
 
@@ -317,6 +325,22 @@ TEST(Cli, RenderWritesLecturePicturesOnRequest) {
     EXPECT_FALSE(fs::exists(dir / "plain/frame_0000_passes.gif"));
     EXPECT_FALSE(fs::exists(dir / "plain/frame_0000_utilisation.png"));
     EXPECT_EQ(without_host_fields(nlohmann::json::parse(read_file(dir / "plain/stats.json"))), without_host_fields(stats));
+}
+
+// Without gnuplot a plot costs only its picture: the run succeeds, says so, and keeps the plot's data
+// and gnuplot script beside the other outputs.
+TEST(Cli, WithoutGnuplotAPlotKeepsItsDataAndScript) {
+    const fs::path dir = scratch("no_gnuplot");
+    const fs::path empty_path = dir / "bin";  // a PATH on which no gnuplot can be found
+    fs::create_directories(empty_path);
+    const RunResult r = run_with_path(empty_path, "render sphere --pictures --out " + (dir / "out").string(), dir);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("warning: frame_0000_utilisation.png not drawn"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir / "out/frame_0000_utilisation.png"));
+    EXPECT_NE(read_file(dir / "out/frame_0000_utilisation.gp").find("frame_0000_utilisation.dat"), std::string::npos);
+    EXPECT_FALSE(read_file(dir / "out/frame_0000_utilisation.dat").empty());
+    EXPECT_TRUE(fs::exists(dir / "out/frame_0000_gp_tiles.png"));
+    EXPECT_TRUE(fs::exists(dir / "out/stats.json"));
 }
 
 // serve refuses what it cannot do before it renders or listens.
