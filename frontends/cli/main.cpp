@@ -2,6 +2,7 @@
 
 #include "frontends/cli/commands.h"
 #include "sim/core/input_error.h"
+#include "sim/core/spelling.h"
 
 #include <fmt/core.h>
 
@@ -16,30 +17,6 @@ namespace {
 // Exit codes, the same for every command: bad input (or a usage mistake) is 2, our own fault 1.
 constexpr int kBadInput = 2;
 constexpr int kInternalError = 1;
-
-// Edits (insert, delete, replace, swap two neighbours) from a to b: the slips typing makes.
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-    std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
-    for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
-    for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
-    for (std::size_t i = 1; i <= a.size(); ++i)
-        for (std::size_t j = 1; j <= b.size(); ++j) {
-            d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
-            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
-        }
-    return d[a.size()][b.size()];
-}
-
-// The nearest of `names` to `given`, if it is near enough to be a slip of the keyboard.
-std::string closest(const std::string& given, const std::vector<std::string>& names) {
-    std::string best;
-    std::size_t best_distance = std::max<std::size_t>(3, given.size() / 3 + 1);
-    for (const std::string& n : names) {
-        const std::size_t d = edit_distance(given, n);
-        if (d < best_distance) best_distance = d, best = n;
-    }
-    return best;
-}
 
 // A usage error as one line, with a suggestion when the word given is close to a real one.
 std::string usage_error(const CLI::App& app, const CLI::ParseError& e, int argc, char** argv) {
@@ -56,7 +33,7 @@ std::string usage_error(const CLI::App& app, const CLI::ParseError& e, int argc,
         for (const std::string& c : commands) list += (list.empty() ? "" : ", ") + c;
         if (first.empty() || first.starts_with("-"))
             return fmt::format("a command is required: {} (pp5sim --help)", list);
-        const std::string guess = closest(first, commands);
+        const std::string guess = pp5::closest_name(first, commands);
         return fmt::format("\"{}\" is not a command{}; the commands are {}", first, guess.empty() ? "" : "; did you mean " + guess + "?", list);
     }
     // An option the command does not have: the nearest one it does.
@@ -68,7 +45,7 @@ std::string usage_error(const CLI::App& app, const CLI::ParseError& e, int argc,
         if (!word.starts_with("--")) continue;
         word = word.substr(0, word.find('='));
         if (std::find(options.begin(), options.end(), word) != options.end()) continue;
-        const std::string guess = closest(word, options);
+        const std::string guess = pp5::closest_name(word, options);
         if (!guess.empty()) return fmt::format("{}: {}; did you mean {}? (pp5sim {} --help)", chosen->get_name(), message, guess, chosen->get_name());
     }
     return fmt::format("{}: {} (pp5sim {} --help)", chosen->get_name(), message, chosen->get_name());

@@ -7,6 +7,8 @@
 #include "kernels/volume/volume_io.h"
 #include "sim/core/input_error.h"
 #include "sim/core/named_file.h"
+#include "sim/core/spelling.h"
+#include "sim/core/toml_file.h"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -15,7 +17,6 @@
 #include <glm/trigonometric.hpp>
 #include <glm/vector_relational.hpp>
 #include <tiny_obj_loader.h>
-#include "sim/core/toml_file.h"
 
 #include <cmath>
 #include <cstdlib>
@@ -156,7 +157,7 @@ DatasetSpec read_dataset(TableReader r, const std::filesystem::path& scenario_fi
         if (!find_packaged_dataset(d.name)) {
             std::vector<std::string> known;
             for (const auto& p : packaged_datasets()) known.push_back(p.name);
-            r.fail("packaged", fmt::format("unknown dataset \"{}\" (known: {})", d.name, fmt::join(known, ", ")));
+            r.fail("packaged", fmt::format("unknown dataset \"{}\"{} (known: {})", d.name, did_you_mean(d.name, known), fmt::join(known, ", ")));
         }
     } else if (phantom) {
         d.source = DatasetSpec::Source::Phantom;

@@ -1,6 +1,7 @@
 #include "kernels/volume/phantoms.h"
 
 #include "sim/core/input_error.h"
+#include "sim/core/spelling.h"
 
 #include <fmt/core.h>
 #include <fmt/format.h>
@@ -123,7 +124,9 @@ Volume make_phantom(std::string_view name, int n) {
     const auto known = std::find(kPhantomNames.begin(), kPhantomNames.end(), name);
     if (known == kPhantomNames.end()) {
         throw InputError("", "phantom",
-                         fmt::format("unknown phantom \"{}\" (known: {})", name, fmt::join(kPhantomNames, ", ")));
+                         fmt::format("unknown phantom \"{}\"{} (known: {})", name,
+                                     did_you_mean(name, std::vector<std::string>(std::begin(kPhantomNames), std::end(kPhantomNames))),
+                                     fmt::join(kPhantomNames, ", ")));
     }
     if (n < 1 || n > kMaxPhantomSize) {
         throw InputError("", "size",

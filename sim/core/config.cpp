@@ -2,10 +2,11 @@
 
 #include "sim/core/input_error.h"
 #include "sim/core/named_file.h"
+#include "sim/core/spelling.h"
+#include "sim/core/toml_file.h"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
-#include "sim/core/toml_file.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -15,21 +16,6 @@
 
 namespace pp5 {
 namespace {
-
-std::size_t edit_distance(std::string_view a, std::string_view b) {
-    std::vector<std::size_t> row(b.size() + 1);
-    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-    for (std::size_t i = 1; i <= a.size(); ++i) {
-        std::size_t diagonal = row[0];
-        row[0] = i;
-        for (std::size_t j = 1; j <= b.size(); ++j) {
-            const std::size_t above = row[j];
-            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0u : 1u)});
-            diagonal = above;
-        }
-    }
-    return row[b.size()];
-}
 
 // A --set value is text; read it as the type its parameter declares.
 std::optional<ParamValue> parse_as(const ParamSpec& spec, const std::string& text) {
@@ -78,13 +64,9 @@ const ParamSpec* MachineConfig::find_spec(std::string_view key) const {
 }
 
 std::string MachineConfig::closest_key(std::string_view key) const {
-    std::string best;
-    std::size_t best_distance = 4;  // suggest only near misses
-    for (const auto& [name, entry] : entries_) {
-        const std::size_t d = edit_distance(key, name);
-        if (d < best_distance) best_distance = d, best = name;
-    }
-    return best;
+    std::vector<std::string> keys;
+    for (const auto& [name, entry] : entries_) keys.push_back(name);
+    return closest_name(key, keys);
 }
 
 void MachineConfig::set(const std::string& key, const ParamValue& value, const std::string& origin) {

@@ -1,6 +1,7 @@
 #include "sim/core/named_file.h"
 
 #include "sim/core/input_error.h"
+#include "sim/core/spelling.h"
 
 #include <cstdlib>
 #include <map>
@@ -17,7 +18,11 @@ std::filesystem::path resolve_named_file(const std::string& name_or_path, const 
     if (search.builtin_directory != nullptr) directories.emplace_back(search.builtin_directory);
     for (const auto& dir : directories)
         if (fs::is_regular_file(dir / file_name)) return dir / file_name;
-    throw InputError(name_or_path, search.field, std::string("no such file, and not a shipped name (") + search.hint + ")");
+    // A slip in a shipped name gets the name it was probably meant to be.
+    std::vector<std::string> names;
+    for (const fs::path& file : list_named_files(search)) names.push_back(file.stem().string());
+    throw InputError(name_or_path, search.field,
+                     std::string("no such file, and not a shipped name (") + search.hint + ")" + did_you_mean(name_or_path, names));
 }
 
 std::vector<std::filesystem::path> list_named_files(const NamedFileSearch& search) {

@@ -493,6 +493,9 @@ TEST(Cli, UsageErrorsExitTwoWithADidYouMean) {
         {"render sphere --trace-limit -1", "\"-1\" is not a whole number from 0"},
         {"volume-info ch2 --header-bytes=-5", "is not a whole number from 0"},
         {"render sphere --format gif", "--format: must be png or exr"},
+        {"render spere", "did you mean sphere?"},
+        {"render sphere --machine pxpl", "did you mean pxpl5?"},
+        {"render sphere --set gp.cont=3", "did you mean gp.count?"},
     };
     for (const auto& [args, says] : cases) {
         const RunResult r = run(args, dir);
