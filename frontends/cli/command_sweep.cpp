@@ -80,14 +80,19 @@ std::vector<std::pair<std::string, nlohmann::json>> read_shards(const std::vecto
         std::error_code error;
         if (!std::filesystem::is_directory(d, error)) throw InputError(d, "--merge", "is not a folder of shard files");
         std::vector<std::filesystem::path> files;
-        for (const auto& entry : std::filesystem::directory_iterator(d)) {
-            const std::string name = entry.path().filename().string();
-            if (name.starts_with("shard-") && name.ends_with(".json") && entry.is_regular_file()) files.push_back(entry.path());
+        for (std::filesystem::directory_iterator it(d, error), end; !error && it != end; it.increment(error)) {
+            const std::string name = it->path().filename().string();
+            if (std::error_code unreadable; name.starts_with("shard-") && name.ends_with(".json") && it->is_regular_file(unreadable))
+                files.push_back(it->path());
         }
+        if (error) throw InputError(d, "--merge", "cannot be read: " + error.message());
         std::sort(files.begin(), files.end());
         for (const auto& f : files) {
             constexpr std::uintmax_t kMostBytes = std::uintmax_t{1} << 30;
-            if (std::filesystem::file_size(f) > kMostBytes) throw InputError(f.string(), "shard", "is larger than 1 GiB: not a shard's file");
+            std::error_code unreadable;
+            const std::uintmax_t bytes = std::filesystem::file_size(f, unreadable);
+            if (unreadable) throw InputError(f.string(), "shard", "cannot be read: " + unreadable.message());
+            if (bytes > kMostBytes) throw InputError(f.string(), "shard", "is larger than 1 GiB: not a shard's file");
             std::ifstream in(f, std::ios::binary);
             std::stringstream text;
             text << in.rdbuf();

@@ -33,7 +33,7 @@ int run_volume_info(const VolumeInfoOptions& o) {
         RawLayout layout{{o.raw_dims[0], o.raw_dims[1], o.raw_dims[2]}, *type, o.big_endian, o.header_bytes, glm::vec3(1.0f)};
         if (o.spacing.size() == 3) layout.spacing = {o.spacing[0], o.spacing[1], o.spacing[2]};
         volume = load_raw(o.file, layout);
-    } else if (!std::filesystem::exists(o.file) && find_packaged_dataset(o.file)) {
+    } else if (std::error_code unreadable; !std::filesystem::exists(o.file, unreadable) && find_packaged_dataset(o.file)) {
         volume = load_packaged_dataset(o.file);
     } else {
         volume = load_volume(o.file);

@@ -18,9 +18,14 @@
 #include <glm/vector_relational.hpp>
 #include <tiny_obj_loader.h>
 
+#include <charconv>
+#include <climits>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
+#include <iterator>
 #include <set>
+#include <string_view>
 
 namespace pp5 {
 namespace {
@@ -378,6 +383,34 @@ void read_vertex_attributes(TableReader& item, PolygonSpec& p) {
     if (p.opacities.empty()) p.opacities = {1.0f};
 }
 
+// tinyobj reads an index too large for an int as some other index; such a file names no vertex we
+// could have, so it is refused here, naming the line. Returns the line's problem, or empty.
+std::string oversized_obj_index(std::string_view text) {
+    std::size_t line_number = 0;
+    for (std::size_t start = 0; start < text.size();) {
+        const std::size_t end = std::min(text.find('\n', start), text.size());
+        std::string_view line = text.substr(start, end - start);
+        start = end + 1;
+        ++line_number;
+        const std::size_t first = line.find_first_not_of(" \t");
+        if (first == std::string_view::npos) continue;
+        line.remove_prefix(first);
+        if (line.size() < 2 || (line[0] != 'f' && line[0] != 'l' && line[0] != 'p') || (line[1] != ' ' && line[1] != '\t')) continue;
+        for (std::size_t at = 1; at < line.size();) {
+            const std::size_t digits = line.find_first_of("+-0123456789", at);
+            if (digits == std::string_view::npos) break;
+            const std::size_t stop = std::min(line.find_first_not_of("+-0123456789", digits), line.size());
+            long long value = 0;
+            const std::string_view number = line.substr(digits, stop - digits);
+            const auto [ptr, ec] = std::from_chars(number.data() + (number[0] == '+' ? 1 : 0), number.data() + number.size(), value);
+            if (ec == std::errc::result_out_of_range || (ec == std::errc() && (value > INT_MAX || value < -INT_MAX)))
+                return fmt::format("line {}: index {} is beyond any vertex a mesh can have", line_number, number);
+            at = stop;
+        }
+    }
+    return {};
+}
+
 // The triangles of an OBJ mesh, scaled then translated into voxel coordinates.
 std::vector<PolygonSpec> read_mesh(TableReader& item, const std::filesystem::path& scenario_file) {
     const auto file = item.text("file");
@@ -393,7 +426,14 @@ std::vector<PolygonSpec> read_mesh(TableReader& item, const std::filesystem::pat
     tinyobj::ObjReaderConfig config;
     config.triangulate = true;
     tinyobj::ObjReader reader;
-    if (!std::filesystem::is_regular_file(path) || !reader.ParseFromFile(path.string(), config)) {
+    std::error_code status_error;  // a symlink loop is unreadable, not an exception
+    std::string text;
+    if (std::filesystem::is_regular_file(path, status_error)) {
+        std::ifstream in(path, std::ios::binary);
+        text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+        if (const std::string problem = oversized_obj_index(text); !problem.empty()) item.fail("file", path.string() + ": " + problem);
+    }
+    if (!std::filesystem::is_regular_file(path, status_error) || !reader.ParseFromString(text, "", config)) {
         std::string why = reader.Error().empty() ? "cannot be read" : reader.Error();
         while (!why.empty() && (why.back() == '\n' || why.back() == ' ')) why.pop_back();
         item.fail("file", path.string() + " is not a readable OBJ mesh: " + why);

@@ -83,6 +83,7 @@ Volume load_den(const std::filesystem::path& path) {
                          volume_detail::size_mismatch(data.size(), dims, ScalarType::UInt8) +
                              (in.stream_cut_short() ? " (the gzip stream is cut short)" : ""));
     }
+    in.require_intact_end("voxel data");
     return Volume(dims, glm::vec3(1.0f), ScalarType::UInt8,
                   volume_detail::decode_samples(data, volume_detail::SampleEncoding{}, dims, file),
                   path.filename().string());

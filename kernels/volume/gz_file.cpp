@@ -62,4 +62,16 @@ std::vector<std::byte> GzFile::read_up_to(std::size_t count, const std::string& 
     return out;
 }
 
+void GzFile::require_intact_end(const std::string& field) {
+    if (gzdirect(as_gz(handle_)) != 0) return;  // not compressed: no trailer to check
+    // One byte more makes zlib reach the trailer if the stream ends here, and check it.
+    char probe = 0;
+    const int got = gzread(as_gz(handle_), &probe, 1);
+    int code = Z_OK;
+    const char* message = gzerror(as_gz(handle_), &code);
+    if (got < 0 && code != Z_BUF_ERROR) throw InputError(file_, field, std::string("gzip data is corrupt: ") + message);
+    if (got <= 0 && code == Z_BUF_ERROR)
+        throw InputError(file_, field, "the gzip stream ends without its trailer (the file is cut short)");
+}
+
 }  // namespace pp5::volume_detail

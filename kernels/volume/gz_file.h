@@ -26,6 +26,11 @@ public:
     // Throws InputError(file, field, ...) if the compressed stream is corrupt.
     std::vector<std::byte> read_up_to(std::size_t count, const std::string& field);
 
+    // After the last read a loader needs: throws InputError(file, field, ...) if a gzip stream ends
+    // right there without its trailer (a download cut just short of its end) or the trailer's
+    // checksum or length disagrees with the data. Data after what the loader read is not examined.
+    void require_intact_end(const std::string& field);
+
     // True once a read has met the end of a gzip stream cut short (a truncated download).
     bool stream_cut_short() const { return cut_short_; }
 

@@ -210,6 +210,7 @@ Volume load_nifti(const std::filesystem::path& path) {
     const auto data = in.read_up_to(need, "voxel data");
     if (data.size() < need)
         throw InputError(file, "voxel data", volume_detail::size_mismatch(data.size(), dims, type) + cut_short_note(in));
+    in.require_intact_end("voxel data");
 
     return Volume(dims, spacing, type, volume_detail::decode_samples(data, encoding, dims, file),
                   path.filename().string());

@@ -132,6 +132,16 @@ TEST(Scenario, BadGeometryNamesTheFieldOrFile) {
     const fs::path empty = fs::temp_directory_path() / "pp5_empty_mesh.obj";
     std::ofstream(empty) << "# nothing here\nv 0 0 0\n";
     expect_bad("empty_mesh", ok + "[[meshes]]\nfile = \"" + empty.string() + "\"\n", "meshes[0].file");
+    // An index too large for an int, which tinyobj would read as some other vertex.
+    const fs::path huge_index = fs::temp_directory_path() / "pp5_huge_index_mesh.obj";
+    std::ofstream(huge_index) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999\n";
+    expect_bad("huge_index", ok + "[[meshes]]\nfile = \"" + huge_index.string() + "\"\n", "meshes[0].file");
+    // A mesh path that loops back on itself is unreadable, not an internal error.
+    const fs::path loop = fs::temp_directory_path() / "pp5_loop_mesh.obj";
+    fs::remove(loop);
+    fs::create_symlink(loop, loop);
+    expect_bad("looping_mesh", ok + "[[meshes]]\nfile = \"" + loop.string() + "\"\n", "meshes[0].file");
+    expect_bad("far_vertex", ok + "[[polygons]]\nvertices = [[0, 0, 0], [1e30, 0, 0], [0, 1, 0]]\n", "polygons[0].vertices");
     expect_bad("bad_region", ok + "[region]\nhalf_size = [0, 1, 1]\n", "region.half_size");
     expect_bad("bad_region_shape", ok + "[region]\nshape = \"torus\"\n", "region.shape");
     expect_bad("hairline_ramp", ok + "[region]\ntransition = 1e-30\n", "region.transition");  // its slope would not fit the PPs

@@ -378,6 +378,28 @@ TEST_F(NiftiTest, TruncatedGzipStream) {
     EXPECT_THAT(e.reason(), HasSubstr("cut short"));
 }
 
+// Every voxel inflates, but the stream stops where its 8-byte trailer (checksum and length) should be:
+// a download cut just short of the end is refused, not read as whole. A wrong checksum is refused too.
+TEST_F(NiftiTest, GzipStreamWithoutItsTrailerOrWithAWrongChecksum) {
+    const auto whole = dir / "whole.nii.gz";
+    write_gz(whole, nifti_bytes(uint8_spec(), uint8_samples()));
+    std::ifstream in(whole, std::ios::binary);
+    const std::vector<char> gz((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    Bytes cut(gz.size() - 8);
+    std::memcpy(cut.data(), gz.data(), cut.size());
+    const auto path = write("no_trailer.nii.gz", cut);
+    const InputError e = input_error_from([&] { load_nifti(path); });
+    EXPECT_EQ(e.field(), "voxel data");
+    EXPECT_THAT(e.reason(), HasSubstr("without its trailer"));
+
+    Bytes wrong_crc(gz.size());
+    std::memcpy(wrong_crc.data(), gz.data(), gz.size());
+    wrong_crc[gz.size() - 8] ^= std::byte{0x01};
+    const auto crc_path = write("wrong_crc.nii.gz", wrong_crc);
+    EXPECT_THAT(input_error_from([&] { load_nifti(crc_path); }).reason(), HasSubstr("gzip data is corrupt"));
+    EXPECT_NO_THROW(load_nifti(whole));
+}
+
 TEST_F(NiftiTest, CorruptGzipData) {
     Bytes bytes = nifti_bytes(uint8_spec(), uint8_samples());
     const auto whole = dir / "whole.nii.gz";
