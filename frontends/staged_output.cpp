@@ -65,22 +65,58 @@ void StagedOutput::claim(const fs::path& target) const {
         if (e.target == target) throw std::logic_error("staged output: " + target.string() + " staged twice");
 }
 
-void StagedOutput::add_image(std::string name, Image image, ImageFormat format) {
+StagedOutput::~StagedOutput() {
+    if (!committed_) remove_temporaries();
+}
+
+void StagedOutput::remove_temporaries() {
+    std::error_code ignored;
+    for (const fs::path& p : temporaries_) fs::remove(p, ignored);
+    temporaries_.clear();
+    // Only folders this run made, and only while empty: nothing of anyone else's goes.
+    for (auto it = made_folders_.rbegin(); it != made_folders_.rend(); ++it) fs::remove(*it, ignored);
+    made_folders_.clear();
+}
+
+// Makes the folders a file at `target` needs, remembering which did not exist before.
+void StagedOutput::make_folder_for(const fs::path& target) {
+    const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+    std::error_code error;
+    std::vector<fs::path> missing;
+    for (fs::path p = folder; !p.empty() && !fs::exists(p, error); p = p.parent_path()) {
+        missing.push_back(p);
+        if (p == p.parent_path()) break;
+    }
+    fs::create_directories(folder, error);
+    if (error) cannot_write(folder, "cannot make the folder: " + error.message());
+    made_folders_.insert(made_folders_.end(), missing.rbegin(), missing.rend());
+}
+
+void StagedOutput::add_image(std::string name, const Image& image, ImageFormat format) {
     const fs::path target = directory_ / name;
     claim(target);
-    entries_.push_back(Entry{target, {}, std::move(image), format, true, true});
+    make_folder_for(target);
+    // The partial keeps the real extension last, so OpenImageIO picks the right format.
+    const fs::path partial = beside(target, kPartial);
+    temporaries_.push_back(partial);
+    try {
+        write_image(image, partial, format);
+    } catch (const std::exception& ex) {
+        cannot_write(target, ex.what());
+    }
+    entries_.push_back(Entry{target, {}, true, true});
 }
 
 void StagedOutput::add_text(std::string name, std::string text) {
     const fs::path target = directory_ / name;
     claim(target);
-    entries_.push_back(Entry{target, std::move(text), {}, ImageFormat::Png, false, true});
+    entries_.push_back(Entry{target, std::move(text), false, true});
 }
 
 void StagedOutput::add_text_at(const fs::path& file, std::string text, const std::string& option) {
     check_output_file(file, option);
     claim(file);
-    entries_.push_back(Entry{file, std::move(text), {}, ImageFormat::Png, false, false});
+    entries_.push_back(Entry{file, std::move(text), false, false});
 }
 
 std::vector<fs::path> StagedOutput::commit() {
@@ -97,19 +133,11 @@ std::vector<fs::path> StagedOutput::commit() {
     };
     try {
         for (const Entry& e : entries_) {
-            // A name may hold a subdirectory ("images/a.png"). The partial keeps the real extension
-            // last, so OpenImageIO picks the right format.
-            fs::create_directories(e.target.parent_path().empty() ? fs::path(".") : e.target.parent_path(), error);
-            if (error) cannot_write(e.target.parent_path(), "cannot make the folder: " + error.message());
+            // A name may hold a subdirectory ("images/a.png").
             const fs::path partial = beside(e.target, kPartial);
             partials.push_back(partial);
-            if (e.is_image) {
-                try {
-                    write_image(e.image, partial, e.format);
-                } catch (const std::exception& ex) {
-                    cannot_write(e.target, ex.what());
-                }
-            } else {
+            if (!e.written) {
+                make_folder_for(e.target);
                 errno = 0;
                 std::ofstream out(partial, std::ios::binary);
                 out << e.text;
@@ -133,6 +161,9 @@ std::vector<fs::path> StagedOutput::commit() {
         undo();
         throw;
     }
+    committed_ = true;
+    temporaries_.clear();
+    made_folders_.clear();
     std::error_code ignored;
     for (const fs::path& t : replaced) fs::remove(beside(t, kPrevious), ignored);
     if (owns_) write_manifest_and_clean();
