@@ -1,3 +1,4 @@
+#pragma once
 // The project's parallel loops: oneTBB's parallel_for and parallel_sort, called through here so that a
 // ThreadSanitizer build checks the project's own code rather than TBB's.
 //
@@ -17,14 +18,14 @@
 #include <algorithm>
 
 #if defined(__SANITIZE_THREAD__)
-#define PP5_TSAN 1
+#define PP5_UNDER_TSAN 1
 #elif defined(__has_feature)
 #if __has_feature(thread_sanitizer)
-#define PP5_TSAN 1
+#define PP5_UNDER_TSAN 1
 #endif
 #endif
 
-#ifdef PP5_TSAN
+#ifdef PP5_UNDER_TSAN
 #include <atomic>
 #include <cstddef>
 #include <deque>
@@ -36,7 +37,7 @@
 
 namespace pp5 {
 
-#ifdef PP5_TSAN
+#ifdef PP5_UNDER_TSAN
 namespace parallel_detail {
 // Runs body over range on std::threads: the range split into a few pieces per thread, each piece
 // taken by the next free thread. The first exception a body throws is rethrown after every thread
@@ -83,7 +84,7 @@ void run_on_threads(const Range& range, const Body& body) {
 // tbb::parallel_for(range, body): body(const Range&) over sub-ranges.
 template <class Range, class Body>
 void parallel_for(const Range& range, const Body& body) {
-#ifdef PP5_TSAN
+#ifdef PP5_UNDER_TSAN
     parallel_detail::run_on_threads(range, body);
 #else
     tbb::parallel_for(range, body);
@@ -93,7 +94,7 @@ void parallel_for(const Range& range, const Body& body) {
 // tbb::parallel_for(first, last, body): body(index) for every index in [first, last).
 template <class Index, class Body>
 void parallel_for(Index first, Index last, const Body& body) {
-#ifdef PP5_TSAN
+#ifdef PP5_UNDER_TSAN
     parallel_detail::run_on_threads(tbb::blocked_range<Index>(first, last), [&body](const tbb::blocked_range<Index>& r) {
         for (Index i = r.begin(); i != r.end(); ++i) body(i);
     });
@@ -106,7 +107,7 @@ void parallel_for(Index first, Index last, const Body& body) {
 // so the result is the same.
 template <class Iterator, class Compare>
 void parallel_sort(Iterator first, Iterator last, const Compare& less) {
-#ifdef PP5_TSAN
+#ifdef PP5_UNDER_TSAN
     std::sort(first, last, less);
 #else
     tbb::parallel_sort(first, last, less);
@@ -115,7 +116,7 @@ void parallel_sort(Iterator first, Iterator last, const Compare& less) {
 
 // Threads a library's own pool may use (OpenImageIO's nthreads: 0 is its default pool). Under TSan one,
 // for the reason above: that pool's hand-offs are not instrumented either.
-#ifdef PP5_TSAN
+#ifdef PP5_UNDER_TSAN
 inline constexpr int kLibraryPoolThreads = 1;
 #else
 inline constexpr int kLibraryPoolThreads = 0;
