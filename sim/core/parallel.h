@@ -114,12 +114,4 @@ void parallel_sort(Iterator first, Iterator last, const Compare& less) {
 #endif
 }
 
-// Threads a library's own pool may use (OpenImageIO's nthreads: 0 is its default pool). Under TSan one,
-// for the reason above: that pool's hand-offs are not instrumented either.
-#ifdef PP5_UNDER_TSAN
-inline constexpr int kLibraryPoolThreads = 1;
-#else
-inline constexpr int kLibraryPoolThreads = 0;
-#endif
-
 }  // namespace pp5
