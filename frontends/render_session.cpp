@@ -3,6 +3,7 @@
 #include "kernels/registry/registry.h"
 #include "kernels/scenario/scenario_inputs.h"
 #include "sim/core/calibration.h"
+#include "sim/core/host_memory.h"
 #include "sim/timing/frame_engine.h"
 
 #include <fmt/core.h>
@@ -94,10 +95,26 @@ const Image* SessionFrame::find(FrameImage::Kind kind, std::size_t pass) const {
     return nullptr;
 }
 
+double picture_bytes_per_frame(const Kernel& kernel, const Scenario& scenario, const MachineConfig& config) {
+    constexpr double kRgbaBytes = 16.0;
+    constexpr double kComparisonBuffersBytes = 2 * 12.0;
+    const double pixels = static_cast<double>(scenario.image.width) * static_cast<double>(scenario.image.height);
+    const auto pictures = static_cast<double>(kernel.most_pictures_per_frame(config));
+    double per_pixel = kRgbaBytes * pictures;  // the passes; off the machine the last is the frame
+    if (kernel.runs_on_machine()) {
+        // The frame's own copy beside its passes, the reference and the difference images.
+        const double differences = kernel.compares_each_picture() ? pictures : 0.0;
+        per_pixel += kRgbaBytes * (1 + 1 + differences) + kComparisonBuffersBytes;
+    }
+    return pixels * per_pixel;
+}
+
 Volume RenderSession::load_checked_volume(TraceRecorder* trace) {
     if (trace != nullptr) machine_.attach_trace(trace);
     // What the picture needs of the frame buffer is known before the volume is read.
     if (kernel_.runs_on_machine()) check_picture_fits(machine_, scenario_.image.width, scenario_.image.height);
+    check_fits_host_memory(scenario_.file.string(), "image.width", picture_bytes_per_frame(kernel_, scenario_, config_),
+                           fmt::format("holding a {}x{} frame's pictures", scenario_.image.width, scenario_.image.height));
     return load_dataset(scenario_);
 }
 

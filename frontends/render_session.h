@@ -49,6 +49,13 @@ struct SessionFrame {
     const Image* find(FrameImage::Kind kind, std::size_t pass = 0) const;
 };
 
+// The bytes of the pictures a session holds at once for one frame of `scenario` on `kernel`: the
+// kernel's pass pictures and, on the machine, the frame's copy, the reference picture and a difference
+// image for each comparison (RGBA float, 16 bytes a pixel) and the two RGB float buffers a comparison
+// makes.
+// Checked against this computer's memory before the volume is read.
+double picture_bytes_per_frame(const Kernel& kernel, const Scenario& scenario, const MachineConfig& config);
+
 class RenderSession {
 public:
     // Checks the scenario against its kernel and the machine, loads the volume and starts the kernel

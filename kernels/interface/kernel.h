@@ -82,6 +82,10 @@ public:
     virtual std::vector<const ParamGroup*> param_groups() const = 0;
     // False for a kernel that only renders on the host: its frames record no work.
     virtual bool runs_on_machine() const = 0;
+    // The most pictures a frame's pass_images holds on `config`, and whether each is compared with the
+    // reference (a difference image each): what a run's up-front memory estimate counts.
+    virtual std::size_t most_pictures_per_frame(const MachineConfig& /*config*/) const { return 1; }
+    virtual bool compares_each_picture() const { return false; }
     // Throws InputError naming the scenario's file and field for a feature the kernel cannot render.
     virtual void check(const Scenario& scenario) const = 0;
     // What its frames can be measured by, and one frame's value of a metric once timed. Throws

@@ -193,6 +193,12 @@ public:
     }
     std::vector<const ParamGroup*> param_groups() const override { return {&VoxelStoreSettings::params(), &LevoySettings::params(), &levoy_cost_params()}; }
     bool runs_on_machine() const override { return true; }
+    // A pass for each halving of the first pass's spacing, down to one pixel.
+    std::size_t most_pictures_per_frame(const MachineConfig& config) const override {
+        std::size_t passes = 1;
+        for (std::int64_t spacing = config.integer("levoy.refinement_spacing"); spacing > 1; spacing = (spacing + 1) / 2) ++passes;
+        return passes;
+    }
     void check(const Scenario& scenario) const override {
         if (scenario.image.resampling != ResamplingOrder::ShadeThenInterpolate)
             throw InputError(scenario.file.string(), "image.resampling",

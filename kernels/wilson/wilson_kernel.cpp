@@ -255,6 +255,8 @@ public:
         return {&VoxelStoreSettings::params(), &WilsonSettings::params(), &wilson_cost_params()};
     }
     bool runs_on_machine() const override { return true; }
+    std::size_t most_pictures_per_frame(const MachineConfig&) const override { return 2; }  // L alone, then with its points
+    bool compares_each_picture() const override { return true; }
     void check(const Scenario& scenario) const override {
         const std::string file = scenario.file.string();
         if (scenario.image.resampling != ResamplingOrder::ShadeThenInterpolate)

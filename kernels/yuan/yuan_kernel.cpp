@@ -150,6 +150,7 @@ public:
         return {&VoxelStoreSettings::params(), &YuanSettings::params(), &yuan_cost_params()};
     }
     bool runs_on_machine() const override { return true; }
+    std::size_t most_pictures_per_frame(const MachineConfig&) const override { return 2; }  // the primitive map, the frame
     void check(const Scenario& scenario) const override {
         const std::string file = scenario.file.string();
         if (scenario.image.resampling != ResamplingOrder::ShadeThenInterpolate)
