@@ -427,13 +427,14 @@ std::vector<PolygonSpec> read_mesh(TableReader& item, const std::filesystem::pat
     config.triangulate = true;
     tinyobj::ObjReader reader;
     std::error_code status_error;  // a symlink loop is unreadable, not an exception
+    const bool readable = std::filesystem::is_regular_file(path, status_error);
     std::string text;
-    if (std::filesystem::is_regular_file(path, status_error)) {
+    if (readable) {
         std::ifstream in(path, std::ios::binary);
         text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
         if (const std::string problem = oversized_obj_index(text); !problem.empty()) item.fail("file", path.string() + ": " + problem);
     }
-    if (!std::filesystem::is_regular_file(path, status_error) || !reader.ParseFromString(text, "", config)) {
+    if (!readable || !reader.ParseFromString(text, "", config)) {
         std::string why = reader.Error().empty() ? "cannot be read" : reader.Error();
         while (!why.empty() && (why.back() == '\n' || why.back() == ' ')) why.pop_back();
         item.fail("file", path.string() + " is not a readable OBJ mesh: " + why);
