@@ -49,7 +49,7 @@ ScenarioRender render_scenario(const Scenario& scenario, const MachineConfig& co
     TraceRecorder* trace = options.trace;
     if (options.lecture_pictures && trace == nullptr) trace = &spans_only.emplace(0, 0, 0);
     if (options.lecture_pictures) trace->keep_busy_spans(true);
-    RenderSession session(scenario, config, trace, format == ImageFormat::Png ? "png" : "exr");
+    RenderSession session(scenario, config, trace, format == ImageFormat::Png ? "png" : "exr", options.compare_with_reference);
     nlohmann::json frames = nlohmann::json::array();
     std::vector<std::string> warnings;
     for (std::size_t i = 0; i < scenario.frames.size(); ++i) {

@@ -27,6 +27,9 @@ struct ScenarioRenderOptions {
     // Also write each frame's lecture pictures (frontends/lecture_pictures.h): its refinement passes as
     // a strip and an animated GIF, and the map of which GP cast which tile.
     bool lecture_pictures = false;
+    // Compare every frame with the host reference renderer (PSNR, difference images). Off for big
+    // volumes, where the reference's own memory would exceed the machine's.
+    bool compare_with_reference = true;
 };
 
 struct ScenarioRender {

@@ -44,9 +44,11 @@ nlohmann::json frame_record(std::size_t index, const FrameSpec& frame, const std
 }
 
 std::string describe_frame(const nlohmann::json& f, const KernelRun& run) {
-    std::string line = fmt::format("  frame {} ({}): host reference {} samples ({} skipped as empty)", f["index"].get<std::size_t>(),
-                                   f["label"].get<std::string>(), f["reference"]["samples"].dump(),
-                                   f["reference"]["samples_skipped"].dump());
+    std::string line = fmt::format("  frame {} ({})", f["index"].get<std::size_t>(), f["label"].get<std::string>());
+    if (const auto reference = f.find("reference"); reference != f.end()) {
+        line += fmt::format(": host reference {} samples ({} skipped as empty)", (*reference)["samples"].dump(),
+                            (*reference)["samples_skipped"].dump());
+    }
     line += run.describe(f);
     // Levoy's figures are rates: the frame's beside its milliseconds.
     if (f.contains("simulated_seconds") && f["simulated_seconds"].is_number() && f["simulated_seconds"].get<double>() > 0)
@@ -118,7 +120,8 @@ Volume RenderSession::load_checked_volume(TraceRecorder* trace) {
     return load_dataset(scenario_);
 }
 
-RenderSession::RenderSession(const Scenario& scenario, const MachineConfig& config, TraceRecorder* trace, std::string extension)
+RenderSession::RenderSession(const Scenario& scenario, const MachineConfig& config, TraceRecorder* trace, std::string extension,
+                             bool compare_with_reference)
     : scenario_(scenario),
       config_(config),
       kernel_(checked_kernel(scenario_)),
@@ -128,7 +131,7 @@ RenderSession::RenderSession(const Scenario& scenario, const MachineConfig& conf
     // The kernel sets the scenario up on the machine first: a volume that does not fit stops here.
     run_ = kernel_.start(machine_, config_, scenario_, volume_);
     // The oracle every machine kernel's pictures are compared with.
-    if (kernel_.runs_on_machine()) reference_.emplace(volume_);
+    if (kernel_.runs_on_machine() && compare_with_reference) reference_.emplace(volume_);
 }
 
 SessionFrame RenderSession::render(FrameSpec frame) {

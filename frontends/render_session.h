@@ -60,8 +60,11 @@ class RenderSession {
 public:
     // Checks the scenario against its kernel and the machine, loads the volume and starts the kernel
     // (InputError when something cannot fit, before any frame). Frames are named with `extension`.
+    // Without `compare_with_reference` no host reference picture is made, so frames carry no PSNR; the
+    // reference needs about 45 bytes a voxel of its own, more than the simulated machine, which matters
+    // for big volumes.
     RenderSession(const Scenario& scenario, const MachineConfig& config, TraceRecorder* trace = nullptr,
-                  std::string extension = "png");
+                  std::string extension = "png", bool compare_with_reference = true);
 
     // Computes and times the next frame. `frame` says what changed since the frame before (the first
     // frame of a session changes everything, whatever it says).

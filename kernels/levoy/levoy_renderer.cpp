@@ -352,7 +352,7 @@ LevoyFrameReport LevoyRenderer::record(const LevoyFrameInputs& frame) {
         machine_work.phases.push_back(scan_convert());
     }
     if (classify || reshade) {
-        shaded_ = pixel_processors_.shaded_volume();
+        pixel_processors_.read_shaded_volume(shaded_);
         machine_work.invalidate_gp_caches = !first_frame_;
     }
     if (classify) {

@@ -72,14 +72,15 @@ PpShading::PpShading(Machine& machine, const Volume& volume, const VoxelStoreSet
       settings_(settings),
       dims_(volume.dims()),
       spacing_(volume.spacing()),
-      gradients_(compute_gradients(volume)),
-      quantization_(VoxelQuantization::choose(volume, gradients_, settings.layout)),
       placement_(settings.placement, volume.dims(), shape_of(machine), settings.layout.bits()) {
     if (!placement_.fits()) throw InputError(kMachineFile, "renderer.backing_store_bits", placement_.shortfall());
-    load_volume(volume);
+    // The host's float gradients (12 bytes a voxel) are only the source of the codes the PPs hold.
+    const GradientField gradients = compute_gradients(volume);
+    quantization_ = VoxelQuantization::choose(volume, gradients, settings.layout);
+    load_volume(volume, gradients);
 }
 
-void PpShading::load_volume(const Volume& volume) {
+void PpShading::load_volume(const Volume& volume, const GradientField& gradients) {
     const VoxelRecordLayout& layout = settings_.layout;
     const int record_bits = layout.bits();
     auto& renderers = machine_.renderers();
@@ -94,7 +95,7 @@ void PpShading::load_volume(const Volume& volume) {
                 const std::size_t i = volume.index(v.x, v.y, v.z);
                 array.write_backing(pp, base + layout.value_offset(), layout.value_bits,
                                     static_cast<std::uint64_t>(quantization_.value_code(volume.samples()[i])));
-                const glm::vec3 g = gradients_.gradients[i];
+                const glm::vec3 g = gradients.gradients[i];
                 for (int axis = 0; axis < 3; ++axis) {
                     const auto code = static_cast<std::uint64_t>(quantization_.gradient_code(g[axis]));
                     array.write_backing(pp, base + layout.gradient_offset(axis), layout.gradient_bits, code & mask(layout.gradient_bits));
@@ -173,9 +174,18 @@ PpFrameWork PpShading::compute(const Classification& classification, const Color
 }
 
 ShadedVolume PpShading::shaded_volume() const {
+    ShadedVolume shaded;
+    read_shaded_volume(shaded);
+    return shaded;
+}
+
+void PpShading::read_shaded_volume(ShadedVolume& shaded) const {
     const VoxelRecordLayout& layout = settings_.layout;
     const int record_bits = layout.bits();
-    ShadedVolume shaded{dims_, spacing_, std::vector<glm::vec4>(static_cast<std::size_t>(dims_.x) * dims_.y * dims_.z)};
+    shaded.dims = dims_;
+    shaded.spacing = spacing_;
+    // Every voxel lies in a used slot, so each element is overwritten below.
+    shaded.rgba.resize(static_cast<std::size_t>(dims_.x) * static_cast<std::size_t>(dims_.y) * static_cast<std::size_t>(dims_.z));
     const float color_max = static_cast<float>(mask(layout.color_bits));
     const float opacity_max = static_cast<float>(mask(layout.opacity_bits));
     auto& renderers = machine_.renderers();
@@ -196,7 +206,6 @@ ShadedVolume PpShading::shaded_volume() const {
             });
         }
     });
-    return shaded;
 }
 
 }  // namespace pp5

@@ -90,20 +90,21 @@ public:
 
     // The colours and opacities the PPs hold, read back into a volume for the compositor.
     ShadedVolume shaded_volume() const;
+    // The same, into `into`, reusing its storage: a reshade then never holds two copies at once.
+    void read_shaded_volume(ShadedVolume& into) const;
 
     const VoxelPlacement& placement() const { return placement_; }
     const VoxelQuantization& quantization() const { return quantization_; }
-    const GradientField& gradients() const { return gradients_; }
 
 private:
     PpPassWork execute_program(const PpProgram& program, const ShadingView* view);
-    void load_volume(const Volume& volume);
+    // Writes every voxel's value and gradient code into its slot; the gradients are not kept after.
+    void load_volume(const Volume& volume, const GradientField& gradients);
 
     Machine& machine_;
     VoxelStoreSettings settings_;
     glm::ivec3 dims_;
     glm::vec3 spacing_;
-    GradientField gradients_;
     VoxelQuantization quantization_;
     VoxelPlacement placement_;
 };

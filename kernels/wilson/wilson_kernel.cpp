@@ -79,7 +79,7 @@ public:
         };
         if (pp.classification) voxel_pass("classification", *pp.classification, kWilsonVoxelClassification);
         if (pp.shading) voxel_pass("shading", *pp.shading, kWilsonVoxelShading);
-        if (pp.classification || pp.shading) texels_ = voxel_store_.shaded_volume();
+        if (pp.classification || pp.shading) voxel_store_.read_shaded_volume(texels_);
         shaded_for_ = view;
         first_frame_ = false;
 

@@ -52,7 +52,7 @@ public:
         };
         if (pp.classification) voxel_pass("classification", *pp.classification, kYuanVoxelClassification);
         if (pp.shading) voxel_pass("shading", *pp.shading, kYuanVoxelShading);
-        if (pp.classification || pp.shading) shaded_ = voxel_store_.shaded_volume();
+        if (pp.classification || pp.shading) voxel_store_.read_shaded_volume(shaded_);
         shaded_for_ = view;
         first_frame_ = false;
 

@@ -116,6 +116,34 @@ TEST(Cli, RenderWritesImagesStatsAndConfig) {
         EXPECT_EQ(e.path().filename().string().rfind(".partial", 0), std::string::npos) << e.path();
 }
 
+// Skipping the host reference (for big volumes) changes nothing the machine does: the same pictures
+// and simulated figures, only the reference's samples and the PSNR are gone.
+TEST(Cli, WithoutTheReferenceTheMachinesResultsAreTheSame) {
+    const fs::path dir = scratch("no_reference");
+    const RunResult with = run("render sphere --out " + (dir / "with").string(), dir);
+    ASSERT_EQ(with.exit_code, 0) << with.output;
+    const RunResult without = run("render sphere --no-reference --out " + (dir / "without").string(), dir);
+    ASSERT_EQ(without.exit_code, 0) << without.output;
+    EXPECT_EQ(without.output.find("PSNR"), std::string::npos) << without.output;
+    auto a = nlohmann::json::parse(read_file(dir / "with/stats.json"));
+    auto b = nlohmann::json::parse(read_file(dir / "without/stats.json"));
+    ASSERT_EQ(a["frames"].size(), b["frames"].size());
+    for (std::size_t i = 0; i < a["frames"].size(); ++i) {
+        auto& fa = a["frames"][i];
+        auto& fb = b["frames"][i];
+        EXPECT_TRUE(fa.contains("reference") && fa.contains("fidelity"));
+        EXPECT_FALSE(fb.contains("reference") || fb.contains("fidelity"));
+        fa.erase("reference");
+        fa.erase("fidelity");
+        fa.erase("host_seconds");
+        fb.erase("host_seconds");
+        EXPECT_EQ(fa, fb) << "frame " << i;
+        const std::string image = fa["image"].get<std::string>();
+        EXPECT_EQ(read_file(dir / "with" / image), read_file(dir / "without" / image)) << image;
+    }
+    EXPECT_EQ(a["components"], b["components"]);
+}
+
 // The GPs' side of each frame: refinement passes with their pictures and times, the cache, and a
 // Chrome trace of the run with GP, renderer and ring tracks.
 TEST(Cli, RenderReportsRefinementPassesAndWritesATrace) {
