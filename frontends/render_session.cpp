@@ -97,16 +97,20 @@ const Image* SessionFrame::find(FrameImage::Kind kind, std::size_t pass) const {
     return nullptr;
 }
 
-double picture_bytes_per_frame(const Kernel& kernel, const Scenario& scenario, const MachineConfig& config) {
+double picture_bytes_per_frame(const Kernel& kernel, const Scenario& scenario, const MachineConfig& config,
+                               bool compare_with_reference) {
     constexpr double kRgbaBytes = 16.0;
     constexpr double kComparisonBuffersBytes = 2 * 12.0;
     const double pixels = static_cast<double>(scenario.image.width) * static_cast<double>(scenario.image.height);
     const auto pictures = static_cast<double>(kernel.most_pictures_per_frame(config));
     double per_pixel = kRgbaBytes * pictures;  // the passes; off the machine the last is the frame
     if (kernel.runs_on_machine()) {
-        // The frame's own copy beside its passes, the reference and the difference images.
-        const double differences = kernel.compares_each_picture() ? pictures : 0.0;
-        per_pixel += kRgbaBytes * (1 + 1 + differences) + kComparisonBuffersBytes;
+        // The frame's own copy beside its passes, then the reference and the difference images.
+        per_pixel += kRgbaBytes;
+        if (compare_with_reference) {
+            const double differences = kernel.compares_each_picture() ? pictures : 0.0;
+            per_pixel += kRgbaBytes * (1 + differences) + kComparisonBuffersBytes;
+        }
     }
     return pixels * per_pixel;
 }
@@ -115,7 +119,7 @@ Volume RenderSession::load_checked_volume(TraceRecorder* trace) {
     if (trace != nullptr) machine_.attach_trace(trace);
     // What the picture needs of the frame buffer is known before the volume is read.
     if (kernel_.runs_on_machine()) check_picture_fits(machine_, scenario_.image.width, scenario_.image.height);
-    check_fits_host_memory(scenario_.file.string(), "image.width", picture_bytes_per_frame(kernel_, scenario_, config_),
+    check_fits_host_memory(scenario_.file.string(), "image.width", picture_bytes_per_frame(kernel_, scenario_, config_, compare_with_reference_),
                            fmt::format("holding a {}x{} frame's pictures", scenario_.image.width, scenario_.image.height));
     return load_dataset(scenario_);
 }
@@ -126,12 +130,13 @@ RenderSession::RenderSession(const Scenario& scenario, const MachineConfig& conf
       config_(config),
       kernel_(checked_kernel(scenario_)),
       extension_(std::move(extension)),
+      compare_with_reference_(compare_with_reference),
       machine_(config_),
       volume_(load_checked_volume(trace)) {
     // The kernel sets the scenario up on the machine first: a volume that does not fit stops here.
     run_ = kernel_.start(machine_, config_, scenario_, volume_);
     // The oracle every machine kernel's pictures are compared with.
-    if (kernel_.runs_on_machine() && compare_with_reference) reference_.emplace(volume_);
+    if (kernel_.runs_on_machine() && compare_with_reference_) reference_.emplace(volume_);
 }
 
 SessionFrame RenderSession::render(FrameSpec frame) {

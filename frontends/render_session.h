@@ -50,19 +50,20 @@ struct SessionFrame {
 };
 
 // The bytes of the pictures a session holds at once for one frame of `scenario` on `kernel`: the
-// kernel's pass pictures and, on the machine, the frame's copy, the reference picture and a difference
-// image for each comparison (RGBA float, 16 bytes a pixel) and the two RGB float buffers a comparison
-// makes.
+// kernel's pass pictures and, on the machine, the frame's copy and, when comparing with the reference,
+// the reference picture and a difference image for each comparison (RGBA float, 16 bytes a pixel) and
+// the two RGB float buffers a comparison makes.
 // Checked against this computer's memory before the volume is read.
-double picture_bytes_per_frame(const Kernel& kernel, const Scenario& scenario, const MachineConfig& config);
+double picture_bytes_per_frame(const Kernel& kernel, const Scenario& scenario, const MachineConfig& config,
+                               bool compare_with_reference = true);
 
 class RenderSession {
 public:
     // Checks the scenario against its kernel and the machine, loads the volume and starts the kernel
     // (InputError when something cannot fit, before any frame). Frames are named with `extension`.
     // Without `compare_with_reference` no host reference picture is made, so frames carry no PSNR; the
-    // reference needs about 45 bytes a voxel of its own, more than the simulated machine, which matters
-    // for big volumes.
+    // reference needs about 55 bytes a voxel of its own (0.94 GB at 256^3), more than the simulated
+    // machine, which matters for big volumes.
     RenderSession(const Scenario& scenario, const MachineConfig& config, TraceRecorder* trace = nullptr,
                   std::string extension = "png", bool compare_with_reference = true);
 
@@ -89,6 +90,7 @@ private:
     MachineConfig config_;
     const Kernel& kernel_;
     std::string extension_;
+    bool compare_with_reference_;
     Machine machine_;
     Volume volume_;
     std::unique_ptr<KernelRun> run_;

@@ -142,7 +142,7 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_flag("--pictures", o->pictures,
                   "Also write each frame's refinement passes as a strip and an animated GIF, and a map of which GP cast which tile");
     cmd->add_flag("--no-reference", o->no_reference,
-                  "Skip the host reference renderer: no PSNR or difference images, and about 45 bytes a voxel less memory "
+                  "Skip the host reference renderer: no PSNR or difference images, and about 55 bytes a voxel less memory "
                   "(for big volumes)");
     cmd->callback([o, &run] { run = [o] { return run_render(*o); }; });
 }
