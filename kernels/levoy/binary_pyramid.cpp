@@ -32,9 +32,9 @@ BinaryPyramid::Level BinaryPyramid::pack(glm::ivec3 dims, const std::vector<std:
     return level;
 }
 
-BinaryPyramid BinaryPyramid::from_opacity(const ShadedVolume& volume, const ShadedVolume* also) {
+BinaryPyramid BinaryPyramid::from_opacity(const ShadedCodes& volume, const ShadedCodes* also) {
     const glm::ivec3 dims = volume.dims;
-    if (also != nullptr && (also->dims != dims || also->rgba.size() != volume.rgba.size()))
+    if (also != nullptr && (also->dims != dims || also->codes.size() != volume.codes.size()))
         throw std::invalid_argument("pyramid: the second volume has another size");
     if (dims.x < 2 || dims.y < 2 || dims.z < 2) throw std::invalid_argument("pyramid: a volume needs two voxels along each axis");
     BinaryPyramid pyramid;
@@ -55,7 +55,7 @@ BinaryPyramid BinaryPyramid::from_opacity(const ShadedVolume& volume, const Shad
                         const std::size_t start = index_of({0, y + dy, z + dz}, dims);
                         for (int x = 0; x < dims.x; ++x) {
                             const std::size_t i = start + static_cast<std::size_t>(x);
-                            if (volume.rgba[i].a > 0.0f || (also != nullptr && also->rgba[i].a > 0.0f)) row[static_cast<std::size_t>(x)] = 1;
+                            if (!volume.transparent(i) || (also != nullptr && !also->transparent(i))) row[static_cast<std::size_t>(x)] = 1;
                         }
                     }
                 }

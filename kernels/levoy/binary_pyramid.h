@@ -7,7 +7,7 @@
 // A sample whose level-0 cell is empty interpolates eight zero opacities, so it is exactly transparent:
 // skipping it changes nothing in the image, only the work.
 
-#include "kernels/reference/shaded_volume.h"
+#include "kernels/pp_volume/shaded_codes.h"
 
 #include <glm/vec3.hpp>
 
@@ -19,9 +19,9 @@ namespace pp5 {
 class BinaryPyramid {
 public:
     BinaryPyramid() = default;
-    // Built from the voxels' opacities (alpha > 0 is non-empty). Every dimension must be >= 2. With
+    // Built from the voxels' opacities (an opacity code above 0 is non-empty). Every dimension must be >= 2. With
     // `also` (a volume of the same size), a voxel non-empty in either counts.
-    static BinaryPyramid from_opacity(const ShadedVolume& volume, const ShadedVolume* also = nullptr);
+    static BinaryPyramid from_opacity(const ShadedCodes& volume, const ShadedCodes* also = nullptr);
 
     int levels() const { return static_cast<int>(levels_.size()); }
     glm::ivec3 cell_dims(int level) const { return levels_[static_cast<std::size_t>(level)].dims; }

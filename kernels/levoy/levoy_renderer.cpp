@@ -338,9 +338,9 @@ LevoyFrameReport LevoyRenderer::record(const LevoyFrameInputs& frame) {
     // The pyramid marks what the classification leaves non-empty before the region scales it: a
     // superset of what is non-empty after (so skipping stays exact), which a moving region does not
     // change even where its scaling rounds small opacities to zero.
-    std::optional<ShadedVolume> unscaled;
+    std::optional<ShadedCodes> unscaled;
     if (classify && region_) {
-        unscaled = pixel_processors_.shaded_volume();
+        pixel_processors_.read_shaded_codes(unscaled.emplace());
         const PpProgram program = build_region_program(*region_, dims_, pixel_processors_.program_inputs());
         const RegionOfInterest& region = *region_;
         const PpPassWork pass = pixel_processors_.execute(
@@ -352,7 +352,7 @@ LevoyFrameReport LevoyRenderer::record(const LevoyFrameInputs& frame) {
         machine_work.phases.push_back(scan_convert());
     }
     if (classify || reshade) {
-        pixel_processors_.read_shaded_volume(shaded_);
+        pixel_processors_.read_shaded_codes(shaded_);
         machine_work.invalidate_gp_caches = !first_frame_;
     }
     if (classify) {

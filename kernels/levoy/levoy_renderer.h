@@ -153,7 +153,10 @@ public:
     LevoyFrameReport render(const LevoyFrameInputs& frame);
 
     const PpShading& pixel_processors() const { return pixel_processors_; }
-    const ShadedVolume& shaded_volume() const { return shaded_; }
+    // The codes the GPs cast through, as the PPs last left them.
+    const ShadedCodes& shaded_codes() const { return shaded_; }
+    // The same, decoded to floats (for the reference compositor and tests).
+    ShadedVolume shaded_volume() const { return shaded_.decoded(); }
     const BinaryPyramid& pyramid() const { return pyramid_; }
     const VoxelBlocks& blocks() const { return blocks_; }
 
@@ -170,7 +173,7 @@ private:
     PpShading pixel_processors_;
     VoxelBlocks blocks_;
     std::shared_ptr<const BlockDirectory> directory_;
-    ShadedVolume shaded_;
+    ShadedCodes shaded_;
     BinaryPyramid pyramid_;
     std::vector<PreparedPolygon> polygons_;
     std::vector<double> polygon_areas_;  // each one's area within the volume

@@ -14,7 +14,7 @@
 
 namespace pp5 {
 
-RayCaster::RayCaster(const ShadedVolume& volume, const BinaryPyramid& pyramid, const VoxelBlocks& blocks,
+RayCaster::RayCaster(const ShadedCodes& volume, const BinaryPyramid& pyramid, const VoxelBlocks& blocks,
                      const Camera& camera, const RayCastSettings& settings)
     : volume_(volume), pyramid_(pyramid), blocks_(blocks), settings_(settings),
       rays_((validate_camera(camera), camera), settings.width, settings.height) {
@@ -53,7 +53,7 @@ void RayCaster::cast_one(std::uint32_t pixel, std::uint32_t start, glm::vec4& co
     }
     work.hit = true;
     const detail::Grid grid(volume_.dims);
-    const glm::vec4* rgba = volume_.rgba.data();
+    const glm::u16vec4* codes = volume_.codes.data();
     // A leap stops short of the empty cell's exit by a little more than the error in a sample's
     // position, so no sample past the exit is ever passed over; one that falls short is tested again.
     const float fastest = std::max({std::abs(ray->direction.x), std::abs(ray->direction.y), std::abs(ray->direction.z)});
@@ -98,7 +98,7 @@ void RayCaster::cast_one(std::uint32_t pixel, std::uint32_t start, glm::vec4& co
             steps_since = 0;
             current_block = block;
         }
-        const glm::vec4 s = grid.interpolate_rgba(cell, rgba);
+        const glm::vec4 s = grid.interpolate_codes(cell, codes, volume_.code_max);
         ++samples_since;
         ++work.samples;
         if (ray_color.add(glm::vec3(s), s.a)) {

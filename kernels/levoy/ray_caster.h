@@ -15,7 +15,7 @@
 
 #include "kernels/levoy/binary_pyramid.h"
 #include "kernels/levoy/voxel_blocks.h"
-#include "kernels/reference/shaded_volume.h"
+#include "kernels/pp_volume/shaded_codes.h"
 #include "kernels/render/camera.h"
 
 #include <glm/vec3.hpp>
@@ -68,7 +68,7 @@ struct CastBatch {
 class RayCaster {
 public:
     // Holds references to its inputs. The pyramid must be of the same volume.
-    RayCaster(const ShadedVolume& volume, const BinaryPyramid& pyramid, const VoxelBlocks& blocks, const Camera& camera,
+    RayCaster(const ShadedCodes& volume, const BinaryPyramid& pyramid, const VoxelBlocks& blocks, const Camera& camera,
               const RayCastSettings& settings);
 
     // Casts the rays through the centres of `pixels`, in parallel; the result does not depend on the
@@ -80,7 +80,7 @@ private:
     void cast_one(std::uint32_t pixel, std::uint32_t start, glm::vec4& color, RayWork& work,
                   std::vector<BlockTouch>& touches) const;
 
-    const ShadedVolume& volume_;
+    const ShadedCodes& volume_;
     const BinaryPyramid& pyramid_;
     const VoxelBlocks& blocks_;
     RayCastSettings settings_;

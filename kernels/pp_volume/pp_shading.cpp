@@ -174,20 +174,20 @@ PpFrameWork PpShading::compute(const Classification& classification, const Color
 }
 
 ShadedVolume PpShading::shaded_volume() const {
-    ShadedVolume shaded;
-    read_shaded_volume(shaded);
-    return shaded;
+    ShadedCodes codes;
+    read_shaded_codes(codes);
+    return codes.decoded();
 }
 
-void PpShading::read_shaded_volume(ShadedVolume& shaded) const {
+void PpShading::read_shaded_codes(ShadedCodes& shaded) const {
     const VoxelRecordLayout& layout = settings_.layout;
     const int record_bits = layout.bits();
     shaded.dims = dims_;
     shaded.spacing = spacing_;
+    const auto color_max = static_cast<float>(mask(layout.color_bits));
+    shaded.code_max = glm::vec4(color_max, color_max, color_max, static_cast<float>(mask(layout.opacity_bits)));
     // Every voxel lies in a used slot, so each element is overwritten below.
-    shaded.rgba.resize(static_cast<std::size_t>(dims_.x) * static_cast<std::size_t>(dims_.y) * static_cast<std::size_t>(dims_.z));
-    const float color_max = static_cast<float>(mask(layout.color_bits));
-    const float opacity_max = static_cast<float>(mask(layout.opacity_bits));
+    shaded.codes.resize(static_cast<std::size_t>(dims_.x) * static_cast<std::size_t>(dims_.y) * static_cast<std::size_t>(dims_.z));
     auto& renderers = machine_.renderers();
     pp5::parallel_for(std::size_t{0}, renderers.size(), [&](std::size_t r) {
         const PpArray& array = renderers[r]->array();
@@ -196,13 +196,12 @@ void PpShading::read_shaded_volume(ShadedVolume& shaded) const {
             if (!frame.used) continue;
             const int base = slot * record_bits;
             for_each_voxel(frame, dims_, placement_.shape(), [&](int pp, glm::ivec3 v) {
-                glm::vec4 rgba;
-                for (int c = 0; c < 3; ++c) {
-                    rgba[c] = static_cast<float>(array.read_backing(pp, base + layout.color_offset(c), layout.color_bits)) / color_max;
-                }
-                rgba.a = static_cast<float>(array.read_backing(pp, base + layout.opacity_offset(), layout.opacity_bits)) / opacity_max;
-                shaded.rgba[static_cast<std::size_t>(v.x) + static_cast<std::size_t>(dims_.x) *
-                                (static_cast<std::size_t>(v.y) + static_cast<std::size_t>(dims_.y) * static_cast<std::size_t>(v.z))] = rgba;
+                glm::u16vec4 code;
+                for (int c = 0; c < 3; ++c)
+                    code[c] = static_cast<std::uint16_t>(array.read_backing(pp, base + layout.color_offset(c), layout.color_bits));
+                code.a = static_cast<std::uint16_t>(array.read_backing(pp, base + layout.opacity_offset(), layout.opacity_bits));
+                shaded.codes[static_cast<std::size_t>(v.x) + static_cast<std::size_t>(dims_.x) *
+                                 (static_cast<std::size_t>(v.y) + static_cast<std::size_t>(dims_.y) * static_cast<std::size_t>(v.z))] = code;
             });
         }
     });

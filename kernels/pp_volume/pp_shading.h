@@ -13,6 +13,7 @@
 // Not modelled yet: moving the volume into the backing stores (the ring brings it once, before any
 // frame) and the commands that start each pass (they arrive over the ring from a GP).
 
+#include "kernels/pp_volume/shaded_codes.h"
 #include "kernels/pp_volume/shading_programs.h"
 #include "kernels/pp_volume/voxel_placement.h"
 #include "kernels/pp_volume/voxel_record.h"
@@ -88,10 +89,11 @@ public:
     PpPassWork execute(const PpProgram& program, const SlotSelector& select, const SlotExpressions& expressions);
     PpProgramInputs program_inputs() const;
 
-    // The colours and opacities the PPs hold, read back into a volume for the compositor.
+    // The colour and opacity codes the PPs hold, read back into `into`, reusing its storage: a
+    // reshade then never holds two copies at once.
+    void read_shaded_codes(ShadedCodes& into) const;
+    // The same, decoded to floats: for the reference compositor and for tests.
     ShadedVolume shaded_volume() const;
-    // The same, into `into`, reusing its storage: a reshade then never holds two copies at once.
-    void read_shaded_volume(ShadedVolume& into) const;
 
     const VoxelPlacement& placement() const { return placement_; }
     const VoxelQuantization& quantization() const { return quantization_; }

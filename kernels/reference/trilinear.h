@@ -2,10 +2,12 @@
 // Internal to the reference renderer: trilinear interpolation on the voxel grid, x fastest.
 
 #include <glm/common.hpp>
+#include <glm/ext/vector_uint4_sized.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
 #include <cstddef>
+#include <cstdint>
 
 #if defined(__SSE2__)
 #include <immintrin.h>
@@ -60,6 +62,37 @@ public:
         return out;
 #else
         return interpolate<glm::vec4>(c, [&](std::size_t i) { return rgba[i]; });
+#endif
+    }
+
+    // The same for four 16-bit codes a voxel, each decoded as code / code_max before interpolating: the
+    // same result as interpolate_rgba over a volume of decoded floats, without storing one.
+    glm::vec4 interpolate_codes(const Cell& c, const glm::u16vec4* codes, glm::vec4 code_max) const {
+#if defined(__SSE2__)
+        const std::uint16_t* v = &codes[c.base].x;
+        const std::size_t row = 4 * row_;
+        const std::size_t slice = 4 * slice_;
+        const __m128 scale = _mm_loadu_ps(&code_max.x);
+        const __m128 wx = _mm_set1_ps(c.weight.x);
+        // One 16-byte load holds a voxel and its x neighbour.
+        const auto pair = [&](const std::uint16_t* p) {
+            const __m128i both = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
+            const __m128i zero = _mm_setzero_si128();
+            const __m128 a = _mm_div_ps(_mm_cvtepi32_ps(_mm_unpacklo_epi16(both, zero)), scale);
+            const __m128 b = _mm_div_ps(_mm_cvtepi32_ps(_mm_unpackhi_epi16(both, zero)), scale);
+            return lerp4(a, b, wx);
+        };
+        const __m128 x00 = pair(v);
+        const __m128 x10 = pair(v + row);
+        const __m128 x01 = pair(v + slice);
+        const __m128 x11 = pair(v + slice + row);
+        const __m128 wy = _mm_set1_ps(c.weight.y);
+        const __m128 result = lerp4(lerp4(x00, x10, wy), lerp4(x01, x11, wy), _mm_set1_ps(c.weight.z));
+        glm::vec4 out;
+        _mm_storeu_ps(&out.x, result);
+        return out;
+#else
+        return interpolate<glm::vec4>(c, [&](std::size_t i) { return glm::vec4(codes[i]) / code_max; });
 #endif
     }
 

@@ -71,7 +71,7 @@ class FrameBuilder {
 public:
     FrameBuilder(const HybridSlicer& slicer, const WilsonSettings& settings, const RegionMachine& machine, const HybridVolume& hybrid,
                  glm::vec3 spacing, glm::ivec3 bricks, const SliceFormat& format, const SlicePrograms& programs,
-                 const ShadedVolume& shaded_texels, const PointLook& point_look, const Camera& view, int image_width, int image_height,
+                 const ShadedCodes& shaded_texels, const PointLook& point_look, const Camera& view, int image_width, int image_height,
                  glm::vec3 image_background)
         : slicer_(slicer), settings_(settings), machine_(machine), hybrid_(&hybrid), spacing_(spacing), bricks_(bricks), format_(format),
           programs_(programs), texels(shaded_texels), look(point_look), camera(view), width(image_width), height(image_height),
@@ -153,7 +153,7 @@ private:
                     p[a] = s;
                     p[b] = i;
                     p[c] = j;
-                    glm::vec4 v = texels.rgba[linear(n, p)];
+                    glm::vec4 v = texels.value(linear(n, p));
                     if (settings_.opacity_correction == SliceOpacityCorrection::PerSlice && v.a > 0)
                         v.a = static_cast<float>(1.0 - std::pow(1.0 - std::min<double>(v.a, 1.0), path_voxels(plane.world(i, j), k)));
                     texel[static_cast<std::size_t>(i) + static_cast<std::size_t>(n[b]) * static_cast<std::size_t>(j)] = v;
@@ -631,7 +631,7 @@ private:
     glm::ivec3 bricks_;
     const SliceFormat& format_;
     const SlicePrograms& programs_;
-    const ShadedVolume& texels;
+    const ShadedCodes& texels;
     const PointLook& look;
     const Camera& camera;
     int width, height;
@@ -685,7 +685,7 @@ std::vector<std::uint64_t> HybridSlicer::resident_bits_by_brick() const {
     return bits;
 }
 
-HybridFrame HybridSlicer::render(const ShadedVolume& texels, const PointLook& look, const Camera& camera, int width, int height,
+HybridFrame HybridSlicer::render(const ShadedCodes& texels, const PointLook& look, const Camera& camera, int width, int height,
                                  glm::vec3 background) const {
     return FrameBuilder(*this, settings_, machine_, *hybrid_, spacing_, bricks_, format_, programs_, texels, look, camera, width, height,
                         background)

@@ -17,7 +17,7 @@
 // region on the host's threads, so it depends on neither the GP count nor any timing parameter. The
 // frame also renders the low-resolution volume alone (no points), the paper's comparison.
 
-#include "kernels/reference/shaded_volume.h"
+#include "kernels/pp_volume/shaded_codes.h"
 #include "kernels/reference/shading_view.h"
 #include "kernels/render/camera.h"
 #include "kernels/render/classification.h"
@@ -81,7 +81,7 @@ public:
     // `spacing`: the original voxel size; `hybrid` must outlive the slicer.
     HybridSlicer(const WilsonSettings& settings, const RegionMachine& machine, const HybridVolume& hybrid, glm::vec3 spacing);
     // `texels`: the low-resolution volume's shaded voxels (colour not premultiplied, opacity per voxel).
-    HybridFrame render(const ShadedVolume& texels, const PointLook& look, const Camera& camera, int width, int height,
+    HybridFrame render(const ShadedCodes& texels, const PointLook& look, const Camera& camera, int width, int height,
                        glm::vec3 background) const;
     const SlicePrograms& programs() const { return programs_; }
     glm::ivec3 bricks() const { return bricks_; }

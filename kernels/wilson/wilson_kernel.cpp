@@ -79,7 +79,7 @@ public:
         };
         if (pp.classification) voxel_pass("classification", *pp.classification, kWilsonVoxelClassification);
         if (pp.shading) voxel_pass("shading", *pp.shading, kWilsonVoxelShading);
-        if (pp.classification || pp.shading) voxel_store_.read_shaded_volume(texels_);
+        if (pp.classification || pp.shading) voxel_store_.read_shaded_codes(texels_);
         shaded_for_ = view;
         first_frame_ = false;
 
@@ -231,7 +231,7 @@ private:
     PpShading voxel_store_;
     HybridSlicer slicer_;
     Classification classification_;
-    ShadedVolume texels_;
+    ShadedCodes texels_;
     std::optional<ShadingView> shaded_for_;
     bool first_frame_ = true;
     std::vector<std::uint64_t> resident_bits_by_brick_;

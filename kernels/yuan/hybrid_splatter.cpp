@@ -61,7 +61,7 @@ HybridSplatter::HybridSplatter(const YuanSettings& settings, const RegionMachine
       corrected_(kernel_, settings.footprint_table_bits, settings.accumulator_bits, glm::radians(settings.footprint_alpha_step_degrees), true),
       plain_(kernel_, settings.footprint_table_bits, settings.accumulator_bits, 1.0, false) {}
 
-SplatFrame HybridSplatter::render(const ShadedVolume& voxels, const Camera& camera, int width, int height, glm::vec3 background) const {
+SplatFrame HybridSplatter::render(const ShadedCodes& voxels, const Camera& camera, int width, int height, glm::vec3 background) const {
     const ScreenProjection projection(camera, width, height);
     const double h = std::min({spacing_.x, spacing_.y, spacing_.z});
     const double kernel_world = settings_.kernel_radius * h;
@@ -90,7 +90,7 @@ SplatFrame HybridSplatter::render(const ShadedVolume& voxels, const Camera& came
                 for (int x = lo.x; x < hi.x; ++x) {
                     const std::size_t v = static_cast<std::size_t>(x) + static_cast<std::size_t>(dims_.x) *
                                           (static_cast<std::size_t>(y) + static_cast<std::size_t>(dims_.y) * static_cast<std::size_t>(z));
-                    if (!(voxels.rgba[v].a > 0.0f)) continue;
+                    if (voxels.transparent(v)) continue;
                     Item item;
                     item.brick = static_cast<std::uint32_t>(b);
                     item.voxel = static_cast<std::uint32_t>(v);
@@ -125,7 +125,7 @@ SplatFrame HybridSplatter::render(const ShadedVolume& voxels, const Camera& came
     pp5::parallel_for(std::size_t{0}, items.size(), [&](std::size_t k) {
         Item& item = items[k];
         ScreenPrimitive& p = primitives[k];
-        const glm::vec4 rgba = voxels.rgba[item.voxel];
+        const glm::vec4 rgba = voxels.value(item.voxel);
         if (item.kind == Kind::Splat) {
             std::optional<ScreenPrimitive> splat =
                 splat_primitive(projection, item.eye, kernel_world, rgba, tables, exact, format_, width, height);

@@ -14,7 +14,7 @@
 // region in the same order on the host's threads; it depends on neither the GP count nor the brick
 // assignment nor any timing parameter, and the recorded work can be re-timed on any machine.
 
-#include "kernels/reference/shaded_volume.h"
+#include "kernels/pp_volume/shaded_codes.h"
 #include "kernels/screen_regions/region_machine.h"
 #include "kernels/render/camera.h"
 #include "kernels/render/image.h"
@@ -68,7 +68,7 @@ class HybridSplatter {
 public:
     HybridSplatter(const YuanSettings& settings, const RegionMachine& machine, glm::ivec3 dims, glm::vec3 spacing);
     // Splats the shaded voxels (colours not premultiplied; opacity per voxel step) for one camera.
-    SplatFrame render(const ShadedVolume& voxels, const Camera& camera, int width, int height, glm::vec3 background) const;
+    SplatFrame render(const ShadedCodes& voxels, const Camera& camera, int width, int height, glm::vec3 background) const;
 
     const RegionPrograms& programs() const { return programs_; }
     // The footprint rows: corrected for the cone angle (perspective, Yuan's index), or plain.

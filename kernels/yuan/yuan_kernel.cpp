@@ -52,7 +52,7 @@ public:
         };
         if (pp.classification) voxel_pass("classification", *pp.classification, kYuanVoxelClassification);
         if (pp.shading) voxel_pass("shading", *pp.shading, kYuanVoxelShading);
-        if (pp.classification || pp.shading) voxel_store_.read_shaded_volume(shaded_);
+        if (pp.classification || pp.shading) voxel_store_.read_shaded_codes(shaded_);
         shaded_for_ = view;
         first_frame_ = false;
 
@@ -129,7 +129,7 @@ private:
     ImageSpec image_;
     PpShading voxel_store_;
     HybridSplatter splatter_;
-    ShadedVolume shaded_;
+    ShadedCodes shaded_;
     std::optional<ShadingView> shaded_for_;
     bool first_frame_ = true;
 };

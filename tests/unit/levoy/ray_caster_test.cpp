@@ -28,13 +28,15 @@ MachineConfig small_machine(std::initializer_list<std::string_view> overrides = 
                               overrides);
 }
 
-ShadedVolume empty_volume(glm::ivec3 dims) {
-    return ShadedVolume{dims, glm::vec3(1.0f), std::vector<glm::vec4>(static_cast<std::size_t>(dims.x * dims.y * dims.z), glm::vec4(0.0f))};
+// 8-bit codes, all transparent.
+ShadedCodes empty_volume(glm::ivec3 dims) {
+    return ShadedCodes{dims, glm::vec3(1.0f), glm::vec4(255.0f),
+                       std::vector<glm::u16vec4>(static_cast<std::size_t>(dims.x * dims.y * dims.z), glm::u16vec4(0))};
 }
 
 TEST(BinaryPyramid, ACellIsOccupiedWhenAnyOfItsCornersIsOpaque) {
-    ShadedVolume v = empty_volume({9, 9, 9});
-    v.rgba[static_cast<std::size_t>(4 + 9 * (4 + 9 * 4))].a = 0.5f;  // voxel (4,4,4)
+    ShadedCodes v = empty_volume({9, 9, 9});
+    v.codes[static_cast<std::size_t>(4 + 9 * (4 + 9 * 4))].a = 128;  // voxel (4,4,4)
     const BinaryPyramid p = BinaryPyramid::from_opacity(v);
     EXPECT_EQ(p.cell_dims(0), glm::ivec3(8));
     EXPECT_EQ(p.occupied_cells(0), 8u);  // the eight cells around the voxel
@@ -52,12 +54,12 @@ TEST(BinaryPyramid, ACellIsOccupiedWhenAnyOfItsCornersIsOpaque) {
 }
 
 TEST(BinaryPyramid, SameCellsComparesTheNonEmptySet) {
-    ShadedVolume a = empty_volume({6, 5, 4});
-    a.rgba[7].a = 0.2f;
-    ShadedVolume b = a;
-    b.rgba[7].a = 0.9f;  // other opacity, same set
-    ShadedVolume c = a;
-    c.rgba[8].a = 0.1f;  // one more non-empty voxel
+    ShadedCodes a = empty_volume({6, 5, 4});
+    a.codes[7].a = 51;
+    ShadedCodes b = a;
+    b.codes[7].a = 230;  // other opacity, same set
+    ShadedCodes c = a;
+    c.codes[8].a = 1;  // one more non-empty voxel
     EXPECT_TRUE(BinaryPyramid::from_opacity(a).same_cells(BinaryPyramid::from_opacity(b)));
     EXPECT_FALSE(BinaryPyramid::from_opacity(a).same_cells(BinaryPyramid::from_opacity(c)));
 }
@@ -172,11 +174,11 @@ TEST(RayCaster, FullyRefinedImageEqualsTheReferenceCompositorWithAndWithoutSkipp
 
 TEST(RayCaster, SkippingChangesTheWorkNotThePixels) {
     Scene s;
-    const ShadedVolume& shaded = [&]() -> const ShadedVolume& {
+    const ShadedCodes& shaded = [&]() -> const ShadedCodes& {
         static Machine machine(s.config);
         static LevoyRenderer renderer(machine, s.volume, LevoySettings::from(s.config), s.image);
         renderer.render(s.inputs);
-        return renderer.shaded_volume();
+        return renderer.shaded_codes();
     }();
     const BinaryPyramid pyramid = BinaryPyramid::from_opacity(shaded);
     Machine machine(s.config);

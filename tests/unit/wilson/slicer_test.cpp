@@ -83,10 +83,11 @@ TEST(WilsonSlices, AlongAnAxisTheyCompositeTheTexelsBilinearSamples) {
     settings.downsample_factor = 1;
     const HybridVolume hybrid = HybridVolume::build(volume, settings, false);
     ASSERT_TRUE(hybrid.points().empty());
-    ShadedVolume texels{dims, glm::vec3(1.0f), std::vector<glm::vec4>(volume.samples().size())};
+    ShadedCodes texels{dims, glm::vec3(1.0f), glm::vec4(255.0f), std::vector<glm::u16vec4>(volume.samples().size())};
     std::mt19937 random(5);
-    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-    for (glm::vec4& t : texels.rgba) t = unit(random) < 0.2f ? glm::vec4(0.0f) : glm::vec4(unit(random), unit(random), unit(random), 0.25f * unit(random));
+    std::uniform_int_distribution<int> code(0, 255);
+    for (glm::u16vec4& t : texels.codes)
+        if (code(random) >= 51) t = glm::u16vec4(code(random), code(random), code(random), code(random) / 4);
     RegionMachine machine;
     machine.renderer_of_voxel = [](glm::ivec3) { return 0; };
     const HybridSlicer slicer(settings, machine, hybrid, volume.spacing());
@@ -115,7 +116,7 @@ TEST(WilsonSlices, AlongAnAxisTheyCompositeTheTexelsBilinearSamples) {
             glm::dvec3 color(0.0);
             double alpha = 0;
             for (int z = dims.z - 1; z >= 0; --z) {
-                const auto at = [&](int a, int b) { return glm::dvec4(texels.rgba[volume.index(a, b, z)]); };
+                const auto at = [&](int a, int b) { return glm::dvec4(texels.value(volume.index(a, b, z))); };
                 const glm::dvec4 s = (1 - u) * (1 - v) * at(i, j) + u * (1 - v) * at(i + 1, j) + (1 - u) * v * at(i, j + 1) + u * v * at(i + 1, j + 1);
                 color = s.a * glm::dvec3(s) + (1 - s.a) * color;
                 alpha = s.a + (1 - s.a) * alpha;
