@@ -74,13 +74,13 @@ PpShading::PpShading(Machine& machine, const Volume& volume, const VoxelStoreSet
       spacing_(volume.spacing()),
       placement_(settings.placement, volume.dims(), shape_of(machine), settings.layout.bits()) {
     if (!placement_.fits()) throw InputError(kMachineFile, "renderer.backing_store_bits", placement_.shortfall());
-    // The host's float gradients (12 bytes a voxel) are only the source of the codes the PPs hold.
-    const GradientField gradients = compute_gradients(volume);
-    quantization_ = VoxelQuantization::choose(volume, gradients, settings.layout);
-    load_volume(volume, gradients);
+    quantization_ = VoxelQuantization::choose(volume, settings.layout);
+    load_volume(volume);
 }
 
-void PpShading::load_volume(const Volume& volume, const GradientField& gradients) {
+// Each voxel's gradient is computed as its record is written: a float gradient field would take 12
+// bytes a voxel (1.6 GB at 512^3) only to be turned into codes once.
+void PpShading::load_volume(const Volume& volume) {
     const VoxelRecordLayout& layout = settings_.layout;
     const int record_bits = layout.bits();
     auto& renderers = machine_.renderers();
@@ -95,7 +95,7 @@ void PpShading::load_volume(const Volume& volume, const GradientField& gradients
                 const std::size_t i = volume.index(v.x, v.y, v.z);
                 array.write_backing(pp, base + layout.value_offset(), layout.value_bits,
                                     static_cast<std::uint64_t>(quantization_.value_code(volume.samples()[i])));
-                const glm::vec3 g = gradients.gradients[i];
+                const glm::vec3 g = central_difference(volume, v);
                 for (int axis = 0; axis < 3; ++axis) {
                     const auto code = static_cast<std::uint64_t>(quantization_.gradient_code(g[axis]));
                     array.write_backing(pp, base + layout.gradient_offset(axis), layout.gradient_bits, code & mask(layout.gradient_bits));

@@ -101,7 +101,7 @@ public:
 private:
     PpPassWork execute_program(const PpProgram& program, const ShadingView* view);
     // Writes every voxel's value and gradient code into its slot; the gradients are not kept after.
-    void load_volume(const Volume& volume, const GradientField& gradients);
+    void load_volume(const Volume& volume);
 
     Machine& machine_;
     VoxelStoreSettings settings_;

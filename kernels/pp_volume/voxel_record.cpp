@@ -5,11 +5,9 @@
 
 namespace pp5 {
 
-VoxelQuantization VoxelQuantization::choose(const Volume& volume, const GradientField& gradients,
-                                            const VoxelRecordLayout& layout) {
-    float largest = 0.0f;
-    for (const glm::vec3& g : gradients.gradients) largest = std::max({largest, std::abs(g.x), std::abs(g.y), std::abs(g.z)});
-    return for_ranges(volume.min_value(), volume.max_value(), is_integer_type(volume.source_type()), largest, layout);
+VoxelQuantization VoxelQuantization::choose(const Volume& volume, const VoxelRecordLayout& layout) {
+    return for_ranges(volume.min_value(), volume.max_value(), is_integer_type(volume.source_type()),
+                      largest_gradient_component(volume), layout);
 }
 
 VoxelQuantization VoxelQuantization::for_ranges(float value_min, float value_max, bool integer_values, float largest_gradient,

@@ -38,8 +38,8 @@ struct VoxelQuantization {
     int value_max_code = 255;
     int gradient_max_code = 127;
 
-    // The quantisation of `volume` (with its gradients) for `layout`.
-    static VoxelQuantization choose(const Volume& volume, const GradientField& gradients, const VoxelRecordLayout& layout);
+    // The quantisation of `volume` and its gradients (central differences) for `layout`.
+    static VoxelQuantization choose(const Volume& volume, const VoxelRecordLayout& layout);
     // The same rule from the ranges alone: values from value_min to value_max (stored exactly when
     // they are integers that fit the code), gradient components up to largest_gradient in magnitude.
     static VoxelQuantization for_ranges(float value_min, float value_max, bool integer_values, float largest_gradient,

@@ -4,6 +4,7 @@
 #include <tbb/blocked_range.h>
 
 #include <algorithm>
+#include <vector>
 
 namespace pp5 {
 
@@ -39,6 +40,23 @@ GradientField compute_gradients(const Volume& volume) {
         }
     });
     return field;
+}
+
+float largest_gradient_component(const Volume& volume) {
+    const glm::ivec3 dims = volume.dims();
+    std::vector<float> per_slice(static_cast<std::size_t>(dims.z), 0.0f);
+    pp5::parallel_for(tbb::blocked_range<int>(0, dims.z), [&](const tbb::blocked_range<int>& slices) {
+        for (int z = slices.begin(); z != slices.end(); ++z) {
+            float largest = 0.0f;
+            for (int y = 0; y < dims.y; ++y)
+                for (int x = 0; x < dims.x; ++x) {
+                    const glm::vec3 g = glm::abs(central_difference(volume, {x, y, z}));
+                    largest = std::max({largest, g.x, g.y, g.z});
+                }
+            per_slice[static_cast<std::size_t>(z)] = largest;
+        }
+    });
+    return per_slice.empty() ? 0.0f : *std::max_element(per_slice.begin(), per_slice.end());
 }
 
 }  // namespace pp5
