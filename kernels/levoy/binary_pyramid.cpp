@@ -33,8 +33,8 @@ BinaryPyramid::Level BinaryPyramid::pack(glm::ivec3 dims, const std::vector<std:
 }
 
 BinaryPyramid BinaryPyramid::from_opacity(const ShadedCodes& volume, const ShadedCodes* also) {
-    const glm::ivec3 dims = volume.dims;
-    if (also != nullptr && (also->dims != dims || also->codes.size() != volume.codes.size()))
+    const glm::ivec3 dims = volume.dims();
+    if (also != nullptr && also->dims() != dims)
         throw std::invalid_argument("pyramid: the second volume has another size");
     if (dims.x < 2 || dims.y < 2 || dims.z < 2) throw std::invalid_argument("pyramid: a volume needs two voxels along each axis");
     BinaryPyramid pyramid;

@@ -18,7 +18,7 @@ RayCaster::RayCaster(const ShadedCodes& volume, const BinaryPyramid& pyramid, co
                      const Camera& camera, const RayCastSettings& settings)
     : volume_(volume), pyramid_(pyramid), blocks_(blocks), settings_(settings),
       rays_((validate_camera(camera), camera), settings.width, settings.height) {
-    if (pyramid.levels() == 0 || pyramid.cell_dims(0) != volume.dims - 1)
+    if (pyramid.levels() == 0 || pyramid.cell_dims(0) != volume.dims() - 1)
         throw std::invalid_argument("ray caster: pyramid of another volume");
     if (!(settings.sample_step > 0.0f) || settings.width < 1 || settings.height < 1)
         throw std::invalid_argument("ray caster: bad image size or sample step");
@@ -42,7 +42,7 @@ void RayCaster::cast_one(std::uint32_t pixel, std::uint32_t start, glm::vec4& co
                          std::vector<BlockTouch>& touches) const {
     const int px = static_cast<int>(pixel % static_cast<std::uint32_t>(settings_.width));
     const int py = static_cast<int>(pixel / static_cast<std::uint32_t>(settings_.width));
-    const detail::MarchFrame frame(volume_.dims, volume_.spacing, settings_.sample_step);
+    const detail::MarchFrame frame(volume_.dims(), volume_.spacing(), settings_.sample_step);
     FrontToBack ray_color(settings_.sample_step, settings_.early_termination ? settings_.termination_opacity : 2.0f);
     work.pixel = pixel;
     work.first_touch = static_cast<std::uint32_t>(touches.size());
@@ -52,8 +52,10 @@ void RayCaster::cast_one(std::uint32_t pixel, std::uint32_t start, glm::vec4& co
         return;
     }
     work.hit = true;
-    const detail::Grid grid(volume_.dims);
-    const glm::u16vec4* codes = volume_.codes.data();
+    const detail::Grid grid(volume_.dims());
+    const glm::u8vec4* narrow_codes = volume_.narrow() ? volume_.narrow_codes() : nullptr;
+    const glm::u16vec4* wide_codes = volume_.wide_codes();
+    const glm::vec4 code_max = volume_.code_max();
     // A leap stops short of the empty cell's exit by a little more than the error in a sample's
     // position, so no sample past the exit is ever passed over; one that falls short is tested again.
     const float fastest = std::max({std::abs(ray->direction.x), std::abs(ray->direction.y), std::abs(ray->direction.z)});
@@ -98,7 +100,8 @@ void RayCaster::cast_one(std::uint32_t pixel, std::uint32_t start, glm::vec4& co
             steps_since = 0;
             current_block = block;
         }
-        const glm::vec4 s = grid.interpolate_codes(cell, codes, volume_.code_max);
+        const glm::vec4 s = narrow_codes != nullptr ? grid.interpolate_codes(cell, narrow_codes, code_max)
+                                                    : grid.interpolate_codes(cell, wide_codes, code_max);
         ++samples_since;
         ++work.samples;
         if (ray_color.add(glm::vec3(s), s.a)) {

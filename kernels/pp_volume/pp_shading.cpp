@@ -182,12 +182,9 @@ ShadedVolume PpShading::shaded_volume() const {
 void PpShading::read_shaded_codes(ShadedCodes& shaded) const {
     const VoxelRecordLayout& layout = settings_.layout;
     const int record_bits = layout.bits();
-    shaded.dims = dims_;
-    shaded.spacing = spacing_;
     const auto color_max = static_cast<float>(mask(layout.color_bits));
-    shaded.code_max = glm::vec4(color_max, color_max, color_max, static_cast<float>(mask(layout.opacity_bits)));
-    // Every voxel lies in a used slot, so each element is overwritten below.
-    shaded.codes.resize(static_cast<std::size_t>(dims_.x) * static_cast<std::size_t>(dims_.y) * static_cast<std::size_t>(dims_.z));
+    // Every voxel lies in a used slot, so each code is overwritten below.
+    shaded.reset(dims_, spacing_, glm::vec4(color_max, color_max, color_max, static_cast<float>(mask(layout.opacity_bits))));
     auto& renderers = machine_.renderers();
     pp5::parallel_for(std::size_t{0}, renderers.size(), [&](std::size_t r) {
         const PpArray& array = renderers[r]->array();
@@ -200,8 +197,8 @@ void PpShading::read_shaded_codes(ShadedCodes& shaded) const {
                 for (int c = 0; c < 3; ++c)
                     code[c] = static_cast<std::uint16_t>(array.read_backing(pp, base + layout.color_offset(c), layout.color_bits));
                 code.a = static_cast<std::uint16_t>(array.read_backing(pp, base + layout.opacity_offset(), layout.opacity_bits));
-                shaded.codes[static_cast<std::size_t>(v.x) + static_cast<std::size_t>(dims_.x) *
-                                 (static_cast<std::size_t>(v.y) + static_cast<std::size_t>(dims_.y) * static_cast<std::size_t>(v.z))] = code;
+                shaded.set(static_cast<std::size_t>(v.x) + static_cast<std::size_t>(dims_.x) *
+                               (static_cast<std::size_t>(v.y) + static_cast<std::size_t>(dims_.y) * static_cast<std::size_t>(v.z)), code);
             });
         }
     });

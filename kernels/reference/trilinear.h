@@ -65,19 +65,23 @@ public:
 #endif
     }
 
-    // The same for four 16-bit codes a voxel, each decoded as code / code_max before interpolating: the
-    // same result as interpolate_rgba over a volume of decoded floats, without storing one.
-    glm::vec4 interpolate_codes(const Cell& c, const glm::u16vec4* codes, glm::vec4 code_max) const {
+    // The same for a voxel's four codes of 8 or 16 bits, each decoded as code / code_max before
+    // interpolating: the result interpolate_rgba gives over a volume of decoded floats, without
+    // storing one.
+    template <class Code>
+    glm::vec4 interpolate_codes(const Cell& c, const Code* codes, glm::vec4 code_max) const {
 #if defined(__SSE2__)
-        const std::uint16_t* v = &codes[c.base].x;
+        const auto* v = &codes[c.base].x;
         const std::size_t row = 4 * row_;
         const std::size_t slice = 4 * slice_;
         const __m128 scale = _mm_loadu_ps(&code_max.x);
         const __m128 wx = _mm_set1_ps(c.weight.x);
-        // One 16-byte load holds a voxel and its x neighbour.
-        const auto pair = [&](const std::uint16_t* p) {
-            const __m128i both = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
-            const __m128i zero = _mm_setzero_si128();
+        const __m128i zero = _mm_setzero_si128();
+        // One load holds a voxel and its x neighbour, widened to 16 bits a channel.
+        const auto pair = [&](const auto* p) {
+            __m128i both;
+            if constexpr (sizeof(*p) == 1) both = _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p)), zero);
+            else both = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
             const __m128 a = _mm_div_ps(_mm_cvtepi32_ps(_mm_unpacklo_epi16(both, zero)), scale);
             const __m128 b = _mm_div_ps(_mm_cvtepi32_ps(_mm_unpackhi_epi16(both, zero)), scale);
             return lerp4(a, b, wx);

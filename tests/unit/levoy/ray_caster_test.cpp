@@ -7,6 +7,7 @@
 #include "kernels/levoy/levoy_renderer.h"
 #include "kernels/levoy/ray_caster.h"
 #include "kernels/reference/composite.h"
+#include "kernels/reference/trilinear.h"
 #include "kernels/volume/phantoms.h"
 #include "sim/machine/machine.h"
 #include "tests/unit/levoy/levoy_test_support.h"
@@ -18,6 +19,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <random>
 
 namespace pp5 {
 namespace {
@@ -29,14 +31,33 @@ MachineConfig small_machine(std::initializer_list<std::string_view> overrides = 
 }
 
 // 8-bit codes, all transparent.
-ShadedCodes empty_volume(glm::ivec3 dims) {
-    return ShadedCodes{dims, glm::vec3(1.0f), glm::vec4(255.0f),
-                       std::vector<glm::u16vec4>(static_cast<std::size_t>(dims.x * dims.y * dims.z), glm::u16vec4(0))};
+ShadedCodes empty_volume(glm::ivec3 dims) { return ShadedCodes(dims, glm::vec3(1.0f), glm::vec4(255.0f)); }
+
+TEST(ShadedCodes, InterpolateExactlyAsTheirDecodedFloatsAtEightAndSixteenBits) {
+    const glm::ivec3 dims(7, 6, 5);
+    for (const float code_max : {255.0f, 4095.0f}) {
+        ShadedCodes codes(dims, glm::vec3(1.0f), glm::vec4(code_max, code_max, code_max, 255.0f));
+        EXPECT_EQ(codes.narrow(), code_max <= 255.0f);
+        std::mt19937 random(11);
+        std::uniform_int_distribution<int> colour(0, static_cast<int>(code_max));
+        std::uniform_int_distribution<int> opacity(0, 255);
+        for (std::size_t i = 0; i < codes.size(); ++i)
+            codes.set(i, glm::u16vec4(colour(random), colour(random), colour(random), opacity(random)));
+        const ShadedVolume floats = codes.decoded();
+        const detail::Grid grid(dims);
+        std::uniform_real_distribution<float> along(-0.5f, 7.5f);
+        for (int n = 0; n < 500; ++n) {
+            const detail::Cell cell = grid.cell({along(random), along(random), along(random)});
+            const glm::vec4 from_codes = codes.narrow() ? grid.interpolate_codes(cell, codes.narrow_codes(), codes.code_max())
+                                                        : grid.interpolate_codes(cell, codes.wide_codes(), codes.code_max());
+            ASSERT_EQ(from_codes, grid.interpolate_rgba(cell, floats.rgba.data())) << "sample " << n << ", largest code " << code_max;
+        }
+    }
 }
 
 TEST(BinaryPyramid, ACellIsOccupiedWhenAnyOfItsCornersIsOpaque) {
     ShadedCodes v = empty_volume({9, 9, 9});
-    v.codes[static_cast<std::size_t>(4 + 9 * (4 + 9 * 4))].a = 128;  // voxel (4,4,4)
+    v.set(static_cast<std::size_t>(4 + 9 * (4 + 9 * 4)), {0, 0, 0, 128});  // voxel (4,4,4)
     const BinaryPyramid p = BinaryPyramid::from_opacity(v);
     EXPECT_EQ(p.cell_dims(0), glm::ivec3(8));
     EXPECT_EQ(p.occupied_cells(0), 8u);  // the eight cells around the voxel
@@ -55,11 +76,11 @@ TEST(BinaryPyramid, ACellIsOccupiedWhenAnyOfItsCornersIsOpaque) {
 
 TEST(BinaryPyramid, SameCellsComparesTheNonEmptySet) {
     ShadedCodes a = empty_volume({6, 5, 4});
-    a.codes[7].a = 51;
+    a.set(7, {0, 0, 0, 51});
     ShadedCodes b = a;
-    b.codes[7].a = 230;  // other opacity, same set
+    b.set(7, {0, 0, 0, 230});  // other opacity, same set
     ShadedCodes c = a;
-    c.codes[8].a = 1;  // one more non-empty voxel
+    c.set(8, {0, 0, 0, 1});  // one more non-empty voxel
     EXPECT_TRUE(BinaryPyramid::from_opacity(a).same_cells(BinaryPyramid::from_opacity(b)));
     EXPECT_FALSE(BinaryPyramid::from_opacity(a).same_cells(BinaryPyramid::from_opacity(c)));
 }
@@ -182,7 +203,7 @@ TEST(RayCaster, SkippingChangesTheWorkNotThePixels) {
     }();
     const BinaryPyramid pyramid = BinaryPyramid::from_opacity(shaded);
     Machine machine(s.config);
-    const VoxelPlacement placement(PlacementPolicy::Bricks, shaded.dims, PpArrayShape{4, 32, 32, 2048}, 64);
+    const VoxelPlacement placement(PlacementPolicy::Bricks, shaded.dims(), PpArrayShape{4, 32, 32, 2048}, 64);
     const VoxelBlocks blocks(placement, 4, 32);
     RayCastSettings settings;
     settings.width = s.image.width;

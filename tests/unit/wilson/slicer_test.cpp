@@ -83,11 +83,11 @@ TEST(WilsonSlices, AlongAnAxisTheyCompositeTheTexelsBilinearSamples) {
     settings.downsample_factor = 1;
     const HybridVolume hybrid = HybridVolume::build(volume, settings, false);
     ASSERT_TRUE(hybrid.points().empty());
-    ShadedCodes texels{dims, glm::vec3(1.0f), glm::vec4(255.0f), std::vector<glm::u16vec4>(volume.samples().size())};
+    ShadedCodes texels(dims, glm::vec3(1.0f), glm::vec4(255.0f));
     std::mt19937 random(5);
     std::uniform_int_distribution<int> code(0, 255);
-    for (glm::u16vec4& t : texels.codes)
-        if (code(random) >= 51) t = glm::u16vec4(code(random), code(random), code(random), code(random) / 4);
+    for (std::size_t i = 0; i < texels.size(); ++i)
+        if (code(random) >= 51) texels.set(i, glm::u16vec4(code(random), code(random), code(random), code(random) / 4));
     RegionMachine machine;
     machine.renderer_of_voxel = [](glm::ivec3) { return 0; };
     const HybridSlicer slicer(settings, machine, hybrid, volume.spacing());
