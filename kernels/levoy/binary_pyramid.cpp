@@ -93,6 +93,16 @@ std::uint64_t BinaryPyramid::total_cells() const {
     return n;
 }
 
+std::uint64_t BinaryPyramid::total_cells_of(glm::ivec3 voxel_dims) {
+    std::uint64_t n = 0;
+    glm::ivec3 d = voxel_dims - 1;  // level 0: a cell between each pair of voxel planes
+    for (;;) {
+        n += static_cast<std::uint64_t>(d.x) * static_cast<std::uint64_t>(d.y) * static_cast<std::uint64_t>(d.z);
+        if (d == glm::ivec3(1)) return n;
+        d = (d + 1) / 2;
+    }
+}
+
 bool BinaryPyramid::same_cells(const BinaryPyramid& other) const {
     return !levels_.empty() && !other.levels_.empty() && levels_.front().dims == other.levels_.front().dims &&
            levels_.front().words == other.levels_.front().words;

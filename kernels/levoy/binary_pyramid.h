@@ -37,6 +37,8 @@ public:
     std::uint64_t cells(int level) const;
     std::uint64_t occupied_cells(int level) const;
     std::uint64_t total_cells() const;  // over all levels: what building it visits
+    // The same for any volume of `voxel_dims` (each >= 2), before one is built.
+    static std::uint64_t total_cells_of(glm::ivec3 voxel_dims);
     // True when both mark the same level-0 cells (then every level agrees).
     bool same_cells(const BinaryPyramid& other) const;
 

@@ -62,6 +62,7 @@ public:
               int local_memory_bits_used);
     // Bits of each PP's backing store holding data, as the kernel that placed it reports.
     void set_backing_store_bits_used(std::uint64_t bits) { backing_store_bits_used_ = bits; }
+    std::uint64_t backing_store_bits_used() const { return backing_store_bits_used_; }
     // Records passes and requests as slices on this renderer's track (nullptr: no trace).
     void set_trace(TraceRecorder* trace);
 

@@ -752,22 +752,11 @@ std::string GpPhaseRun::describe_stall() const {
 
 void FrameRun::check_machine_fits() const {
     check_picture_fits(machine_, work_.image_width, work_.image_height);
-    std::uint64_t cache_bits = 0;
-    for (const Phase& p : work_.phases)
-        if (const auto* gp = std::get_if<GpPhase>(&p.work); gp != nullptr && gp->blocks) cache_bits = machine_.gps().front()->cache_bits();
-    const std::size_t gp_count = machine_.gps().size();
-    std::vector<std::uint64_t> owned(gp_count, 0);
-    for (std::size_t key = 0; key < work_.resident_bits_by_key.size(); ++key) owned[key % gp_count] += work_.resident_bits_by_key[key];
-    for (std::size_t g = 0; g < gp_count; ++g) {
-        const auto& gp = machine_.gps()[g];
-        const std::uint64_t data_bits = work_.gp_resident_bits + owned[g];
-        const std::uint64_t need_bytes = (cache_bits + data_bits + 7) / 8;
-        if (need_bytes > gp->memory_bytes())
-            throw InputError(kMachineFile, "gp.memory_bytes",
-                             fmt::format("GP {} must hold its {} byte cache and {} bytes of the kernel's data ({} bytes in all), "
-                                         "more than its {} bytes of memory (more GPs, gp.count, would spread the data)",
-                                         g, cache_bits / 8, (data_bits + 7) / 8, need_bytes, gp->memory_bytes()));
-    }
+    const bool with_cache = std::any_of(work_.phases.begin(), work_.phases.end(), [](const Phase& p) {
+        const auto* gp = std::get_if<GpPhase>(&p.work);
+        return gp != nullptr && gp->blocks;
+    });
+    check_gp_memory_fits(machine_, with_cache, work_.gp_resident_bits, work_.resident_bits_by_key);
 }
 
 // Recorded work is a kernel's output: an index out of range is the kernel's bug, said before it runs.
@@ -954,6 +943,24 @@ void check_picture_fits(const Machine& machine, int width, int height) {
         throw InputError(kMachineFile, "frame_buffer.width", fmt::format("the frame buffer is {} pixels wide, the picture {}", fb.width(), width));
     if (height > fb.height())
         throw InputError(kMachineFile, "frame_buffer.height", fmt::format("the frame buffer is {} pixels high, the picture {}", fb.height(), height));
+}
+
+void check_gp_memory_fits(const Machine& machine, bool with_cache, std::uint64_t resident_bits,
+                          const std::vector<std::uint64_t>& resident_bits_by_key) {
+    const std::uint64_t cache_bits = with_cache ? machine.gps().front()->cache_bits() : 0;
+    const std::size_t gp_count = machine.gps().size();
+    std::vector<std::uint64_t> owned(gp_count, 0);
+    for (std::size_t key = 0; key < resident_bits_by_key.size(); ++key) owned[key % gp_count] += resident_bits_by_key[key];
+    for (std::size_t g = 0; g < gp_count; ++g) {
+        const auto& gp = machine.gps()[g];
+        const std::uint64_t data_bits = resident_bits + owned[g];
+        const std::uint64_t need_bytes = (cache_bits + data_bits + 7) / 8;
+        if (need_bytes > gp->memory_bytes())
+            throw InputError(kMachineFile, "gp.memory_bytes",
+                             fmt::format("GP {} must hold its {} byte cache and {} bytes of the kernel's data ({} bytes in all), "
+                                         "more than its {} bytes of memory (more GPs, gp.count, would spread the data)",
+                                         g, cache_bits / 8, (data_bits + 7) / 8, need_bytes, gp->memory_bytes()));
+    }
 }
 
 FrameTiming time_frame(Machine& machine, const FrameWork& work, const EngineOptions& options) {

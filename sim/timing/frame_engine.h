@@ -38,6 +38,13 @@ FrameTiming time_frame(Machine& machine, const FrameWork& work, const EngineOpti
 // buffer (time_frame checks every frame; a frontend can ask before any work).
 void check_picture_fits(const Machine& machine, int width, int height);
 
+// InputError naming gp.memory_bytes when a GP cannot hold its block cache (when `with_cache`) plus
+// `resident_bits` of the kernel's data and its share of `resident_bits_by_key` (key k on GP k mod the
+// GP count). time_frame checks every frame; a kernel can ask before any work, from what it knows its
+// frames will keep.
+void check_gp_memory_fits(const Machine& machine, bool with_cache, std::uint64_t resident_bits,
+                          const std::vector<std::uint64_t>& resident_bits_by_key = {});
+
 // The cost of one operation of each of `kinds` on a GP of `config`, in picoseconds: the sum of its
 // cost parameters, each at the GP's flop rate or clock (per its unit), times the calibration scales.
 std::vector<Tick> gp_op_costs(const MachineConfig& config, const std::vector<GpOpKind>& kinds);

@@ -9,6 +9,7 @@
 #include "kernels/reference/composite.h"
 #include "kernels/reference/trilinear.h"
 #include "kernels/volume/phantoms.h"
+#include "sim/core/input_error.h"
 #include "sim/machine/machine.h"
 #include "tests/unit/levoy/levoy_test_support.h"
 #include "tests/unit/render/test_scenes.h"
@@ -191,6 +192,31 @@ TEST(RayCaster, FullyRefinedImageEqualsTheReferenceCompositorWithAndWithoutSkipp
             EXPECT_EQ(report.ray_cast.pyramid_steps, 0u);
         }
     }
+}
+
+TEST(LevoyRenderer, AGpMemoryTooSmallForThePyramidIsRefusedBeforeThePpsAreLoaded) {
+    const Scene s;
+    const std::uint64_t pyramid_cells = BinaryPyramid::total_cells_of(s.volume.dims());
+    const std::uint64_t cache_bytes = Machine(s.config).gps().front()->cache_bits() / 8;
+    const std::uint64_t needed = cache_bytes + (pyramid_cells + 7) / 8;
+    {
+        MachineConfig roomy = s.config;
+        roomy.apply_override("gp.memory_bytes=" + std::to_string(needed));
+        Machine machine(roomy);
+        LevoyRenderer renderer(machine, s.volume, LevoySettings::from(roomy), s.image);
+        renderer.render(s.inputs);
+        EXPECT_EQ(renderer.pyramid().total_cells(), pyramid_cells);  // the up-front size is the built one's
+    }
+    MachineConfig tight = s.config;
+    tight.apply_override("gp.memory_bytes=" + std::to_string(needed - 1));
+    Machine machine(tight);
+    try {
+        LevoyRenderer renderer(machine, s.volume, LevoySettings::from(tight), s.image);
+        FAIL() << "a GP one byte short of its cache and pyramid was accepted";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.field(), "gp.memory_bytes");
+    }
+    for (const auto& renderer : machine.renderers()) EXPECT_EQ(renderer->backing_store_bits_used(), 0u) << "the PPs were loaded first";
 }
 
 TEST(RayCaster, SkippingChangesTheWorkNotThePixels) {
