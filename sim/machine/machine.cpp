@@ -26,7 +26,8 @@ std::vector<std::unique_ptr<T>> build_all(std::int64_t count, const MachineConfi
 
 namespace {
 
-// The renderers' backing stores are the machine's one large allocation; refused before it is made.
+// The renderers' backing stores are the machine's one large allocation; refused before it is made. Only
+// the pages a kernel writes become resident, but a kernel may write all of them.
 const MachineConfig& fits_host(const MachineConfig& config) {
     const double pps = static_cast<double>(config.integer("renderer.pp_columns")) * static_cast<double>(config.integer("renderer.pp_rows"));
     const double words = static_cast<double>((config.integer("renderer.backing_store_bits") + 63) / 64);

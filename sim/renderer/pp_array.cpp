@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <new>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -182,18 +183,20 @@ PpArray::PpArray(int columns, int rows, int local_memory_bits, int backing_store
         throw std::invalid_argument(fmt::format("PpArray: {} x {} PPs is too many", columns, rows));
     }
     backing_words_ = (backing_store_bits + 63) / 64;
-    backing_.assign(static_cast<std::size_t>(size()) * static_cast<std::size_t>(backing_words_), 0);
+    const std::size_t words = std::max<std::size_t>(1, static_cast<std::size_t>(size()) * static_cast<std::size_t>(backing_words_));
+    backing_.reset(static_cast<std::uint64_t*>(std::calloc(words, sizeof(std::uint64_t))));
+    if (!backing_) throw std::bad_alloc();
     enabled_.assign(static_cast<std::size_t>(size()), 1);
 }
 
 void PpArray::write_backing(int pp, int bit_offset, int bits, std::uint64_t value) {
     check_backing_access(pp, bit_offset, bits);
-    BitWindow(bit_offset, bits).write(backing_.data(), static_cast<std::size_t>(size()), static_cast<std::size_t>(pp), value);
+    BitWindow(bit_offset, bits).write(backing_.get(), static_cast<std::size_t>(size()), static_cast<std::size_t>(pp), value);
 }
 
 std::uint64_t PpArray::read_backing(int pp, int bit_offset, int bits) const {
     check_backing_access(pp, bit_offset, bits);
-    return BitWindow(bit_offset, bits).read(backing_.data(), static_cast<std::size_t>(size()), static_cast<std::size_t>(pp));
+    return BitWindow(bit_offset, bits).read(backing_.get(), static_cast<std::size_t>(size()), static_cast<std::size_t>(pp));
 }
 
 void PpArray::check_backing_access(int pp, int bit_offset, int bits) const {
@@ -288,7 +291,7 @@ PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context)
     for (std::size_t slot = 0; slot < slots; ++slot) fields_[slot].resize(total, 0);  // kept across runs
 
     const auto columns = static_cast<std::size_t>(columns_);
-    std::uint64_t* const store = backing_.data();
+    std::uint64_t* const store = backing_.get();
     // Lookups whose every entry fits the destination (always, from the builder) need no wrap.
     std::vector<std::uint8_t> lookup_fits(program.instructions.size(), 0);
     for (std::size_t k = 0; k < program.instructions.size(); ++k) {

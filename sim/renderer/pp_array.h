@@ -10,6 +10,8 @@
 #include "sim/renderer/pp_program.h"
 
 #include <cstdint>
+#include <cstdlib>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -67,7 +69,13 @@ private:
     int local_memory_bits_;
     int backing_store_bits_;
     int backing_words_;                               // 64-bit words per PP
-    std::vector<std::uint64_t> backing_;              // word-major: word w of PP p at [w * size() + p]
+    // Word-major: word w of PP p at [w * size() + p], so the words of the slots a kernel never uses lie
+    // together at the end. calloc gives a large block as fresh zero pages that take host memory only
+    // once written: the machine's whole backing store is declared, what a volume fills is resident.
+    struct FreeStore {
+        void operator()(std::uint64_t* words) const { std::free(words); }
+    };
+    std::unique_ptr<std::uint64_t[], FreeStore> backing_;
     std::vector<std::vector<std::int64_t>> fields_;   // by storage slot (PpField::storage), one value per PP
     std::vector<std::uint8_t> enabled_;
 };
