@@ -121,6 +121,9 @@ Volume RenderSession::load_checked_volume(TraceRecorder* trace) {
     if (kernel_.runs_on_machine()) check_picture_fits(machine_, scenario_.image.width, scenario_.image.height);
     check_fits_host_memory(scenario_.file.string(), "image.width", picture_bytes_per_frame(kernel_, scenario_, config_, compare_with_reference_),
                            fmt::format("holding a {}x{} frame's pictures", scenario_.image.width, scenario_.image.height));
+    // When the scenario gives the volume's size, one the machine cannot hold is refused before reading it.
+    if (const auto dims = scenario_.dataset.known_dims(); dims && kernel_.runs_on_machine())
+        kernel_.check_volume_fits(machine_, config_, *dims);
     return load_dataset(scenario_);
 }
 

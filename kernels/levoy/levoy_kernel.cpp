@@ -205,6 +205,9 @@ public:
                              "the levoy kernel shades at the voxels (shade-then-interpolate); use kernel = \"reference\" to "
                              "interpolate first");
     }
+    void check_volume_fits(const Machine& machine, const MachineConfig& config, glm::ivec3 dims) const override {
+        LevoyRenderer::check_fits(machine, dims, LevoySettings::from(config));
+    }
     std::unique_ptr<KernelRun> start(Machine& machine, const MachineConfig& config, const Scenario& scenario,
                                      const Volume& volume) const override {
         return std::make_unique<LevoyRun>(machine, config, scenario, volume);

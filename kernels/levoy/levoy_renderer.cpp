@@ -18,23 +18,19 @@ namespace {
 int voxel_bits_of(const VoxelRecordLayout& layout) { return 3 * layout.color_bits + layout.opacity_bits; }
 }  // namespace
 
-namespace {
-
-// Every frame's GPs hold the whole pyramid (a bit a cell) beside their caches: refused here, before
-// the PPs are loaded, rather than at the first frame.
-void check_gp_memory(const Machine& machine, glm::ivec3 dims, const LevoySettings& settings) {
+void LevoyRenderer::check_fits(const Machine& machine, glm::ivec3 dims, const LevoySettings& settings) {
+    PpShading::check_fits(machine, dims, settings.store);
+    // Every frame's GPs hold the whole pyramid (a bit a cell) beside their caches.
     const bool any_axis_too_thin = dims.x < 2 || dims.y < 2 || dims.z < 2;  // the pyramid refuses these itself
     check_gp_memory_fits(machine, true, settings.pyramid_skipping && !any_axis_too_thin ? BinaryPyramid::total_cells_of(dims) : 0);
 }
-
-}  // namespace
 
 LevoyRenderer::LevoyRenderer(Machine& machine, const Volume& volume, const LevoySettings& settings,
                              const LevoyImageSettings& image)
     : machine_(machine),
       settings_(settings),
       image_(image),
-      dims_((check_gp_memory(machine, volume.dims(), settings), volume.dims())),
+      dims_((check_fits(machine, volume.dims(), settings), volume.dims())),
       spacing_(volume.spacing()),
       pixel_processors_(machine, volume, settings.store),
       blocks_(pixel_processors_.placement(), settings.block_cells, voxel_bits_of(settings.store.layout)),

@@ -152,6 +152,11 @@ public:
     // record(), then times the work on this renderer's machine.
     LevoyFrameReport render(const LevoyFrameInputs& frame);
 
+    // InputError naming the machine key when a volume of `dims` cannot be placed on the PPs or its
+    // pyramid does not fit in the GPs' memory beside their caches: the constructor's own refusals,
+    // askable before the volume is read.
+    static void check_fits(const Machine& machine, glm::ivec3 dims, const LevoySettings& settings);
+
     const PpShading& pixel_processors() const { return pixel_processors_; }
     // The codes the GPs cast through, as the PPs last left them.
     const ShadedCodes& shaded_codes() const { return shaded_; }

@@ -36,6 +36,10 @@ PpArrayShape shape_of(const Machine& machine) {
             static_cast<int>(c.integer("renderer.pp_rows")), static_cast<int>(c.integer("renderer.backing_store_bits"))};
 }
 
+void refuse_unless_placed(const VoxelPlacement& placement) {
+    if (!placement.fits()) throw InputError(kMachineFile, "renderer.backing_store_bits", placement.shortfall());
+}
+
 }  // namespace
 
 const ParamGroup& VoxelStoreSettings::params() {
@@ -73,13 +77,17 @@ PpShading::PpShading(Machine& machine, const Volume& volume, const VoxelStoreSet
       dims_(volume.dims()),
       spacing_(volume.spacing()),
       placement_(settings.placement, volume.dims(), shape_of(machine), settings.layout.bits()) {
-    if (!placement_.fits()) throw InputError(kMachineFile, "renderer.backing_store_bits", placement_.shortfall());
+    refuse_unless_placed(placement_);
     quantization_ = VoxelQuantization::choose(volume, settings.layout);
     load_volume(volume);
 }
 
 // Each voxel's gradient is computed as its record is written: a float gradient field would take 12
 // bytes a voxel (1.6 GB at 512^3) only to be turned into codes once.
+void PpShading::check_fits(const Machine& machine, glm::ivec3 dims, const VoxelStoreSettings& settings) {
+    refuse_unless_placed(VoxelPlacement(settings.placement, dims, shape_of(machine), settings.layout.bits()));
+}
+
 void PpShading::load_volume(const Volume& volume) {
     const VoxelRecordLayout& layout = settings_.layout;
     const int record_bits = layout.bits();

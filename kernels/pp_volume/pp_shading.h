@@ -73,6 +73,8 @@ public:
     // Places and loads the volume. Throws InputError(machine configuration, "renderer.backing_store_bits",
     // what it would need) if it does not fit, and InputError for a layout the programs cannot use.
     PpShading(Machine& machine, const Volume& volume, const VoxelStoreSettings& settings);
+    // The same refusal for a volume of `dims`, before it is read.
+    static void check_fits(const Machine& machine, glm::ivec3 dims, const VoxelStoreSettings& settings);
 
     // Runs the passes this frame needs and times them on the machine from its current time (the
     // classification, then the shading); returns what they did.

@@ -33,6 +33,13 @@ struct DatasetSpec {
     std::size_t raw_header_bytes = 0;
     glm::vec3 raw_spacing{1.0f};
     std::optional<glm::ivec3> resample_to;
+
+    // The volume's size when the scenario alone says it (resampled, or raw), before anything is read.
+    std::optional<glm::ivec3> known_dims() const {
+        if (resample_to) return resample_to;
+        if (source == Source::Raw) return raw_dims;
+        return std::nullopt;
+    }
 };
 
 // The camera as a user describes it: an orbit about the volume's centre.

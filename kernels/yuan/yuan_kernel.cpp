@@ -161,6 +161,9 @@ public:
             if (frame.region)
                 throw InputError(file, "region", "the yuan kernel has no volume-of-interest tool; use kernel = \"levoy\"");
     }
+    void check_volume_fits(const Machine& machine, const MachineConfig& config, glm::ivec3 dims) const override {
+        PpShading::check_fits(machine, dims, VoxelStoreSettings::from(config));
+    }
     std::unique_ptr<KernelRun> start(Machine& machine, const MachineConfig& config, const Scenario& scenario,
                                      const Volume& volume) const override {
         return std::make_unique<YuanRun>(machine, config, scenario, volume);

@@ -276,6 +276,18 @@ TEST(Cli, BadMachineIsRejected) {
     expect_rejected("machine_small", "render " + scenario("sphere.toml") + " --set renderer.count=1 --set renderer.backing_store_bits=512",
                     "renderer.backing_store_bits");
     expect_rejected("kernel_setting", "render " + scenario("sphere.toml") + " --set voxel_store.placement=diagonal", "voxel_store.placement");
+    // When the scenario gives the volume's size, a machine that cannot hold it is refused before the
+    // volume is read: here the raw file does not even exist, and the error is the machine's.
+    const fs::path big_dir = scratch("too_big_files");
+    const auto too_big = write(big_dir, "too_big.toml",
+                               "[dataset]\nfile = \"absent.raw\"\nraw = { dims = [2048, 2048, 2048], type = \"uint8\" }\n"
+                               "[classification]\ncontours = [{value = 100}]\n");
+    expect_rejected("too_big", "render " + too_big.string(), "renderer.backing_store_bits");
+    // Placed on 1024 renderers, a 1024^3 volume's pyramid (153 MB a GP) outgrows the GPs' memory.
+    const auto big_pyramid = write(big_dir, "big_pyramid.toml",
+                                   "[dataset]\nfile = \"absent.raw\"\nraw = { dims = [1024, 1024, 1024], type = \"uint8\" }\n"
+                                   "[classification]\ncontours = [{value = 100}]\n");
+    expect_rejected("too_big_pyramid", "render " + big_pyramid.string() + " --set renderer.count=1024", "gp.memory_bytes");
     // Yuan's kernel: a negative radius, bands of no depth, a switch out of range, a cut-off too tight.
     const std::string yuan = "render " + scenario("yuan-checker-box.toml");
     expect_rejected("yuan_radius", yuan + " --set yuan.kernel_radius=-1", "yuan.kernel_radius");
