@@ -1,6 +1,7 @@
 #include "calibration/fit.h"
 
 #include "sim/core/input_error.h"
+#include "sim/core/parallel.h"
 
 #include <ceres/ceres.h>
 #include <fmt/format.h>
@@ -12,6 +13,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <mutex>
 #include <sstream>
 
 namespace pp5 {
@@ -74,22 +76,12 @@ public:
         for (std::size_t i = 0; i < targets_.size(); ++i) r.push_back(residual(*targets_[i], simulated[i]));
         return r;
     }
-    bool operator()(double const* const* parameters, double* out) const {
-        const std::vector<double> r = residuals(scales(parameters[0]));
-        std::copy(r.begin(), r.end(), out);
-        return std::all_of(r.begin(), r.end(), [](double v) { return std::isfinite(v); });
-    }
-
     // The least-squares problem over `x`: robust for fitting, plain for the covariance at the solution
     // (a robust loss's down-weighting would otherwise inflate the standard errors of a poor fit twice).
     std::unique_ptr<ceres::Problem> problem(std::vector<double>& x, bool robust) const {
         auto problem = std::make_unique<ceres::Problem>();
-        ceres::NumericDiffOptions diff;
-        diff.relative_step_size = 0.01;  // costs are whole picoseconds and events discrete: a visible step
-        auto* cost = new ceres::DynamicNumericDiffCostFunction<MachineFit, ceres::CENTRAL>(this, ceres::DO_NOT_TAKE_OWNERSHIP, diff);
-        cost->AddParameterBlock(static_cast<int>(x.size()));
-        cost->SetNumResiduals(static_cast<int>(targets_.size()));
-        problem->AddResidualBlock(cost, robust ? new ceres::CauchyLoss(kLossScale) : nullptr, x.data());
+        problem->AddResidualBlock(new Residuals(*this, static_cast<int>(x.size())), robust ? new ceres::CauchyLoss(kLossScale) : nullptr,
+                                  x.data());
         for (std::size_t i = 0; i < x.size(); ++i) {
             problem->SetParameterLowerBound(x.data(), static_cast<int>(i), kScales[free_[i]].lower);
             problem->SetParameterUpperBound(x.data(), static_cast<int>(i), kScales[free_[i]].upper);
@@ -117,6 +109,47 @@ public:
     const std::vector<int>& free() const { return free_; }
 
 private:
+    // The targets' residuals and their central-difference Jacobian. Each evaluation is a whole
+    // simulation, and the 2n + 1 of a Jacobian are independent: they run side by side, so a fit uses
+    // every core and still gives the same numbers at any thread count.
+    class Residuals final : public ceres::CostFunction {
+    public:
+        Residuals(const MachineFit& fit, int scales) : fit_(fit) {
+            set_num_residuals(static_cast<int>(fit.targets_.size()));
+            mutable_parameter_block_sizes()->push_back(scales);
+        }
+        bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+            const std::size_t n = static_cast<std::size_t>(parameter_block_sizes().front());
+            const std::vector<double> x(parameters[0], parameters[0] + n);
+            const bool want_jacobian = jacobians != nullptr && jacobians[0] != nullptr;
+            // Point 0 is x; points 2i+1 and 2i+2 step scale i up and down.
+            std::vector<std::vector<double>> points(want_jacobian ? 2 * n + 1 : 1, x);
+            std::vector<double> steps(n);
+            for (std::size_t i = 0; want_jacobian && i < n; ++i) {
+                // Costs are whole picoseconds and events discrete: a visible step, 1% of the scale.
+                steps[i] = kRelativeStep * std::max(std::abs(x[i]), 1.0);
+                points[2 * i + 1][i] += steps[i];
+                points[2 * i + 2][i] -= steps[i];
+            }
+            std::vector<std::vector<double>> values(points.size());
+            pp5::parallel_for(std::size_t{0}, points.size(),
+                              [&](std::size_t p) { values[p] = fit_.residuals(fit_.scales(points[p].data())); });
+            const std::size_t m = values.front().size();
+            for (std::size_t r = 0; r < m; ++r) {
+                residuals[r] = values.front()[r];
+                for (std::size_t i = 0; want_jacobian && i < n; ++i)
+                    jacobians[0][r * n + i] = (values[2 * i + 1][r] - values[2 * i + 2][r]) / (2.0 * steps[i]);
+            }
+            for (const std::vector<double>& v : values)
+                if (!std::all_of(v.begin(), v.end(), [](double e) { return std::isfinite(e); })) return false;
+            return true;
+        }
+
+    private:
+        static constexpr double kRelativeStep = 0.01;
+        const MachineFit& fit_;
+    };
+
     const CalibrationModel& model_;
     std::string machine_;
     std::vector<const Target*> targets_;
@@ -265,13 +298,18 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
 
         // Which scales the targets can tell apart: each scale's elasticity on every target.
         say(fmt::format("{}: measuring what each scale moves ({} fitted targets)", machine, targets.size()));
-        const std::vector<double> base = model.simulate(machine, start, targets);
+        // The base and each moved scale are independent runs: simulated side by side.
+        std::vector<std::vector<double>> runs(kScaleCount + 1);
+        pp5::parallel_for(std::size_t{0}, runs.size(), [&](std::size_t run) {
+            CalibrationScales scales = start;
+            if (run > 0) scales.*kScales[run - 1].member *= 1.1;
+            runs[run] = model.simulate(machine, scales, targets);
+        });
+        const std::vector<double>& base = runs.front();
         std::vector<std::vector<double>> columns(kScaleCount);
         std::vector<double> max_elasticity(kScaleCount, 0.0);
         for (int j = 0; j < kScaleCount; ++j) {
-            CalibrationScales moved = start;
-            moved.*kScales[j].member *= 1.1;
-            const std::vector<double> sim = model.simulate(machine, moved, targets);
+            const std::vector<double>& sim = runs[static_cast<std::size_t>(j) + 1];
             for (std::size_t i = 0; i < targets.size(); ++i) {
                 const double elasticity = std::log(sim[i] / base[i]) / std::log(1.1);
                 columns[static_cast<std::size_t>(j)].push_back(elasticity / relative_uncertainty(targets[i]->exactness));
@@ -375,28 +413,36 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
         report.notes.push_back(fmt::format("{}: residual spread (reduced chi-square) {:.3g} on {} degrees of freedom", machine, spread,
                                            targets.size() - free.size()));
 
-        // Leave one out: refit without each fitted target and predict it.
+        // Leave one out: refit without each fitted target, from the same start as the full fit (not from
+        // its answer, which has seen the target), and predict it. The refits are independent: they run
+        // side by side, each deterministic, so the results do not depend on the thread count.
         if (options.leave_one_out) {
-            for (std::size_t k = 0; k < targets.size(); ++k) {
-                TargetResult result;
+            std::vector<TargetResult> left_out(targets.size());
+            std::mutex progress;
+            pp5::parallel_for(std::size_t{0}, targets.size(), [&](std::size_t k) {
+                TargetResult& result = left_out[k];
                 result.target = *targets[k];
                 std::vector<const Target*> rest;
                 for (std::size_t i = 0; i < targets.size(); ++i)
                     if (i != k) rest.push_back(targets[i]);
                 if (rest.size() < free.size()) {
                     result.leave_one_out_note = fmt::format("not possible: {} targets left for {} scales", rest.size(), free.size());
-                } else {
-                    say(fmt::format("{}: leave-one-out {} of {} ({})", machine, k + 1, targets.size(), targets[k]->id));
-                    const MachineFit partial(model, machine, rest, start, free);
-                    std::vector<double> y = x;
-                    partial.solve(y, options.max_iterations);
-                    const double predicted = model.simulate(machine, partial.scales(y.data()), {targets[k]}).front();
-                    result.leave_one_out = predicted;
-                    result.leave_one_out_error = (predicted - targets[k]->reported) / targets[k]->reported;
-                    if (rest.size() == free.size()) result.leave_one_out_note = "the rest determine the scales exactly";
+                    return;
                 }
-                loo.emplace(targets[k]->id, result);
-            }
+                {
+                    const std::lock_guard<std::mutex> lock(progress);
+                    say(fmt::format("{}: leave-one-out: refitting without {}", machine, targets[k]->id));
+                }
+                const MachineFit partial(model, machine, rest, start, free);
+                std::vector<double> y;
+                for (int j : free) y.push_back(start.*kScales[j].member);
+                partial.solve(y, options.max_iterations);
+                const double predicted = model.simulate(machine, partial.scales(y.data()), {targets[k]}).front();
+                result.leave_one_out = predicted;
+                result.leave_one_out_error = (predicted - targets[k]->reported) / targets[k]->reported;
+                if (rest.size() == free.size()) result.leave_one_out_note = "the rest determine the scales exactly";
+            });
+            for (std::size_t k = 0; k < targets.size(); ++k) loo.emplace(targets[k]->id, std::move(left_out[k]));
         }
         report.parameters.insert(report.parameters.end(), params.begin(), params.end());
     }

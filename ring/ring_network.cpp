@@ -100,6 +100,11 @@ RingNetwork::RingNetwork(const MachineConfig& config, std::size_t gps, std::size
         for (; next_gp < gps; ++next_gp) add(StationKind::GraphicsProcessor, next_gp, "gp");
     }
     stations_.push_back(RingStation{StationKind::FrameBuffer, 0, "frame_buffer"});
+    for (std::size_t p = 0; p < stations_.size(); ++p) {
+        std::vector<std::size_t>& of_kind = positions_[static_cast<std::size_t>(stations_[p].kind)];
+        if (of_kind.size() <= stations_[p].index) of_kind.resize(stations_[p].index + 1);
+        of_kind[stations_[p].index] = p;
+    }
 
     stats().formula("stations", "count", "Stations on the ring", [this] { return static_cast<double>(stations_.size()); });
     stats().formula("peak_bandwidth", "bit/s", "All channels together, one word per channel per ring cycle",
@@ -107,9 +112,9 @@ RingNetwork::RingNetwork(const MachineConfig& config, std::size_t gps, std::size
 }
 
 std::size_t RingNetwork::position(StationKind kind, std::size_t index) const {
-    for (std::size_t p = 0; p < stations_.size(); ++p)
-        if (stations_[p].kind == kind && stations_[p].index == index) return p;
-    throw std::out_of_range("no such ring station");
+    const std::vector<std::size_t>& of_kind = positions_[static_cast<std::size_t>(kind)];
+    if (index >= of_kind.size()) throw std::out_of_range("no such ring station");
+    return of_kind[index];
 }
 
 std::size_t RingNetwork::hops(std::size_t from_position, std::size_t to_position) const {

@@ -26,6 +26,7 @@
 namespace pp5 {
 
 enum class StationKind { Host, GraphicsProcessor, Renderer, FrameBuffer };
+inline constexpr std::size_t kStationKindCount = 4;
 
 struct RingStation {
     StationKind kind;
@@ -115,6 +116,8 @@ private:
     std::vector<std::unique_ptr<RingChannel>> channels_;
     std::vector<Tick> channel_free_;
     std::vector<RingStation> stations_;
+    // Each kind's stations' positions, by index: a message's destination is found without a search.
+    std::array<std::vector<std::size_t>, kStationKindCount> positions_;
     RingObserver* observer_ = nullptr;
     Tick horizon_ = 0;
 

@@ -15,8 +15,7 @@ BlockCache::BlockCache(Component* owner, std::uint64_t capacity_blocks, int asso
     if (capacity_blocks == 0 || associativity < 1) throw std::invalid_argument("block cache needs at least one block and one way");
     ways_ = static_cast<int>(std::min<std::uint64_t>(static_cast<std::uint64_t>(associativity), capacity_blocks));
     sets_ = capacity_blocks / static_cast<std::uint64_t>(ways_);
-    tags_.assign(sets_ * static_cast<std::uint64_t>(ways_), kEmpty);
-    last_use_.assign(tags_.size(), 0);
+    ways_of_sets_.assign(sets_ * static_cast<std::uint64_t>(ways_), Way{});
     stats().formula("capacity", "blocks", "Blocks the cache holds", [this] { return static_cast<double>(this->capacity_blocks()); });
     stats().formula("hit_rate", "fraction", "hits / (hits + misses)", [this] {
         const auto all = hits.value() + misses.value();
@@ -32,7 +31,7 @@ std::uint64_t BlockCache::set_of(std::uint64_t block) const {
 bool BlockCache::contains(std::uint64_t block) const {
     const std::uint64_t base = set_of(block) * static_cast<std::uint64_t>(ways_);
     for (int w = 0; w < ways_; ++w)
-        if (tags_[base + static_cast<std::uint64_t>(w)] == block) return true;
+        if (ways_of_sets_[base + static_cast<std::uint64_t>(w)].tag == block) return true;
     return false;
 }
 
@@ -40,8 +39,8 @@ bool BlockCache::lookup(std::uint64_t block) {
     const std::uint64_t base = set_of(block) * static_cast<std::uint64_t>(ways_);
     for (int w = 0; w < ways_; ++w) {
         const std::uint64_t slot = base + static_cast<std::uint64_t>(w);
-        if (tags_[slot] == block) {
-            last_use_[slot] = ++use_clock_;
+        if (ways_of_sets_[slot].tag == block) {
+            ways_of_sets_[slot].last_use = ++use_clock_;
             ++hits;
             return true;
         }
@@ -56,28 +55,28 @@ void BlockCache::insert(std::uint64_t block) {
     std::uint64_t victim = base;
     for (int w = 0; w < ways_; ++w) {
         const std::uint64_t slot = base + static_cast<std::uint64_t>(w);
-        if (tags_[slot] == block) {  // already there (two requests crossed): refresh it
-            last_use_[slot] = ++use_clock_;
+        if (ways_of_sets_[slot].tag == block) {  // already there (two requests crossed): refresh it
+            ways_of_sets_[slot].last_use = ++use_clock_;
             return;
         }
-        if (tags_[slot] == kEmpty) {
-            if (tags_[victim] != kEmpty) victim = slot;
-        } else if (tags_[victim] != kEmpty && last_use_[slot] < last_use_[victim]) {
+        if (ways_of_sets_[slot].tag == kEmpty) {
+            if (ways_of_sets_[victim].tag != kEmpty) victim = slot;
+        } else if (ways_of_sets_[victim].tag != kEmpty && ways_of_sets_[slot].last_use < ways_of_sets_[victim].last_use) {
             victim = slot;
         }
     }
-    if (tags_[victim] == kEmpty) {
+    if (ways_of_sets_[victim].tag == kEmpty) {
         ++occupied_;
     } else {
         ++evictions;
     }
-    tags_[victim] = block;
-    last_use_[victim] = ++use_clock_;
+    ways_of_sets_[victim].tag = block;
+    ways_of_sets_[victim].last_use = ++use_clock_;
     ++fills;
 }
 
 void BlockCache::invalidate() {
-    std::fill(tags_.begin(), tags_.end(), kEmpty);
+    std::fill(ways_of_sets_.begin(), ways_of_sets_.end(), Way{});
     occupied_ = 0;
     ++invalidations;
 }

@@ -45,8 +45,12 @@ private:
 
     std::uint64_t sets_;
     int ways_;
-    std::vector<std::uint64_t> tags_;      // sets_ x ways_
-    std::vector<std::uint64_t> last_use_;  // a use counter per way: the smallest is the LRU
+    // A way's tag beside its use counter (the smallest is the LRU), so a look-up touches one place.
+    struct Way {
+        std::uint64_t tag = kEmpty;
+        std::uint64_t last_use = 0;
+    };
+    std::vector<Way> ways_of_sets_;  // sets_ x ways_
     std::uint64_t use_clock_ = 0;
     std::uint64_t occupied_ = 0;
 };

@@ -11,6 +11,8 @@
 #include "sim/core/input_error.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <tbb/global_control.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -33,8 +35,8 @@ Target make_target(const test::CalibrationFiles& files, const std::string& id, i
     return t;
 }
 
-TEST(Fit, RecoversTheScalesItsTargetsWereMadeWith) {
-    const test::CalibrationFiles files = test::write_calibration_files("recover");
+// Seven targets made by the model itself at `truth`, one of them held out.
+TargetSet synthetic_targets(const test::CalibrationFiles& files, const CalibrationScales& truth) {
     TargetSet set;
     set.file = files.dir / "synthetic.toml";
     set.name = "synthetic";
@@ -46,17 +48,19 @@ TEST(Fit, RecoversTheScalesItsTargetsWereMadeWith) {
                    make_target(files, "light-pp", 2, "pp_seconds"),
                    make_target(files, "light-refined", 2, "refined_seconds")};
     set.targets.back().fitted = false;  // one held out, predicted only
-    const MachineConfig functional = load_run_config(files.machine.string(), {});
+    const CalibrationModel generator(set, load_run_config(files.machine.string(), {}));
+    std::vector<const Target*> all;
+    for (const Target& t : generator.targets().targets) all.push_back(&t);
+    const std::vector<double> values = generator.simulate(files.machine.string(), truth, all);
+    for (std::size_t i = 0; i < values.size(); ++i) set.targets[i].reported = values[i];
+    return set;
+}
 
-    // The model itself makes the targets, at known scales.
+TEST(Fit, RecoversTheScalesItsTargetsWereMadeWith) {
+    const test::CalibrationFiles files = test::write_calibration_files("recover");
     const CalibrationScales truth{1.8, 0.6, 1.3};
-    {
-        const CalibrationModel generator(set, functional);
-        std::vector<const Target*> all;
-        for (const Target& t : generator.targets().targets) all.push_back(&t);
-        const std::vector<double> values = generator.simulate(files.machine.string(), truth, all);
-        for (std::size_t i = 0; i < values.size(); ++i) set.targets[i].reported = values[i];
-    }
+    const TargetSet set = synthetic_targets(files, truth);
+    const MachineConfig functional = load_run_config(files.machine.string(), {});
     const CalibrationModel model(set, functional);
     FitOptions options;
     options.leave_one_out = true;
@@ -96,6 +100,24 @@ TEST(Fit, RecoversTheScalesItsTargetsWereMadeWith) {
     const MachineConfig reloaded = load_run_config(fitted_file.string(), {});
     EXPECT_NEAR(reloaded.real("calibration.gp_flops_scale"), fitted.gp_flops, 1e-5 * fitted.gp_flops);
     EXPECT_EQ(reloaded.machine_name(), "tiny-fitted");
+}
+
+TEST(Fit, TheSameAtOneAndTwoThreads) {
+    // The Jacobian's simulations, the scales' sensitivities and the leave-one-out refits run side by side.
+    const test::CalibrationFiles files = test::write_calibration_files("threads");
+    const TargetSet set = synthetic_targets(files, CalibrationScales{0.7, 2.5, 0.9});
+    const CalibrationModel model(set, load_run_config(files.machine.string(), {}));
+    FitOptions options;
+    options.leave_one_out = true;
+    const auto fitted_with = [&](std::size_t threads) {
+        const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+        nlohmann::json report = fit_targets(model, options).to_json();
+        report.erase("host_seconds");
+        return report;
+    };
+    const nlohmann::json one = fitted_with(1);
+    EXPECT_EQ(one, fitted_with(2));
+    EXPECT_FALSE(one["parameters"].empty());
 }
 
 TEST(Fit, NeedsMoreFittedTargetsThanFreeScales) {
