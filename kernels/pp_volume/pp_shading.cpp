@@ -1,5 +1,6 @@
 #include "kernels/pp_volume/pp_shading.h"
 
+#include "kernels/reference/gradient_field.h"
 #include "sim/core/input_error.h"
 #include "sim/core/parallel.h"
 #include "sim/timing/frame_engine.h"

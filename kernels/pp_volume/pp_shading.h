@@ -17,7 +17,6 @@
 #include "kernels/pp_volume/shading_programs.h"
 #include "kernels/pp_volume/voxel_placement.h"
 #include "kernels/pp_volume/voxel_record.h"
-#include "kernels/reference/gradient_field.h"
 #include "kernels/reference/shaded_volume.h"
 #include "kernels/reference/shading_view.h"
 #include "kernels/render/classification.h"

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 
 #if defined(__SSE2__)
 #include <immintrin.h>
@@ -47,19 +48,10 @@ public:
     // lane (a + (b - a) t, in the same order), four lanes at a time where SSE is available.
     glm::vec4 interpolate_rgba(const Cell& c, const glm::vec4* rgba) const {
 #if defined(__SSE2__)
-        const float* v = &rgba[c.base].x;
-        const std::size_t row = 4 * row_;
-        const std::size_t slice = 4 * slice_;
-        const __m128 wx = _mm_set1_ps(c.weight.x);
-        const __m128 x00 = lerp4(_mm_loadu_ps(v), _mm_loadu_ps(v + 4), wx);
-        const __m128 x10 = lerp4(_mm_loadu_ps(v + row), _mm_loadu_ps(v + row + 4), wx);
-        const __m128 x01 = lerp4(_mm_loadu_ps(v + slice), _mm_loadu_ps(v + slice + 4), wx);
-        const __m128 x11 = lerp4(_mm_loadu_ps(v + slice + row), _mm_loadu_ps(v + slice + row + 4), wx);
-        const __m128 wy = _mm_set1_ps(c.weight.y);
-        const __m128 result = lerp4(lerp4(x00, x10, wy), lerp4(x01, x11, wy), _mm_set1_ps(c.weight.z));
-        glm::vec4 out;
-        _mm_storeu_ps(&out.x, result);
-        return out;
+        return blend(c, [&](std::size_t voxel) {
+            const float* v = &rgba[voxel].x;
+            return std::pair{_mm_loadu_ps(v), _mm_loadu_ps(v + 4)};
+        });
 #else
         return interpolate<glm::vec4>(c, [&](std::size_t i) { return rgba[i]; });
 #endif
@@ -71,30 +63,17 @@ public:
     template <class Code>
     glm::vec4 interpolate_codes(const Cell& c, const Code* codes, glm::vec4 code_max) const {
 #if defined(__SSE2__)
-        const auto* v = &codes[c.base].x;
-        const std::size_t row = 4 * row_;
-        const std::size_t slice = 4 * slice_;
         const __m128 scale = _mm_loadu_ps(&code_max.x);
-        const __m128 wx = _mm_set1_ps(c.weight.x);
         const __m128i zero = _mm_setzero_si128();
-        // One load holds a voxel and its x neighbour, widened to 16 bits a channel.
-        const auto pair = [&](const auto* p) {
+        return blend(c, [&](std::size_t voxel) {
+            // One load holds a voxel and its x neighbour, widened to 16 bits a channel.
+            const auto* p = &codes[voxel].x;
             __m128i both;
             if constexpr (sizeof(*p) == 1) both = _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p)), zero);
             else both = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
-            const __m128 a = _mm_div_ps(_mm_cvtepi32_ps(_mm_unpacklo_epi16(both, zero)), scale);
-            const __m128 b = _mm_div_ps(_mm_cvtepi32_ps(_mm_unpackhi_epi16(both, zero)), scale);
-            return lerp4(a, b, wx);
-        };
-        const __m128 x00 = pair(v);
-        const __m128 x10 = pair(v + row);
-        const __m128 x01 = pair(v + slice);
-        const __m128 x11 = pair(v + slice + row);
-        const __m128 wy = _mm_set1_ps(c.weight.y);
-        const __m128 result = lerp4(lerp4(x00, x10, wy), lerp4(x01, x11, wy), _mm_set1_ps(c.weight.z));
-        glm::vec4 out;
-        _mm_storeu_ps(&out.x, result);
-        return out;
+            return std::pair{_mm_div_ps(_mm_cvtepi32_ps(_mm_unpacklo_epi16(both, zero)), scale),
+                             _mm_div_ps(_mm_cvtepi32_ps(_mm_unpackhi_epi16(both, zero)), scale)};
+        });
 #else
         return interpolate<glm::vec4>(c, [&](std::size_t i) { return glm::vec4(codes[i]) / code_max; });
 #endif
@@ -115,6 +94,25 @@ public:
 private:
 #if defined(__SSE2__)
     static __m128 lerp4(__m128 a, __m128 b, __m128 t) { return _mm_add_ps(a, _mm_mul_ps(_mm_sub_ps(b, a), t)); }
+    // The cell's trilinear blend, four lanes at a time, in interpolate's order: `corners(voxel)` gives a
+    // voxel's four channels and its x neighbour's.
+    template <class Corners>
+    glm::vec4 blend(const Cell& c, Corners&& corners) const {
+        const __m128 wx = _mm_set1_ps(c.weight.x);
+        const auto along_x = [&](std::size_t voxel) {
+            const auto [low, high] = corners(voxel);
+            return lerp4(low, high, wx);
+        };
+        const __m128 x00 = along_x(c.base);
+        const __m128 x10 = along_x(c.base + row_);
+        const __m128 x01 = along_x(c.base + slice_);
+        const __m128 x11 = along_x(c.base + slice_ + row_);
+        const __m128 wy = _mm_set1_ps(c.weight.y);
+        const __m128 result = lerp4(lerp4(x00, x10, wy), lerp4(x01, x11, wy), _mm_set1_ps(c.weight.z));
+        glm::vec4 out;
+        _mm_storeu_ps(&out.x, result);
+        return out;
+    }
 #endif
     template <class T>
     static T lerp(const T& a, const T& b, float t) {
