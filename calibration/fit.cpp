@@ -13,6 +13,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <set>
 #include <mutex>
 #include <sstream>
 
@@ -454,6 +455,13 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
     return report;
 }
 
+std::string FitReport::use_of(const Target& target) const {
+    std::string use = target.fitted ? "fitted" : "held out";
+    for (const IdentifiedWorkload& w : workload)
+        if (w.spec.numerator == target.id || w.spec.denominator == target.id) return use + "; workload";
+    return use;
+}
+
 nlohmann::json FitReport::to_json() const {
     const auto nan_to_null = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
     nlohmann::json params = nlohmann::json::array();
@@ -477,7 +485,8 @@ nlohmann::json FitReport::to_json() const {
                            {"exactness", std::string(to_string(r.target.exactness))},
                            {"simulated", r.simulated},
                            {"relative_error", r.relative_error},
-                           {"use", r.target.fitted ? "fitted" : "held-out"}};
+                           {"use", r.target.fitted ? "fitted" : "held-out"},
+                           {"used_by_workload_step", use_of(r.target).ends_with("workload")}};
         if (r.target.is_formula()) {
             row["kernel"] = r.target.kernel;
             row["formula"] = r.target.formula;
@@ -497,14 +506,33 @@ nlohmann::json FitReport::to_json() const {
                               {"within_25_percent", s.within_25},
                               {"log_correlation", nan_to_null(s.log_correlation)}};
     };
-    return {{"targets", targets_name}, {"parameters", params}, {"rows", rows},
+    nlohmann::json identified = nlohmann::json::array();
+    for (const IdentifiedWorkload& w : workload) {
+        identified.push_back({{"parameter", w.spec.key}, {"value", w.value}, {"machine_file_value", format_param_value(w.machine_value)},
+                              {"bounds", {w.spec.lower, w.spec.upper}}, {"ratio_of", {w.spec.numerator, w.spec.denominator}},
+                              {"reported_ratio", w.reported_ratio}, {"simulated_ratio", w.simulated_ratio}, {"trials", w.trials},
+                              {"at_bound", w.at_bound}, {"why", w.spec.why}, {"note", w.note}});
+    }
+    return {{"targets", targets_name}, {"workload", identified}, {"parameters", params}, {"rows", rows},
             {"summary", {{"fitted", summary(fitted)}, {"held_out", summary(held_out)}, {"all", summary(all)}}},
             {"notes", notes}, {"host_seconds", host_seconds}};
 }
 
 std::string FitReport::to_markdown() const {
     std::ostringstream md;
-    md << "# Calibration against " << targets_name << "\n\n## Parameters\n\n"
+    md << "# Calibration against " << targets_name << "\n\n";
+    if (!workload.empty()) {
+        md << "## Workload step\n\nParameters the paper does not give, identified before the fit from the ratio of two measured rows on "
+              "one machine (its speed cancels). The fit and every row below use these values.\n\n"
+           << "| parameter | identified | machine file | from the ratio | reported | simulated | trials | why |\n|---|---|---|---|---|---|---|---|\n";
+        for (const IdentifiedWorkload& w : workload) {
+            md << fmt::format("| `{}` | {:.4g}{} | {} | {} / {} | {:.4g} | {:.4g} | {} | {}{} |\n", w.spec.key, w.value, w.at_bound ? " (at bound)" : "",
+                              format_param_value(w.machine_value), w.spec.numerator, w.spec.denominator, w.reported_ratio, w.simulated_ratio,
+                              w.trials, w.spec.why, w.note.empty() ? "" : " *" + w.note + "*");
+        }
+        md << "\n";
+    }
+    md << "## Parameters\n\n"
        << "| machine | parameter | value | standard error | bounds | status |\n|---|---|---|---|---|---|\n";
     for (const FittedParameter& p : parameters) {
         md << fmt::format("| {} | `{}` | {:.4g} | {} | [{:g}, {:g}] | {} |\n", p.machine, p.key, p.value, number(p.standard_error), p.lower,
@@ -522,7 +550,7 @@ std::string FitReport::to_markdown() const {
         md << fmt::format("| {} | {} | {} ({}) | {} | {} | {} | {} | {} |\n", r.target.id, formula ? "(formula: " + r.target.kernel + ")" : r.target.machine,
                           formula ? r.target.formula : r.target.metric,
                           unit, number(r.target.reported), number(r.simulated), percent(r.relative_error),
-                          r.target.fitted ? "fitted" : "held out", loo);
+                          use_of(r.target), loo);
     }
     md << "\n## Fit quality\n\n| targets | count | mean abs. error | max abs. error | within 10% | within 25% | r (log) |\n"
        << "|---|---|---|---|---|---|---|\n";
@@ -566,22 +594,50 @@ std::string fitted_machine_file(const CalibrationModel& model, const FitReport& 
                        report.held_out.count, 100.0 * report.fitted.mean_absolute_error, 100.0 * report.held_out.mean_absolute_error);
     out << "# The fit's report (fit.md, fit.json) is beside this file; below are the preset as it was and the fitted\n"
            "# [calibration] table. Use it with: pp5sim render --machine <this file>\n\n";
+    // The workload step's values go into their tables ("levoy.refinement_threshold": [levoy]), replacing
+    // the preset's own line; tables the preset lacks are added at the end.
+    std::map<std::string, std::vector<std::pair<std::string, std::string>>> workload_lines;  // table -> (name, line)
+    for (const IdentifiedWorkload& w : report.workload) {
+        const auto dot = w.spec.key.rfind('.');
+        const std::string name = w.spec.key.substr(dot + 1);
+        workload_lines[w.spec.key.substr(0, dot)].emplace_back(
+            name, fmt::format("{} = {}    # identified by the workload step from {} / {} (the file had {})", name,
+                              w.spec.integer ? fmt::format("{}", std::llround(w.value)) : fmt::format("{:.6g}", w.value), w.spec.numerator,
+                              w.spec.denominator, format_param_value(w.machine_value)));
+    }
     std::string line;
     bool skipping = false;
     bool in_machine = false;
+    std::string table;
+    std::set<std::string> workload_tables_written;
     while (std::getline(text, line)) {
         const std::string bare = trim(line.substr(0, line.find('#')));
         if (bare.size() > 2 && bare.front() == '[' && bare.back() == ']' && bare[1] != '[') {
-            const std::string table = trim(bare.substr(1, bare.size() - 2));
+            table = trim(bare.substr(1, bare.size() - 2));
             skipping = table == "calibration";
             in_machine = table == "machine";
+            if (const auto it = workload_lines.find(table); it != workload_lines.end()) {
+                out << line << "\n";
+                for (const auto& [name, setting] : it->second) out << setting << "\n";
+                workload_tables_written.insert(table);
+                continue;
+            }
         }
         if (skipping) continue;
+        if (const auto it = workload_lines.find(table); it != workload_lines.end()) {
+            const std::string key = trim(bare.substr(0, bare.find('=')));
+            if (std::any_of(it->second.begin(), it->second.end(), [&](const auto& entry) { return entry.first == key; })) continue;
+        }
         if (in_machine && bare.rfind("name", 0) == 0 && trim(bare.substr(4)).rfind("=", 0) == 0) {
             const auto close = line.find('"', line.find('"') + 1);
             if (close != std::string::npos) line.insert(close, "-fitted");
         }
         out << line << "\n";
+    }
+    for (const auto& [name, lines] : workload_lines) {
+        if (workload_tables_written.count(name)) continue;  // written under the preset's own header
+        out << "\n[" << name << "]\n";
+        for (const auto& [key, setting] : lines) out << setting << "\n";
     }
     out << "\n[calibration]                 # fitted by `pp5sim fit` to " << model.targets().name << "; standard errors in comments\n";
     for (const FittedParameter& p : report.parameters) {

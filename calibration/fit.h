@@ -12,6 +12,7 @@
 
 #include "calibration/targets.h"
 #include "calibration/timing_model.h"
+#include "calibration/workload.h"
 
 #include <nlohmann/json_fwd.hpp>
 
@@ -55,6 +56,7 @@ struct ErrorSummary {
 
 struct FitReport {
     std::string targets_name;
+    std::vector<IdentifiedWorkload> workload;  // the workload step's results, before the fit (workload.h)
     std::vector<FittedParameter> parameters;
     std::vector<TargetResult> results;
     ErrorSummary fitted;
@@ -64,6 +66,8 @@ struct FitReport {
     double host_seconds = 0.0;
 
     CalibrationScales scales(const std::string& machine) const;
+    // "fitted", "held out", with "; workload" when the workload step used the row.
+    std::string use_of(const Target& target) const;
     nlohmann::json to_json() const;
     std::string to_markdown() const;
 };

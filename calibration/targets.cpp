@@ -1,6 +1,8 @@
 #include "calibration/targets.h"
 
+#include "calibration/timing_model.h"
 #include "kernels/registry/registry.h"
+#include "kernels/registry/run_config.h"
 #include "kernels/scenario/scenario.h"
 #include "sim/core/config.h"
 #include "sim/core/input_error.h"
@@ -67,7 +69,83 @@ void read_figures(const toml::table& root, const std::string& file, TargetSet& s
     }
 }
 
+// The declared parameter `key` ("group.name"), or null.
+const ParamSpec* find_param(const std::string& key) {
+    for (const ParamGroup* group : run_param_groups())
+        for (const ParamSpec& spec : group->specs())
+            if (group->prefix() + "." + spec.name == key) return &spec;
+    return nullptr;
+}
+
+// [[workload]]: parameter, bounds, ratio_of (two measured rows on one machine) and why.
+void read_workload(const toml::table& root, const std::string& file, TargetSet& set) {
+    const toml::array* rows = root["workload"].as_array();
+    if (rows == nullptr) return;
+    for (std::size_t i = 0; i < rows->size(); ++i) {
+        const std::string prefix = fmt::format("workload[{}].", i);
+        const toml::table* row = (*rows)[i].as_table();
+        if (!row) throw InputError(file, prefix.substr(0, prefix.size() - 1), "must be a table");
+        for (const auto& [k, v] : *row) {
+            const std::string key(k.str());
+            if (key != "parameter" && key != "bounds" && key != "ratio_of" && key != "why")
+                throw InputError(file, prefix + key, "unknown field; a workload parameter has parameter, bounds, ratio_of and why");
+        }
+        WorkloadSpec w;
+        w.key = text_field(*row, file, prefix, "parameter", true);
+        w.why = text_field(*row, file, prefix, "why", true);
+        const ParamSpec* spec = find_param(w.key);
+        if (spec == nullptr) throw InputError(file, prefix + "parameter", "\"" + w.key + "\" is not a machine or kernel parameter (see `pp5sim params`)");
+        if (is_timing_parameter(w.key))
+            throw InputError(file, prefix + "parameter",
+                             "\"" + w.key + "\" only changes timing: the fit's scales cover timing, the workload step what is computed");
+        if (spec->type != ParamType::Integer && spec->type != ParamType::Real)
+            throw InputError(file, prefix + "parameter", "\"" + w.key + "\" is not a number, so it cannot be searched for");
+        w.integer = spec->type == ParamType::Integer;
+        for (const auto& other : set.workload)
+            if (other.key == w.key) throw InputError(file, prefix + "parameter", "\"" + w.key + "\" is identified by an earlier [[workload]]");
+
+        const toml::array* bounds = row->get_as<toml::array>("bounds");
+        const auto lower = bounds && bounds->size() == 2 ? (*bounds)[0].value<double>() : std::nullopt;
+        const auto upper = bounds && bounds->size() == 2 ? (*bounds)[1].value<double>() : std::nullopt;
+        if (!lower || !upper || !std::isfinite(*lower) || !std::isfinite(*upper) || !(*lower < *upper))
+            throw InputError(file, prefix + "bounds", "must be two numbers [lower, upper] with lower < upper");
+        if ((spec->min && *lower < *spec->min) || (spec->max && *upper > *spec->max))
+            throw InputError(file, prefix + "bounds",
+                             fmt::format("must lie inside the parameter's own range [{}, {}]", spec->min.value_or(-INFINITY), spec->max.value_or(INFINITY)));
+        if (w.integer && (*lower != std::floor(*lower) || *upper != std::floor(*upper)))
+            throw InputError(file, prefix + "bounds", "must be whole numbers for an integer parameter");
+        w.lower = *lower;
+        w.upper = *upper;
+
+        const toml::array* ratio = row->get_as<toml::array>("ratio_of");
+        if (!ratio || ratio->size() != 2 || !(*ratio)[0].is_string() || !(*ratio)[1].is_string())
+            throw InputError(file, prefix + "ratio_of", "must name two targets: [numerator id, denominator id]");
+        w.numerator = *(*ratio)[0].value<std::string>();
+        w.denominator = *(*ratio)[1].value<std::string>();
+        const Target* numerator = set.find(w.numerator);
+        const Target* denominator = set.find(w.denominator);
+        for (const auto& [id, t] : {std::pair{w.numerator, numerator}, std::pair{w.denominator, denominator}}) {
+            if (t == nullptr) throw InputError(file, prefix + "ratio_of", "no target has the id \"" + id + "\"");
+            if (t->is_formula()) throw InputError(file, prefix + "ratio_of", "\"" + id + "\" is a formula row: it simulates nothing");
+            if (t->exactness != Exactness::Measured)
+                throw InputError(file, prefix + "ratio_of",
+                                 "\"" + id + "\" is " + std::string(to_string(t->exactness)) +
+                                     ": a workload parameter comes only from measured rows, never from an estimate the fit must test");
+        }
+        if (w.numerator == w.denominator) throw InputError(file, prefix + "ratio_of", "must name two different targets");
+        if (numerator->machine != denominator->machine)
+            throw InputError(file, prefix + "ratio_of", "the two targets must run on one machine, so that its speed cancels in the ratio");
+        set.workload.push_back(std::move(w));
+    }
+}
+
 }  // namespace
+
+const Target* TargetSet::find(const std::string& id) const {
+    for (const Target& t : targets)
+        if (t.id == id) return &t;
+    return nullptr;
+}
 
 std::string_view to_string(Exactness exactness) {
     switch (exactness) {
@@ -179,8 +257,9 @@ TargetSet load_targets(const std::filesystem::path& path) {
         set.description = text_field(*head, file, "calibration.", "description", false);
     }
     for (const auto& [key, node] : root) {
-        if (key.str() != "calibration" && key.str() != "targets" && key.str() != "figures")
-            throw InputError(file, std::string(key.str()), "unknown table; a target file holds [calibration], [[targets]] and [[figures]]");
+        if (key.str() != "calibration" && key.str() != "targets" && key.str() != "figures" && key.str() != "workload")
+            throw InputError(file, std::string(key.str()),
+                             "unknown table; a target file holds [calibration], [[targets]], [[workload]] and [[figures]]");
     }
     const toml::array* rows = root["targets"].as_array();
     if (!rows || rows->empty()) throw InputError(file, "targets", "needs at least one [[targets]] row");
@@ -261,6 +340,7 @@ TargetSet load_targets(const std::filesystem::path& path) {
         }
         set.targets.push_back(std::move(t));
     }
+    read_workload(root, file, set);
     read_figures(root, file, set);
     return set;
 }

@@ -51,15 +51,31 @@ struct Figure {
     bool final = true;     // the finished frame, or (false) its first stage (the crude pass)
 };
 
+// A workload parameter the papers do not give (what a kernel computes, not how fast: a refinement
+// threshold, a sample count), identified before any scale is fitted from the ratio of two measured rows
+// on one machine, so that the machine's speed cancels. Never from a designer's estimate.
+struct WorkloadSpec {
+    std::string key;        // a machine parameter that changes what is computed ("levoy.refinement_threshold")
+    double lower = 0.0;     // the search's bounds, inside the parameter's own range
+    double upper = 0.0;
+    bool integer = false;   // the parameter's type
+    std::string numerator;  // target ids: simulated numerator / denominator should equal the reported ratio
+    std::string denominator;
+    std::string why;        // what ties the parameter to that ratio
+};
+
 struct TargetSet {
     std::filesystem::path file;
     std::string name;
     std::string description;
     std::vector<Target> targets;
     std::vector<Figure> figures;
+    std::vector<WorkloadSpec> workload;  // identified in this order, each with the ones before it set
+
+    const Target* find(const std::string& id) const;
 };
 
-// Reads and checks a target file: metrics the scenario's kernel does not offer, unknown exactness or
+// Reads and checks a target file ([calibration], [[targets]], [[workload]], [[figures]]): metrics the scenario's kernel does not offer, unknown exactness or
 // use, scenarios or machines that do not resolve, frames outside the scenario, non-positive values and
 // repeated ids are errors.
 TargetSet load_targets(const std::filesystem::path& file);

@@ -24,6 +24,18 @@ constexpr const char* kTimingKeys[] = {"renderer.clock_mhz", "renderer.fetch_set
 
 }  // namespace
 
+MachineConfig recording_machine(const TargetSet& targets) {
+    std::optional<MachineConfig> first;
+    for (const Target& t : targets.targets) {
+        if (t.is_formula()) continue;
+        MachineConfig config = load_run_config(t.machine, {});
+        if (config.machine_kind() == MachineKind::Multicomputer) return config;
+        if (!first) first = std::move(config);
+    }
+    if (!first) throw std::logic_error("recording_machine: the targets simulate nothing");
+    return *first;
+}
+
 bool is_timing_parameter(const std::string& key) {
     for (const char* group : kTimingGroups)
         if (key.starts_with(group)) return true;
@@ -72,19 +84,20 @@ std::vector<FrameTiming> RecordedScenario::time_on(const MachineConfig& machine)
     return times;
 }
 
-CalibrationModel::CalibrationModel(const TargetSet& targets, std::optional<MachineConfig> functional) : targets_(targets) {
+CalibrationModel::CalibrationModel(const TargetSet& targets, std::optional<MachineConfig> functional, std::vector<WorkloadSetting> workload)
+    : targets_(targets), workload_(std::move(workload)) {
+    const auto with_workload = [&](MachineConfig config) {
+        for (const WorkloadSetting& w : workload_) config.set(w.key, w.param_value(), "workload step");
+        return config;
+    };
     std::map<std::string, int> frames_needed;
-    std::optional<MachineConfig> first_multicomputer;
     for (const Target& t : targets_.targets) {
         if (t.is_formula()) continue;  // computed, not rendered
         frames_needed[t.scenario] = std::max({frames_needed[t.scenario], t.frame + 1, t.divided_by_frame + 1});
-        if (!machines_.count(t.machine)) machines_.emplace(t.machine, load_run_config(t.machine, {}));
-        if (!first_multicomputer && machines_.at(t.machine).machine_kind() == MachineKind::Multicomputer) first_multicomputer = machines_.at(t.machine);
+        if (!machines_.count(t.machine)) machines_.emplace(t.machine, with_workload(load_run_config(t.machine, {})));
     }
-    // The work is recorded on the first Pixel-planes 5 machine the targets name (every machine must
-    // compute the same; time_on checks), or on the first machine when all are uniprocessors.
     if (frames_needed.empty()) return;  // only formula rows: nothing to record
-    const MachineConfig recording = functional ? *functional : first_multicomputer ? *first_multicomputer : machines_.begin()->second;
+    const MachineConfig recording = with_workload(functional ? *functional : recording_machine(targets_));
     for (const auto& [name, frames] : frames_needed) {
         const Scenario scenario = load_scenario(resolve_scenario_file(name));
         scenarios_.emplace(name, std::make_unique<RecordedScenario>(scenario, recording, frames));

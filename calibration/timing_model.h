@@ -12,6 +12,7 @@
 #include "sim/core/calibration.h"
 #include "sim/core/config.h"
 
+#include <cmath>
 #include <map>
 #include <memory>
 #include <optional>
@@ -52,16 +53,32 @@ private:
     std::vector<RecordedFrame> frames_;
 };
 
+// The machine the targets' work is recorded on: the first Pixel-planes 5 machine the rows name (every
+// machine must compute the same; RecordedScenario::time_on checks), or the first machine when all are
+// uniprocessors.
+MachineConfig recording_machine(const TargetSet& targets);
+
 // Whether `key` only changes when things happen, never what is computed.
 bool is_timing_parameter(const std::string& key);
+
+// A functional parameter's value (one the workload step identified), set on every machine a model
+// records or times with.
+struct WorkloadSetting {
+    std::string key;
+    double value = 0.0;
+    bool integer = false;
+    ParamValue param_value() const { return integer ? ParamValue(static_cast<std::int64_t>(std::llround(value))) : ParamValue(value); }
+};
 
 // The targets' scenarios recorded once, and their machines' configurations; simulates any target on
 // its machine with given calibration scales.
 class CalibrationModel {
 public:
     // Records every scenario the targets name, on the functional configuration `functional` (unless
-    // given, the first Pixel-planes 5 machine the targets name).
-    explicit CalibrationModel(const TargetSet& targets, std::optional<MachineConfig> functional = std::nullopt);
+    // given, the first Pixel-planes 5 machine the targets name), with `workload` set on it and on
+    // every target's machine.
+    explicit CalibrationModel(const TargetSet& targets, std::optional<MachineConfig> functional = std::nullopt,
+                              std::vector<WorkloadSetting> workload = {});
 
     // The targets' simulated values, on their machine with `scales` applied.
     std::vector<double> simulate(const std::string& machine, const CalibrationScales& scales,
@@ -73,9 +90,11 @@ public:
     const MachineConfig& base_config(const std::string& machine) const;
     const RecordedScenario& recording(const std::string& scenario) const;
     const TargetSet& targets() const { return targets_; }
+    const std::vector<WorkloadSetting>& workload() const { return workload_; }
 
 private:
     TargetSet targets_;
+    std::vector<WorkloadSetting> workload_;
     std::map<std::string, MachineConfig> machines_;
     std::map<std::string, std::unique_ptr<RecordedScenario>> scenarios_;
 };

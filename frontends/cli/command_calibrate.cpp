@@ -34,6 +34,7 @@ struct CalibrateOptions {
     std::string out;
     int threads = 0;
     bool leave_one_out = true;
+    bool workload_step = true;
     bool uncalibrated = false;                            // reproduce only: skip the fit
     std::vector<int> gp_counts{1, 2, 4, 8, 16, 32, 64, 128};  // reproduce only
     bool host_check = true;                                   // reproduce only
@@ -45,25 +46,42 @@ void add_common_options(CLI::App* cmd, CalibrateOptions& o) {
     cmd->add_option("--out", o.out, "Output directory");
     cmd->add_option("--threads", o.threads, "Host threads for rendering the scenarios once; 0 uses every core. Results do not depend on it");
     cmd->add_flag("!--no-leave-one-out", o.leave_one_out, "Skip refitting without each fitted target");
+    cmd->add_flag("!--no-workload-step", o.workload_step,
+                  "Keep the machine files' values of the target file's [[workload]] parameters instead of identifying them first");
 }
 
 void say(const std::string& line) { fmt::print(stderr, "  {}\n", line); }
 
-// Reads the targets and renders their scenarios once.
-std::unique_ptr<CalibrationModel> prepare(const CalibrateOptions& o, std::optional<tbb::global_control>& parallelism) {
+struct Prepared {
+    std::vector<IdentifiedWorkload> workload;
+    std::unique_ptr<CalibrationModel> model;
+};
+
+// Reads the targets, identifies their workload parameters, and renders their scenarios once.
+Prepared prepare(const CalibrateOptions& o, std::optional<tbb::global_control>& parallelism) {
     if (o.threads < 0) throw InputError("--threads", "--threads", "must be 0 (all cores) or more");
     const TargetSet targets = load_targets(resolve_targets_file(o.targets));
     const std::size_t threads = o.threads > 0 ? static_cast<std::size_t>(o.threads) : std::max(1u, std::thread::hardware_concurrency());
     parallelism.emplace(tbb::global_control::max_allowed_parallelism, threads);
+    Prepared prepared;
+    if (o.workload_step && !targets.workload.empty()) {
+        fmt::print(stderr, "pp5sim: identifying {} workload parameter(s) of {} from measured rows\n", targets.workload.size(), targets.file.string());
+        WorkloadOptions options;
+        options.progress = say;
+        prepared.workload = identify_workload(targets, options);
+    }
     fmt::print(stderr, "pp5sim: {} targets from {}; rendering their scenarios once\n", targets.targets.size(), targets.file.string());
-    return std::make_unique<CalibrationModel>(targets);
+    prepared.model = std::make_unique<CalibrationModel>(targets, std::nullopt, workload_settings(prepared.workload));
+    return prepared;
 }
 
-FitReport fit(const CalibrationModel& model, const CalibrateOptions& o) {
+FitReport fit(const Prepared& prepared, const CalibrateOptions& o) {
     FitOptions options;
     options.leave_one_out = o.leave_one_out;
     options.progress = say;
-    return fit_targets(model, options);
+    FitReport report = fit_targets(*prepared.model, options);
+    report.workload = prepared.workload;
+    return report;
 }
 
 std::set<std::string> machines_of(const CalibrationModel& model) {
@@ -113,8 +131,9 @@ int run_fit(const CalibrateOptions& o) {
                          "no row is to be fitted (every one is held out or a formula): nothing to fit; set use = \"fit\" on "
                          "some, or compare them with `pp5sim reproduce --uncalibrated`");
     std::optional<tbb::global_control> parallelism;
-    const auto model = prepare(o, parallelism);
-    const FitReport report = fit(*model, o);
+    const Prepared prepared = prepare(o, parallelism);
+    const auto& model = prepared.model;
+    const FitReport report = fit(prepared, o);
     StagedOutput output(folder);
     stage_fit(output, *model, report);
     const auto written = output.commit();
@@ -195,15 +214,17 @@ int run_reproduce(const CalibrateOptions& o) {
         if (n < 1 || n > 1024) throw InputError("--gp-counts", "--gp-counts", fmt::format("{} is not a GP count from 1 to 1024", n));
     const std::filesystem::path folder = output_folder(o, "reproduce");
     std::optional<tbb::global_control> parallelism;
-    const auto model = prepare(o, parallelism);
+    const Prepared prepared = prepare(o, parallelism);
+    const auto& model = prepared.model;
     // With no row to fit (formula rows, say) there is nothing to calibrate: the table is the model's own.
     const bool uncalibrated = o.uncalibrated || !has_fitted_rows(model->targets());
     StagedOutput output(folder);
     FitReport report;
     if (uncalibrated) {
         report = evaluate_targets(*model, {});
+        report.workload = prepared.workload;
     } else {
-        report = fit(*model, o);
+        report = fit(prepared, o);
         stage_fit(output, *model, report);
     }
 
