@@ -249,6 +249,20 @@ ErrorSummary summarize(const std::vector<TargetResult>& results, bool fitted, bo
     return s;
 }
 
+std::vector<std::pair<std::string, ErrorSummary>> FitReport::by_unit() const {
+    std::vector<std::pair<std::string, ErrorSummary>> units;
+    for (const TargetResult& r : results) {
+        if (std::none_of(units.begin(), units.end(), [&](const auto& u) { return u.first == r.target.unit; })) units.emplace_back(r.target.unit, ErrorSummary{});
+    }
+    for (auto& [unit, summary] : units) {
+        std::vector<TargetResult> rows;
+        for (const TargetResult& r : results)
+            if (r.target.unit == unit) rows.push_back(r);
+        summary = summarize(rows, true, true);
+    }
+    return units;
+}
+
 CalibrationScales FitReport::scales(const std::string& machine) const {
     std::map<std::string, double> values;
     for (const FittedParameter& p : parameters) values[p.machine + "/" + p.key] = p.value;
@@ -451,6 +465,9 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
     }
     for (const auto& [id, r] : loo) report.results.push_back(r);
     evaluate_all(model, report);
+    // The uncalibrated value beside each fitted one: what the documented costs alone give.
+    const FitReport given = evaluate_targets(model, {});
+    for (std::size_t i = 0; i < report.results.size() && i < given.results.size(); ++i) report.results[i].uncalibrated = given.results[i].simulated;
     report.host_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     return report;
 }
@@ -493,6 +510,7 @@ nlohmann::json FitReport::to_json() const {
             row["inputs"] = r.target.inputs;
             for (const char* unused : {"scenario", "frame", "machine", "metric", "divided_by_frame"}) row.erase(unused);
         }
+        row["uncalibrated"] = r.uncalibrated ? nlohmann::json(*r.uncalibrated) : nlohmann::json(nullptr);
         row["leave_one_out"] = r.leave_one_out ? nlohmann::json(*r.leave_one_out) : nlohmann::json(nullptr);
         row["leave_one_out_error"] = r.leave_one_out_error ? nlohmann::json(*r.leave_one_out_error) : nlohmann::json(nullptr);
         if (!r.leave_one_out_note.empty()) row["leave_one_out_note"] = r.leave_one_out_note;
@@ -514,7 +532,11 @@ nlohmann::json FitReport::to_json() const {
                               {"at_bound", w.at_bound}, {"why", w.spec.why}, {"note", w.note}});
     }
     return {{"targets", targets_name}, {"workload", identified}, {"parameters", params}, {"rows", rows},
-            {"summary", {{"fitted", summary(fitted)}, {"held_out", summary(held_out)}, {"all", summary(all)}}},
+            {"summary", {{"fitted", summary(fitted)}, {"held_out", summary(held_out)}, {"all", summary(all)}, {"by_unit", [&] {
+                             nlohmann::json units = nlohmann::json::object();
+                             for (const auto& [unit, s] : by_unit()) units[unit] = summary(s);
+                             return units;
+                         }()}}},
             {"notes", notes}, {"host_seconds", host_seconds}};
 }
 
@@ -538,8 +560,10 @@ std::string FitReport::to_markdown() const {
         md << fmt::format("| {} | `{}` | {:.4g} | {} | [{:g}, {:g}] | {} |\n", p.machine, p.key, p.value, number(p.standard_error), p.lower,
                           p.upper, p.free ? (p.note.empty() ? "fitted" : "fitted; " + p.note) : p.note);
     }
-    md << "\n## Targets\n\n| id | machine | metric | reported | simulated | error | use | leave-one-out prediction |\n"
-       << "|---|---|---|---|---|---|---|---|\n";
+    const bool any_uncalibrated = std::any_of(results.begin(), results.end(), [](const TargetResult& r) { return r.uncalibrated.has_value(); });
+    md << "\n## Targets\n\n| id | machine | metric | reported | " << (any_uncalibrated ? "uncalibrated | " : "")
+       << "simulated | error | use | leave-one-out prediction |\n"
+       << (any_uncalibrated ? "|---|---|---|---|---|---|---|---|---|\n" : "|---|---|---|---|---|---|---|---|\n");
     for (const TargetResult& r : results) {
         std::string loo = r.leave_one_out ? fmt::format("{} ({})", number(*r.leave_one_out), percent(*r.leave_one_out_error)) : "";
         if (!r.leave_one_out_note.empty()) loo += (loo.empty() ? "" : "; ") + r.leave_one_out_note;
@@ -547,16 +571,27 @@ std::string FitReport::to_markdown() const {
                                      ? fmt::format("frame {} / frame {}", r.target.frame, r.target.divided_by_frame)
                                      : r.target.unit;
         const bool formula = r.target.is_formula();
-        md << fmt::format("| {} | {} | {} ({}) | {} | {} | {} | {} | {} |\n", r.target.id, formula ? "(formula: " + r.target.kernel + ")" : r.target.machine,
-                          formula ? r.target.formula : r.target.metric,
-                          unit, number(r.target.reported), number(r.simulated), percent(r.relative_error),
-                          use_of(r.target), loo);
+        const std::string uncalibrated =
+            !any_uncalibrated ? ""
+            : r.uncalibrated  ? fmt::format("{} ({}) | ", number(*r.uncalibrated), percent((*r.uncalibrated - r.target.reported) / r.target.reported))
+                              : " | ";
+        md << fmt::format("| {} | {} | {} ({}) | {} | {}{} | {} | {} | {} |\n", r.target.id, formula ? "(formula: " + r.target.kernel + ")" : r.target.machine,
+                          formula ? r.target.formula : r.target.metric, unit, number(r.target.reported), uncalibrated, number(r.simulated),
+                          percent(r.relative_error), use_of(r.target), loo);
     }
     md << "\n## Fit quality\n\n| targets | count | mean abs. error | max abs. error | within 10% | within 25% | r (log) |\n"
        << "|---|---|---|---|---|---|---|\n";
     for (const auto& [name, s] : {std::pair{"fitted", fitted}, std::pair{"held out", held_out}, std::pair{"all", all}}) {
         md << fmt::format("| {} | {} | {:.1f}% | {:.1f}% | {} | {} | {} |\n", name, s.count, 100.0 * s.mean_absolute_error,
                           100.0 * s.max_absolute_error, s.within_10, s.within_25, number(s.log_correlation));
+    }
+    const auto units = by_unit();
+    if (units.size() > 1) {
+        md << "\nBy the metric's unit (fitted and held out together):\n\n| unit | count | mean abs. error | max abs. error | within 10% | within 25% |\n"
+           << "|---|---|---|---|---|---|\n";
+        for (const auto& [unit, s] : units)
+            md << fmt::format("| {} | {} | {:.1f}% | {:.1f}% | {} | {} |\n", unit, s.count, 100.0 * s.mean_absolute_error, 100.0 * s.max_absolute_error,
+                              s.within_10, s.within_25);
     }
     md << "\n## Outliers (more than 25% off)\n\n";
     bool any = false;

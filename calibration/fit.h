@@ -40,6 +40,7 @@ struct TargetResult {
     Target target;
     double simulated = 0.0;
     double relative_error = 0.0;                   // (simulated - reported) / reported
+    std::optional<double> uncalibrated;            // at the machine file's own scales, beside the fit
     std::optional<double> leave_one_out;           // predicted without this target (fitted targets only)
     std::optional<double> leave_one_out_error;
     std::string leave_one_out_note;
@@ -62,6 +63,9 @@ struct FitReport {
     ErrorSummary fitted;
     ErrorSummary held_out;
     ErrorSummary all;
+    // Every row's errors by the metric's unit (s, 1/s, ratio...): figures in different units are
+    // judged apart, as their plots are drawn apart.
+    std::vector<std::pair<std::string, ErrorSummary>> by_unit() const;
     std::vector<std::string> notes;  // per machine: iterations, cost, termination
     double host_seconds = 0.0;
 

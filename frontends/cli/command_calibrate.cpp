@@ -21,6 +21,7 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -148,23 +149,39 @@ void stage_plot_or_warn(StagedOutput& output, const PlotSpec& spec, const std::s
     if (const auto warning = stage_plot(output, spec, name)) fmt::print(stderr, "{}\n", *warning);
 }
 
-PlotSpec reported_vs_simulated(const FitReport& report) {
-    PlotSpec spec;
-    spec.title = "Reported against simulated (" + report.targets_name + ")";
-    spec.x_label = "reported (s, or polygons/s, or factor)";
-    spec.y_label = "simulated";
-    spec.log_x = spec.log_y = true;
-    PlotSeries fitted{"fitted targets", {}, {}, "points pt 7 ps 1.4 lc rgb '#1f77b4'"};
-    PlotSeries held{"held-out targets", {}, {}, "points pt 5 ps 1.4 lc rgb '#d62728'"};
-    for (const TargetResult& r : report.results) {
-        PlotSeries& s = r.target.fitted ? fitted : held;
-        s.x.push_back(r.target.reported);
-        s.y.push_back(r.simulated);
+// The plots of reported against simulated values, one per metric unit: seconds and polygons a second
+// on one axis would say nothing about either. Named reported_vs_simulated_<unit>.
+std::vector<std::pair<std::string, PlotSpec>> reported_vs_simulated(const FitReport& report) {
+    std::vector<std::pair<std::string, PlotSpec>> plots;
+    for (const auto& [unit, summary] : report.by_unit()) {
+        PlotSpec spec;
+        std::string slug = unit == "s" ? "seconds" : unit == "1/s" ? "per_second" : unit;
+        std::replace_if(slug.begin(), slug.end(), [](char c) { return !std::isalnum(static_cast<unsigned char>(c)); }, '_');
+        spec.title = fmt::format("Reported against simulated, {} ({}: {} of {} within 25%)", unit == "s" ? "seconds" : unit, report.targets_name,
+                                 summary.within_25, summary.count);
+        spec.x_label = "reported (" + unit + ")";
+        spec.y_label = "simulated (" + unit + ")";
+        spec.log_x = spec.log_y = true;
+        PlotSeries fitted{"fitted targets", {}, {}, "points pt 7 ps 1.4 lc rgb '#1f77b4'"};
+        PlotSeries held{"held-out targets", {}, {}, "points pt 5 ps 1.4 lc rgb '#d62728'"};
+        PlotSeries uncalibrated{"uncalibrated (documented costs)", {}, {}, "points pt 6 ps 1.2 lc rgb 'gray'"};
+        for (const TargetResult& r : report.results) {
+            if (r.target.unit != unit) continue;
+            PlotSeries& s = r.target.fitted ? fitted : held;
+            s.x.push_back(r.target.reported);
+            s.y.push_back(r.simulated);
+            if (r.uncalibrated) {
+                uncalibrated.x.push_back(r.target.reported);
+                uncalibrated.y.push_back(*r.uncalibrated);
+            }
+        }
+        for (const PlotSeries& s : {fitted, held, uncalibrated})
+            if (!s.x.empty()) spec.series.push_back(s);
+        spec.extra_plots = {"x title 'simulated = reported' lw 2 lc rgb 'black'", "1.25*x title '+/- 25%' dt 2 lc rgb 'gray'",
+                            "0.8*x notitle dt 2 lc rgb 'gray'"};
+        plots.emplace_back("reported_vs_simulated_" + slug, std::move(spec));
     }
-    spec.series = {fitted, held};
-    spec.extra_plots = {"x title 'simulated = reported' lw 2 lc rgb 'black'", "1.25*x title '+/- 25%' dt 2 lc rgb 'gray'",
-                        "0.8*x notitle dt 2 lc rgb 'gray'"};
-    return spec;
+    return plots;
 }
 
 HostCheckReport host_check(const CalibrateOptions& o) {
@@ -244,7 +261,11 @@ int run_reproduce(const CalibrateOptions& o) {
     }
 
     // Plots.
-    stage_plot_or_warn(output, reported_vs_simulated(report), "reported_vs_simulated");
+    std::string plot_names;
+    for (const auto& [name, spec] : reported_vs_simulated(report)) {
+        stage_plot_or_warn(output, spec, name);
+        plot_names += name + ".png, ";
+    }
     // The first Pixel-planes 5 target timed in seconds sets the scenario, frame and machine; every
     // seconds metric the targets give for that frame is swept.
     const Target* scaling = nullptr;
@@ -324,7 +345,7 @@ int run_reproduce(const CalibrateOptions& o) {
                    100 * host->median_held_out_error);
     }
     print_summary(report);
-    fmt::print("  {} images; plots reported_vs_simulated.png{}\n", images, scaling ? ", frame_time_vs_gps.png" : "");
+    fmt::print("  {} images; plots {}{}\n", images, plot_names, scaling ? "frame_time_vs_gps.png" : "");
     fmt::print("wrote {} files to {}\n", written.size(), output.directory().string());
     return 0;
 }

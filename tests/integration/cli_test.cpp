@@ -435,7 +435,8 @@ TEST(Cli, ReproduceWritesTheTableImagesAndPlots) {
     const RunResult r = run("reproduce --targets " + targets.string() + " --gp-counts 1,4,16 --out " + (dir / "out").string(), dir);
     ASSERT_EQ(r.exit_code, 0) << r.output;
     for (const char* file : {"reproduction.md", "reproduction.json", "fit.md", "fit.json", "small-fitted.toml", "uni-fitted.toml",
-                             "reported_vs_simulated.png", "reported_vs_simulated.gp", "frame_time_vs_gps.png", "frame_time_vs_gps.json"})
+                             "reported_vs_simulated_seconds.png", "reported_vs_simulated_seconds.gp", "frame_time_vs_gps.png",
+                             "frame_time_vs_gps.json"})
         EXPECT_TRUE(fs::exists(dir / "out" / file)) << file;
     const auto table = nlohmann::json::parse(read_file(dir / "out/reproduction.json"));
     ASSERT_EQ(table["rows"].size(), 7u);
@@ -444,7 +445,10 @@ TEST(Cli, ReproduceWritesTheTableImagesAndPlots) {
         EXPECT_NEAR(row["relative_error"].get<double>(),
                     (row["simulated"].get<double>() - row["reported"].get<double>()) / row["reported"].get<double>(), 1e-12);
         EXPECT_TRUE(row["use"] == "fitted" || row["use"] == "held-out") << row;
+        EXPECT_GT(row["uncalibrated"].get<double>(), 0.0) << row;  // the documented costs' value beside the fit's
     }
+    // Errors judged by unit: every row here is in seconds.
+    EXPECT_EQ(table["summary"]["by_unit"]["s"]["count"].get<int>(), 7) << table["summary"];
     const auto sweep = nlohmann::json::parse(read_file(dir / "out/frame_time_vs_gps.json"));
     ASSERT_EQ(sweep["points"].size(), 3u);
     // More GPs never make the crude frame slower here.
