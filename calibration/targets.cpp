@@ -32,8 +32,7 @@ std::string text_field(const toml::table& row, const std::string& file, const st
     return s->get();
 }
 
-// [[figures]]: name, scenario, frame, picture ("final" or "first"); the scenario and frame must be
-// recorded for some target.
+// [[figures]]: name, scenario, frame, picture ("final" or "first").
 void read_figures(const toml::table& root, const std::string& file, TargetSet& set) {
     const toml::array* rows = root["figures"].as_array();
     if (rows == nullptr) return;
@@ -60,11 +59,15 @@ void read_figures(const toml::table& root, const std::string& file, TargetSet& s
         if (!picture.empty() && picture != "final" && picture != "first")
             throw InputError(file, prefix + "picture", "must be final (the finished frame) or first (its first stage)");
         f.final = picture != "first";
-        bool recorded = false;
-        for (const Target& t : set.targets) recorded = recorded || (t.scenario == f.scenario && t.frame >= f.frame);
-        if (!recorded)
-            throw InputError(file, prefix + "scenario",
-                             fmt::format("no target records frame {} of \"{}\" (figures show frames the targets render)", f.frame, f.scenario));
+        // Any scenario with that frame: a figure of a scenario no row times is recorded for the picture alone.
+        Scenario scenario;
+        try {
+            scenario = load_scenario(resolve_scenario_file(f.scenario));
+        } catch (const InputError& e) {
+            throw InputError(file, prefix + "scenario", std::string("\"") + f.scenario + "\": " + e.what());
+        }
+        if (f.frame >= static_cast<int>(scenario.frames.size()))
+            throw InputError(file, prefix + "frame", fmt::format("must be a frame of \"{}\": 0 to {}", f.scenario, scenario.frames.size() - 1));
         set.figures.push_back(f);
     }
 }

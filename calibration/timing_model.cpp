@@ -96,7 +96,8 @@ CalibrationModel::CalibrationModel(const TargetSet& targets, std::optional<Machi
         frames_needed[t.scenario] = std::max({frames_needed[t.scenario], t.frame + 1, t.divided_by_frame + 1});
         if (!machines_.count(t.machine)) machines_.emplace(t.machine, with_workload(load_run_config(t.machine, {})));
     }
-    if (frames_needed.empty()) return;  // only formula rows: nothing to record
+    if (frames_needed.empty()) return;  // only formula rows: nothing to record (nor to picture)
+    for (const Figure& f : targets_.figures) frames_needed[f.scenario] = std::max(frames_needed[f.scenario], f.frame + 1);
     const MachineConfig recording = with_workload(functional ? *functional : recording_machine(targets_));
     for (const auto& [name, frames] : frames_needed) {
         const Scenario scenario = load_scenario(resolve_scenario_file(name));

@@ -249,15 +249,23 @@ int run_reproduce(const CalibrateOptions& o) {
     const nlohmann::json table = report.to_json();
     output.add_text("reproduction.json", nlohmann::json{{"targets", report.targets_name}, {"calibrated", !uncalibrated},
                                                         {"rows", table["rows"]}, {"summary", table["summary"]}}.dump(2) + "\n");
-    output.add_text("reproduction.md", report.to_markdown());
+    std::string markdown = report.to_markdown();
 
     // Figure-like images from the recorded frames (what is computed does not depend on the machine's timing).
     // The target file's [[figures]].
     int images = 0;
+    if (!model->targets().figures.empty()) markdown += "\n## Figures\n\nEach picture is a recorded frame, with the rows that time it.\n";
     for (const Figure& f : model->targets().figures) {
         const RecordedFrame& frame = model->recording(f.scenario).frames()[static_cast<std::size_t>(f.frame)];
         output.add_image("images/" + f.name + ".png", f.final ? frame.refined_image : frame.crude_image, ImageFormat::Png);
         ++images;
+        markdown += fmt::format("\n![{0}](images/{0}.png)\n\n*{0}*: `{1}` frame {2} ({3}), {4}.", f.name, f.scenario, f.frame, frame.label,
+                                f.final ? "fully refined" : "its first pass only (the crude picture)");
+        for (const TargetResult& r : report.results)
+            if (!r.target.is_formula() && r.target.scenario == f.scenario && r.target.frame == f.frame)
+                markdown += fmt::format(" `{}`: {} {} reported, {:.4g} simulated ({:+.1f}%).", r.target.id, r.target.reported, r.target.unit, r.simulated,
+                                        100.0 * r.relative_error);
+        markdown += "\n";
     }
 
     // Plots.
@@ -330,6 +338,16 @@ int run_reproduce(const CalibrateOptions& o) {
             spec.series.push_back(PlotSeries{"reported: " + t.id, {gps}, {t.reported}, "points pt 9 ps 2.5"});
         }
         stage_plot_or_warn(output, spec, "frame_time_vs_gps");
+        markdown += fmt::format("\n## Frame time against GP count\n\n![frame time against GP count](frame_time_vs_gps.png)\n\n`{}` frame {} on {} "
+                                "with the {} scales, the GP count varied (data: frame_time_vs_gps.json).\n\n| GPs |",
+                                scaling->scenario, scaling->frame, scaling->machine, uncalibrated ? "uncalibrated" : "fitted");
+        for (const std::string& m : swept) markdown += " " + m + " (s) |";
+        markdown += "\n|---|" + [&] { std::string bars; for (std::size_t i = 0; i < swept.size(); ++i) bars += "---|"; return bars; }() + "\n";
+        for (const auto& point : sweep) {
+            markdown += fmt::format("| {} |", point["gps"].get<int>());
+            for (const std::string& m : swept) markdown += fmt::format(" {:.4g} |", point[m].get<double>());
+            markdown += "\n";
+        }
         output.add_text("frame_time_vs_gps.json", nlohmann::json{{"scenario", scaling->scenario}, {"frame", scaling->frame},
                                                                  {"machine", scaling->machine}, {"points", sweep}}.dump(2) + "\n");
     }
@@ -337,7 +355,12 @@ int run_reproduce(const CalibrateOptions& o) {
     if (o.host_check) {
         host = host_check(o);
         stage_host_check(output, *host);
+        markdown += fmt::format("\n## Host check\n\nThe same timing model against this computer's measured reference-renderer times "
+                                "(host_check.md): median absolute error {:.1f}% on the fitted half, {:.1f}% on the held-out half.\n\n"
+                                "![host check](host_check.png)\n",
+                                100 * host->median_fitted_error, 100 * host->median_held_out_error);
     }
+    output.add_text("reproduction.md", markdown);
     const auto written = output.commit();
     fmt::print("pp5sim reproduce: {} ({})\n", model->targets().name, uncalibrated ? "uncalibrated" : "calibrated");
     if (host) {

@@ -221,7 +221,12 @@ TEST(Targets, FiguresShowFramesTheTargetsRecord) {
             EXPECT_EQ(e.field(), field) << e.what();
         }
     };
-    expect_error("name = \"late\"\nscenario = \"" + files.scenario.string() + "\"\nframe = 2\n", "figures[0].scenario");  // no target records frame 2
+    expect_error("name = \"late\"\nscenario = \"" + files.scenario.string() + "\"\nframe = 3\n", "figures[0].frame");  // it has frames 0 to 2
+    expect_error("name = \"late\"\nscenario = \"no-such-scenario\"\n", "figures[0].scenario");
+    // A frame no target times is recorded for its picture.
+    const TargetSet pictured = load_targets(with_figure("name = \"late\"\nscenario = \"" + files.scenario.string() + "\"\nframe = 2\n"));
+    const CalibrationModel model(pictured);
+    EXPECT_EQ(model.recording(files.scenario.string()).frames().size(), 3u);
     expect_error("name = \"../up\"\nscenario = \"" + files.scenario.string() + "\"\n", "figures[0].name");
     expect_error("name = \"x\"\nscenario = \"" + files.scenario.string() + "\"\npicture = \"middle\"\n", "figures[0].picture");
     expect_error("name = \"x\"\nscenario = \"" + files.scenario.string() + "\"\ncolour = 1\n", "figures[0].colour");
@@ -230,7 +235,7 @@ TEST(Targets, FiguresShowFramesTheTargetsRecord) {
 TEST(Targets, TheShippedLevoyFileLoads) {
     const TargetSet set = load_targets(resolve_targets_file(kDefaultTargets));
     EXPECT_GE(set.targets.size(), 14u);
-    EXPECT_EQ(set.figures.size(), 4u);
+    EXPECT_EQ(set.figures.size(), 5u);
     int fitted = 0, sun = 0;
     for (const Target& t : set.targets) {
         fitted += t.fitted;
