@@ -84,7 +84,8 @@ std::vector<FrameTiming> RecordedScenario::time_on(const MachineConfig& machine)
     return times;
 }
 
-CalibrationModel::CalibrationModel(const TargetSet& targets, std::optional<MachineConfig> functional, std::vector<WorkloadSetting> workload)
+CalibrationModel::CalibrationModel(const TargetSet& targets, std::optional<MachineConfig> functional, std::vector<WorkloadSetting> workload,
+                                   const std::function<void(const std::string&)>& progress)
     : targets_(targets), workload_(std::move(workload)) {
     const auto with_workload = [&](MachineConfig config) {
         for (const WorkloadSetting& w : workload_) config.set(w.key, w.param_value(), "workload step");
@@ -101,6 +102,7 @@ CalibrationModel::CalibrationModel(const TargetSet& targets, std::optional<Machi
     const MachineConfig recording = with_workload(functional ? *functional : recording_machine(targets_));
     for (const auto& [name, frames] : frames_needed) {
         const Scenario scenario = load_scenario(resolve_scenario_file(name));
+        if (progress) progress(fmt::format("recording {} ({} frame{})", name, frames, frames == 1 ? "" : "s"));
         scenarios_.emplace(name, std::make_unique<RecordedScenario>(scenario, recording, frames));
     }
 }

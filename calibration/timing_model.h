@@ -13,6 +13,7 @@
 #include "sim/core/config.h"
 
 #include <cmath>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -77,8 +78,9 @@ public:
     // Records every scenario the targets name, on the functional configuration `functional` (unless
     // given, the first Pixel-planes 5 machine the targets name), with `workload` set on it and on
     // every target's machine.
+    // `progress` hears of each scenario as its recording starts.
     explicit CalibrationModel(const TargetSet& targets, std::optional<MachineConfig> functional = std::nullopt,
-                              std::vector<WorkloadSetting> workload = {});
+                              std::vector<WorkloadSetting> workload = {}, const std::function<void(const std::string&)>& progress = {});
 
     // The targets' simulated values, on their machine with `scales` applied.
     std::vector<double> simulate(const std::string& machine, const CalibrationScales& scales,

@@ -72,7 +72,7 @@ Prepared prepare(const CalibrateOptions& o, std::optional<tbb::global_control>& 
         prepared.workload = identify_workload(targets, options);
     }
     fmt::print(stderr, "pp5sim: {} targets from {}; rendering their scenarios once\n", targets.targets.size(), targets.file.string());
-    prepared.model = std::make_unique<CalibrationModel>(targets, std::nullopt, workload_settings(prepared.workload));
+    prepared.model = std::make_unique<CalibrationModel>(targets, std::nullopt, workload_settings(prepared.workload), say);
     return prepared;
 }
 
