@@ -270,9 +270,11 @@ int run_reproduce(const CalibrateOptions& o) {
 
     // Plots.
     std::string plot_names;
+    markdown += "\n## Reported against simulated\n\nOne plot per metric unit; grey points are the uncalibrated values.\n";
     for (const auto& [name, spec] : reported_vs_simulated(report)) {
         stage_plot_or_warn(output, spec, name);
         plot_names += name + ".png, ";
+        markdown += fmt::format("\n![{0}]({0}.png)\n", name);
     }
     // The first Pixel-planes 5 target timed in seconds sets the scenario, frame and machine; every
     // seconds metric the targets give for that frame is swept.
@@ -342,7 +344,9 @@ int run_reproduce(const CalibrateOptions& o) {
                                 "with the {} scales, the GP count varied (data: frame_time_vs_gps.json).\n\n| GPs |",
                                 scaling->scenario, scaling->frame, scaling->machine, uncalibrated ? "uncalibrated" : "fitted");
         for (const std::string& m : swept) markdown += " " + m + " (s) |";
-        markdown += "\n|---|" + [&] { std::string bars; for (std::size_t i = 0; i < swept.size(); ++i) bars += "---|"; return bars; }() + "\n";
+        markdown += "\n|---|";
+        for (std::size_t m = 0; m < swept.size(); ++m) markdown += "---|";
+        markdown += "\n";
         for (const auto& point : sweep) {
             markdown += fmt::format("| {} |", point["gps"].get<int>());
             for (const std::string& m : swept) markdown += fmt::format(" {:.4g} |", point[m].get<double>());
