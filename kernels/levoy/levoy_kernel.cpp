@@ -80,6 +80,7 @@ nlohmann::json machine_record(const LevoyFrameReport& f, const std::vector<std::
             {"pyramid_rebuilt", f.pyramid_rebuilt},
             {"pyramid_cells_occupied", f.pyramid_cells_occupied},
             {"caches_invalidated", f.caches_invalidated},
+            {"caches_refreshed", f.caches_refreshed},
             {"depth_buffer_used", f.depth_buffer_used},
             {"rays", rc.rays},
             {"samples", rc.samples},
@@ -90,6 +91,7 @@ nlohmann::json machine_record(const LevoyFrameReport& f, const std::vector<std::
             {"cache", {{"hits", rc.cache_hits}, {"misses", rc.cache_misses},
                        {"hit_rate", lookups == 0 ? 0.0 : static_cast<double>(rc.cache_hits) / static_cast<double>(lookups)}}},
             {"voxel_requests", rc.requests},
+            {"blocks_refreshed", rc.blocks_refreshed},
             {"context_switches", rc.context_switches},
             {"events", rc.events},
             {"passes", passes}};

@@ -78,6 +78,7 @@ LevoyFrameTiming levoy_frame_timing(const LevoyFrameWork& work, const FrameTimin
         rc.cache_hits = cast->gp.cache_hits;
         rc.cache_misses = cast->gp.cache_misses;
         rc.requests = cast->gp.fetch_requests;
+        rc.blocks_refreshed = cast->gp.blocks_refreshed;
         rc.context_switches = cast->gp.context_switches;
         rc.gp_busy = cast->gp.gp_busy;
         rc.gp_wait = cast->gp.gp_wait;
@@ -360,7 +361,9 @@ LevoyFrameReport LevoyRenderer::record(const LevoyFrameInputs& frame) {
     }
     if (classify || reshade) {
         pixel_processors_.read_shaded_codes(shaded_);
-        machine_work.invalidate_gp_caches = !first_frame_;
+        machine_work.refresh_gp_caches = !first_frame_ && settings_.refresh_caches;
+        machine_work.refresh_blocks_per_message = static_cast<std::uint32_t>(settings_.refresh_blocks_per_message);
+        machine_work.invalidate_gp_caches = !first_frame_ && !settings_.refresh_caches;
     }
     if (classify) {
         BinaryPyramid fresh = BinaryPyramid::from_opacity(shaded_, unscaled ? &*unscaled : nullptr);
@@ -379,7 +382,8 @@ LevoyFrameReport LevoyRenderer::record(const LevoyFrameInputs& frame) {
     machine_work.gp_resident_bits = settings_.pyramid_skipping ? pyramid_.total_cells() : 0;
     machine_work.phases.push_back(cast_frame(frame.camera, report));
     first_frame_ = false;
-    report.caches_invalidated = machine_work.invalidate_gp_caches;
+    report.caches_invalidated = machine_work.invalidate_gp_caches || machine_work.refresh_gp_caches;
+    report.caches_refreshed = machine_work.refresh_gp_caches;
     report.final_image = report.passes.back().image;
     return report;
 }

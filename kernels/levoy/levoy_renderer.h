@@ -59,6 +59,7 @@ struct RayCastReport : RayCastCounts {
     std::uint64_t cache_hits = 0;
     std::uint64_t cache_misses = 0;
     std::uint64_t requests = 0;  // fetch requests to renderers
+    std::uint64_t blocks_refreshed = 0;  // asked for again, in refresh messages, after the PPs reshaded
     std::uint64_t context_switches = 0;
     Tick gp_busy = 0;
     Tick gp_wait = 0;
@@ -121,7 +122,8 @@ LevoyFrameTiming time_levoy_frame(Machine& machine, const LevoyFrameWork& work);
 struct LevoyFrameReport : LevoyFrameTiming {
     bool pyramid_rebuilt = false;
     std::uint64_t pyramid_cells_occupied = 0;
-    bool caches_invalidated = false;
+    bool caches_invalidated = false;  // the GPs' cached voxels were stale at the frame's start
+    bool caches_refreshed = false;    // ... and the GPs asked again for the blocks they had used (levoy.after_reshade)
     bool depth_buffer_used = false;
     std::vector<RefinementPassReport> passes;
     Image final_image;  // the last pass's picture

@@ -27,6 +27,17 @@ const ParamGroup& LevoySettings::params() {
                      "While the observer and the set of non-empty voxels stay, start rays at the first non-empty sample "
                      "found in an earlier frame",
                      Provenance::Paper, "Levoy 1989: record the depth of the first non-empty voxel along each ray")
+            .text("after_reshade", "drop", {"drop", "refresh"},
+                  "What the GPs do with their cached voxels when the PPs recompute colours or opacities: drop them and fetch "
+                  "each block again when a ray misses it (drop), or ask again at once for the blocks they used in the frame "
+                  "before, in the order they first used them, a few blocks a message (refresh: far fewer requests, but every "
+                  "GP takes in all of it while its crude pass runs)",
+                  Provenance::Default,
+                  "Levoy 1989: voxels a GP receives are kept in its cache for later frames; what a reshade does to them is ours")
+            .integer("refresh_blocks_per_message", 16, "blocks", 1, 65536,
+                     "With after_reshade = refresh: blocks one refresh message asks a renderer for (renderers answer in the "
+                     "order requests come, so smaller messages bring every GP's first blocks back sooner)",
+                     Provenance::Default, "pp5sim")
             .integer("jitter_samples", 16, "count", 1, 1024,
                      "Subvoxel translations of each polygon in 3D scan-conversion (1: binary voxelisation)", Provenance::Default,
                      "Levoy 1989: 'moved through a set of subvoxel-sized translations', count not given");
@@ -48,6 +59,8 @@ LevoySettings LevoySettings::from(const MachineConfig& config) {
     s.pyramid_skipping = config.boolean("levoy.pyramid_skipping");
     s.depth_buffer = config.boolean("levoy.depth_buffer");
     s.jitter_samples = static_cast<int>(config.integer("levoy.jitter_samples"));
+    s.refresh_caches = config.text("levoy.after_reshade") == "refresh";
+    s.refresh_blocks_per_message = static_cast<int>(config.integer("levoy.refresh_blocks_per_message"));
     return s;
 }
 

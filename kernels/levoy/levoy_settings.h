@@ -19,6 +19,8 @@ struct LevoySettings {
     RefinementSettings refinement;
     bool pyramid_skipping = true;
     bool depth_buffer = true;
+    bool refresh_caches = false;  // after a reshade, GPs ask again for the blocks they used (false: they drop them)
+    int refresh_blocks_per_message = 16;
     int jitter_samples = 16;
 
     static const ParamGroup& params();

@@ -40,7 +40,7 @@ bool BlockCache::lookup(std::uint64_t block) {
     for (int w = 0; w < ways_; ++w) {
         const std::uint64_t slot = base + static_cast<std::uint64_t>(w);
         if (ways_of_sets_[slot].tag == block) {
-            ways_of_sets_[slot].last_use = ++use_clock_;
+            note_use(ways_of_sets_[slot]);
             ++hits;
             return true;
         }
@@ -49,14 +49,15 @@ bool BlockCache::lookup(std::uint64_t block) {
     return false;
 }
 
-void BlockCache::insert(std::uint64_t block) {
+void BlockCache::insert(std::uint64_t block, bool used) {
     if (block == kEmpty) throw std::invalid_argument("block cache: reserved block number");
     const std::uint64_t base = set_of(block) * static_cast<std::uint64_t>(ways_);
     std::uint64_t victim = base;
     for (int w = 0; w < ways_; ++w) {
         const std::uint64_t slot = base + static_cast<std::uint64_t>(w);
         if (ways_of_sets_[slot].tag == block) {  // already there (two requests crossed): refresh it
-            ways_of_sets_[slot].last_use = ++use_clock_;
+            if (used) note_use(ways_of_sets_[slot]);
+            else ways_of_sets_[slot].last_use = ++use_clock_;
             return;
         }
         if (ways_of_sets_[slot].tag == kEmpty) {
@@ -72,7 +73,19 @@ void BlockCache::insert(std::uint64_t block) {
     }
     ways_of_sets_[victim].tag = block;
     ways_of_sets_[victim].last_use = ++use_clock_;
+    ways_of_sets_[victim].first_use = used ? ways_of_sets_[victim].last_use : 0;
     ++fills;
+}
+
+std::vector<std::uint64_t> BlockCache::blocks_used_this_frame() const {
+    std::vector<const Way*> used;
+    for (const Way& way : ways_of_sets_)
+        if (way.tag != kEmpty && way.first_use > frame_began_at_) used.push_back(&way);
+    std::sort(used.begin(), used.end(), [](const Way* a, const Way* b) { return a->first_use < b->first_use; });
+    std::vector<std::uint64_t> blocks;
+    blocks.reserve(used.size());
+    for (const Way* way : used) blocks.push_back(way->tag);
+    return blocks;
 }
 
 void BlockCache::invalidate() {

@@ -25,9 +25,14 @@ public:
     // Whether `block` is held, without touching the replacement order or the counters.
     bool contains(std::uint64_t block) const;
     // Stores `block` (a fill after a miss), evicting its set's least recently used block if full.
-    void insert(std::uint64_t block);
+    // `used` false: a copy nobody has asked for yet (a refresh), not a use this frame until looked up.
+    void insert(std::uint64_t block, bool used = true);
     // Drops every block: the voxels they hold are stale.
     void invalidate();
+    // Starts a frame: blocks_used_this_frame() is measured from here.
+    void begin_frame() { frame_began_at_ = use_clock_; }
+    // The blocks used (hit, or filled after a miss) since begin_frame(), in the order of their first use.
+    std::vector<std::uint64_t> blocks_used_this_frame() const;
 
     std::uint64_t capacity_blocks() const { return sets_ * static_cast<std::uint64_t>(ways_); }
     int associativity() const { return ways_; }
@@ -49,9 +54,15 @@ private:
     struct Way {
         std::uint64_t tag = kEmpty;
         std::uint64_t last_use = 0;
+        std::uint64_t first_use = 0;  // in the current frame (<= frame_began_at_: not used in it)
     };
+    void note_use(Way& way) {
+        way.last_use = ++use_clock_;
+        if (way.first_use <= frame_began_at_) way.first_use = way.last_use;
+    }
     std::vector<Way> ways_of_sets_;  // sets_ x ways_
     std::uint64_t use_clock_ = 0;
+    std::uint64_t frame_began_at_ = 0;
     std::uint64_t occupied_ = 0;
 };
 

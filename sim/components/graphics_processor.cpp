@@ -37,6 +37,8 @@ GraphicsProcessor::GraphicsProcessor(std::size_t index, const MachineConfig& con
       tasks(stats().counter("tasks", "count", "Tasks (a tile of rays in one refinement pass, say) finished")),
       items(stats().counter("items", "count", "Items (rays, primitive batches) run to completion")),
       fetch_requests(stats().counter("fetch_requests", "count", "Fetch request messages sent to renderers")),
+      blocks_refreshed(stats().counter("blocks_refreshed", "count",
+                                       "Blocks asked for again, a few to a refresh message, after the data they copy changed")),
       replies(stats().counter("replies", "count", "Fetch replies received")),
       context_switches(stats().counter("context_switches", "count", "Switches from a waiting item to a ready one")),
       busy_ps(stats().counter("busy_time", "ps", "Simulated time spent computing")),

@@ -42,6 +42,7 @@ public:
     Counter& tasks;
     Counter& items;
     Counter& fetch_requests;
+    Counter& blocks_refreshed;
     Counter& replies;
     Counter& context_switches;
     Counter& busy_ps;

@@ -121,9 +121,9 @@ Tick Renderer::begin_pass(EventQueue& events, Tick start, const RendererPass& pa
     return busy_until_;
 }
 
-Tick Renderer::serve_fetch(Tick arrival, std::uint64_t units) {
+Tick Renderer::serve_fetch(Tick arrival, std::uint64_t units, bool with_setup) {
     const Tick begin = clock_.next_edge(std::max(arrival, busy_until_));
-    const auto cycles = fetch_setup_cycles_ + static_cast<std::uint64_t>(std::ceil(fetch_cycles_per_unit_ * static_cast<double>(units)));
+    const auto cycles = (with_setup ? fetch_setup_cycles_ : 0) + static_cast<std::uint64_t>(std::ceil(fetch_cycles_per_unit_ * static_cast<double>(units)));
     const Tick duration = clock_.cycles_to_ticks(cycles);
     busy_until_ = begin + duration;
     ++fetches;

@@ -53,7 +53,8 @@ public:
     Tick busy_until() const { return busy_until_; }
     // Answers a GP's fetch of `units` units (words of the PPs' data) that arrived at `arrival`: fetches
     // and passes are served one at a time in the order they come. Returns when the reply is ready to leave.
-    Tick serve_fetch(Tick arrival, std::uint64_t units);
+    // A batch of fetches in one request pays the setup once: `with_setup` false for all but its first.
+    Tick serve_fetch(Tick arrival, std::uint64_t units, bool with_setup = true);
     // Screen work (a renderer owning a region of the picture): `runs` runs of one PP program over the
     // whole array, one per primitive (every PP evaluates the primitive at once), after the controller
     // has written `write_words` words from the ring into the PPs. Starts at `ready` or when the

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <deque>
+#include <unordered_map>
+#include <unordered_set>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -57,6 +59,11 @@ constexpr Signal signal_of(std::uint64_t p) { return static_cast<Signal>(p >> 62
 constexpr std::uint64_t gp_of(std::uint64_t p) { return (p >> 40) & ((1ull << 22) - 1); }
 constexpr std::uint64_t value_of(std::uint64_t p) { return p & ((1ull << 40) - 1); }
 constexpr std::uint64_t kNoTask = (1ull << 40) - 1;
+// A request at a renderer that is part of a GP's refresh (GpPhaseRun::refresh_lists), not one fetch: its
+// value counts down from kRefreshBatch - 1 by the index of its first block in the list. Block numbers
+// are 32-bit, so they never reach kRefreshFirst.
+constexpr std::uint64_t kRefreshBatch = (1ull << 40) - 1;
+constexpr std::uint64_t kRefreshFirst = 1ull << 32;
 // A frame-buffer message that is a renderer's region read-out (the renderer's index below it), not a task's pixels.
 constexpr std::uint64_t kReadout = 1ull << 63;
 
@@ -86,10 +93,6 @@ private:
         std::uint32_t step = 0;  // within the item
         std::uint32_t block = 0;
     };
-    struct Outstanding {
-        std::uint32_t block;
-        int parts_left;
-    };
     enum class Action { None, Request, AskTask, Send };
     // What a finished task sends, one message at a time: its batches in order, then its pixels.
     struct Outgoing {
@@ -98,6 +101,7 @@ private:
     };
 
     void run(Tick now);
+    Tick send_refresh(Tick start);  // returns when the GP has sent it
     void perform(Tick now);
     Tick take_in_replies();
     int pick_ready_context() const;
@@ -124,7 +128,8 @@ private:
     std::uint32_t next_item_ = 0;
     bool asked_for_task_ = false;
     bool no_more_tasks_ = false;
-    std::vector<Outstanding> outstanding_;
+    std::unordered_map<std::uint32_t, int> outstanding_;  // block -> parts not yet arrived
+    std::unordered_set<std::uint32_t> refreshing_;        // outstanding only because of a refresh: no ray has missed it yet
     std::vector<std::uint32_t> arrived_;
     std::deque<Outgoing> outbox_;
     Tick receive_cost_owed_ = 0;
@@ -207,6 +212,9 @@ public:
     Machine& machine;
     const GpPhase& phase;
     PhaseTiming& timing;
+    std::vector<std::vector<std::uint64_t>> refresh;                 // per GP: blocks to ask for again (empty: none)
+    std::vector<std::vector<std::vector<std::uint32_t>>> refresh_lists;  // per GP, per renderer: what it asked for
+    std::uint32_t refresh_blocks_per_message = 16;
     std::vector<Tick> op_cost;          // per op kind
     std::vector<std::string> op_names;  // per op kind
     std::vector<std::uint32_t> remaining;   // items not finished, per task
@@ -249,6 +257,7 @@ private:
     FrameTiming timing_;
     std::size_t current_ = 0;
     std::unique_ptr<GpPhaseRun> gp_run_;
+    std::vector<std::vector<std::uint64_t>> refresh_;  // per GP, for the frame's first GP phase that fetches
 };
 
 // ---------------------------------------------------------------------------------------------------
@@ -264,7 +273,55 @@ GpAgent::GpAgent(GpPhaseRun& run, GraphicsProcessor& gp, std::size_t station)
 
 void GpAgent::begin(Tick start) {
     if (run_.phase.assignment == TaskAssignment::WorkQueue) action_ = Action::AskTask;
-    schedule_resume(start);
+    schedule_resume(send_refresh(start));
+}
+
+// The blocks this GP used in the frame before, asked for again from the renderers that hold their
+// parts, a few blocks a message; until its parts are back, a block counts as on its way, as after a miss.
+Tick GpAgent::send_refresh(Tick start) {
+    if (run_.refresh.empty() || !run_.phase.blocks) return start;
+    const std::vector<std::uint64_t>& blocks = run_.refresh[gp_.index()];
+    if (blocks.empty()) return start;
+    std::vector<std::vector<std::uint32_t>>& lists = run_.refresh_lists[gp_.index()];
+    lists.assign(run_.renderers.size(), {});
+    for (const std::uint64_t b : blocks) {
+        if (b >= run_.phase.blocks->block_count()) continue;  // the volume's blocks changed: nothing to refresh
+        const auto block = static_cast<std::uint32_t>(b);
+        const auto parts = run_.phase.blocks->parts(block);
+        for (const BlockPart& part : parts) {
+            if (part.renderer >= run_.renderers.size())
+                throw std::logic_error(fmt::format("recorded work: block {} has a part on renderer {}, which the machine lacks", block, part.renderer));
+            lists[part.renderer].push_back(block);
+        }
+        outstanding_.emplace(block, static_cast<int>(parts.size()));
+        refreshing_.insert(block);
+        ++gp_.blocks_refreshed;
+        ++run_.timing.gp.blocks_refreshed;
+    }
+    // Each renderer's list goes in messages of a few blocks, the first blocks of every list first.
+    RingNetwork& ring = run_.machine.ring();
+    const std::size_t per_message = std::max<std::uint32_t>(1, run_.refresh_blocks_per_message);
+    Tick t = start;
+    for (std::size_t first = 0;; first += per_message) {
+        bool any = false;
+        for (std::size_t r = 0; r < lists.size(); ++r) {
+            if (first >= lists[r].size()) continue;
+            any = true;
+            const std::size_t count = std::min(per_message, lists[r].size() - first);
+            t += gp_.costs().message_send;
+            gp_.busy_ps += static_cast<std::uint64_t>(gp_.costs().message_send);
+            run_.timing.gp.gp_busy += gp_.costs().message_send;
+            ring.send(run_.machine.events(), t,
+                      RingMessage{MessageKind::FetchRequest, station_, ring.position(StationKind::Renderer, r),
+                                  static_cast<std::uint64_t>(count) * run_.phase.fetch_request_bits, false},
+                      *run_.renderers[r], pack(Signal::Arrival, gp_.index(), kRefreshBatch - 1 - first));
+            ++gp_.fetch_requests;
+            ++run_.timing.gp.fetch_requests;
+        }
+        if (!any) break;
+    }
+    if (trace_ != nullptr && t > start) trace_->slice(trace_track_, "asking for its blocks again", start, t);
+    return t;
 }
 
 void GpAgent::schedule_resume(Tick t) {
@@ -280,11 +337,11 @@ void GpAgent::handle_event(Tick now, std::uint64_t payload) {
         case Signal::Arrival: {
             const auto block = static_cast<std::uint32_t>(value_of(payload));
             ++gp_.replies;
-            const auto it = std::find_if(outstanding_.begin(), outstanding_.end(), [&](const Outstanding& o) { return o.block == block; });
+            const auto it = outstanding_.find(block);
             if (it == outstanding_.end()) throw std::logic_error(fmt::format("{}: a reply nobody asked for", gp_.name()));
             const GpCostModel& costs = gp_.costs();
             receive_cost_owed_ += costs.message_receive;
-            if (--it->parts_left == 0) {
+            if (--it->second == 0) {
                 // The whole block is in: copy its words into the cache.
                 const BlockDirectory& blocks = *run_.phase.blocks;
                 std::uint64_t words = 0;
@@ -362,7 +419,7 @@ Tick GpAgent::take_in_replies() {
     Tick cost = receive_cost_owed_;
     receive_cost_owed_ = 0;
     for (const std::uint32_t block : arrived_) {
-        cache_->insert(block);
+        cache_->insert(block, refreshing_.erase(block) == 0);  // a refreshed copy no ray waited for is not yet a use
         for (Context& c : contexts_) {
             if (c.active && c.waiting && c.block == block) {
                 c.waiting = false;
@@ -454,11 +511,12 @@ bool GpAgent::advance(int index, Tick& t) {
                     ++run_.timing.gp.cache_misses;
                     c.waiting = true;
                     c.block = step.block;
-                    const bool on_its_way = std::any_of(outstanding_.begin(), outstanding_.end(),
-                                                        [&](const Outstanding& o) { return o.block == step.block; });
-                    if (on_its_way) return false;
+                    if (outstanding_.count(step.block) != 0) {  // on its way (asked for, or being refreshed)
+                        refreshing_.erase(step.block);         // a ray waits for it now
+                        return false;
+                    }
                     const auto parts = run_.phase.blocks->parts(step.block);
-                    outstanding_.push_back(Outstanding{step.block, static_cast<int>(parts.size())});
+                    outstanding_.emplace(step.block, static_cast<int>(parts.size()));
                     t += static_cast<Tick>(parts.size()) * costs.message_send;
                     action_ = Action::Request;
                     action_value_ = step.block;
@@ -530,7 +588,7 @@ std::string GpAgent::describe_stall() const {
         const Context& c = contexts_[i];
         if (c.active && c.waiting) why += fmt::format(" context {} (task {}, item {}) waits for block {};", i, c.task, c.item, c.block);
     }
-    for (const Outstanding& o : outstanding_) why += fmt::format(" block {} has {} part(s) outstanding;", o.block, o.parts_left);
+    for (const auto& [block, parts_left] : outstanding_) why += fmt::format(" block {} has {} part(s) outstanding;", block, parts_left);
     if (asked_for_task_) why += " it waits for a task from the host;";
     if (!tasks_.empty() && !run_.group_open(run_.task(tasks_.front()).group))
         why += fmt::format(" it waits for group {} to finish;", run_.task(tasks_.front()).group - 1);
@@ -611,6 +669,16 @@ void RendererAgent::handle_event(Tick now, std::uint64_t payload) {
     }
     const auto gp = gp_of(payload);
     const auto block = static_cast<std::uint32_t>(value_of(payload));
+    if (signal_of(payload) == Signal::Arrival && value_of(payload) >= kRefreshFirst) {  // a GP's refresh: one setup, a reply a block
+        const std::vector<std::uint32_t>& list = run_.refresh_lists[gp][renderer_.index()];
+        const std::size_t first = kRefreshBatch - 1 - value_of(payload);
+        const std::size_t end = std::min(list.size(), first + std::max<std::uint32_t>(1, run_.refresh_blocks_per_message));
+        for (std::size_t i = first; i < end; ++i) {
+            const Tick ready = renderer_.serve_fetch(now, units_of(list[i]), i == first);
+            run_.machine.events().schedule(ready, *this, pack(Signal::Ready, gp, list[i]));
+        }
+        return;
+    }
     if (signal_of(payload) == Signal::Arrival) {  // a request has arrived: queue it
         const Tick ready = renderer_.serve_fetch(now, units_of(block));
         run_.machine.events().schedule(ready, *this, pack(Signal::Ready, gp, block));
@@ -683,6 +751,7 @@ GpPhaseRun::GpPhaseRun(FrameRun& frame_in, Machine& machine_in, const GpPhase& p
         region_costs.push_back(std::move(costs));
     }
     timing.gp.renderer_drawing.assign(machine.renderers().size(), 0);
+    refresh_lists.resize(machine.gps().size());
     timing.task_gp.assign(phase.tasks.size(), std::numeric_limits<std::uint32_t>::max());
 }
 
@@ -819,9 +888,16 @@ FrameTiming FrameRun::run(const EngineOptions& options) {
     for (const Phase& p : work_.phases)
         if (const auto* gp = std::get_if<GpPhase>(&p.work); gp != nullptr && gp->blocks)
             for (auto& g : machine_.gps()) g->cache(gp->blocks->block_bits());  // InputError if a block does not fit
-    if (work_.invalidate_gp_caches)
-        for (auto& g : machine_.gps())
-            if (BlockCache* cache = g->cache_if_built()) cache->invalidate();
+    for (auto& g : machine_.gps()) {
+        BlockCache* cache = g->cache_if_built();
+        if (cache == nullptr) continue;
+        if (work_.refresh_gp_caches) {
+            refresh_.resize(machine_.gps().size());
+            refresh_[g->index()] = cache->blocks_used_this_frame();
+        }
+        if (work_.invalidate_gp_caches || work_.refresh_gp_caches) cache->invalidate();
+        cache->begin_frame();
+    }
 
     EventQueue& events = machine_.events();
     timing_.start_ps = events.now();
@@ -862,6 +938,11 @@ void FrameRun::start_phase(std::size_t index, Tick t) {
     if (const auto* pp = std::get_if<PpPhase>(&phase.work)) return start_pp_phase(*pp, timing, t);
     if (const auto* broadcast = std::get_if<BroadcastPhase>(&phase.work)) return start_broadcast_phase(*broadcast, timing, t);
     gp_run_ = std::make_unique<GpPhaseRun>(*this, machine_, std::get<GpPhase>(phase.work), work_.op_kinds, timing);
+    if (gp_run_->phase.blocks) {  // the frame's first phase that fetches asks again
+        gp_run_->refresh = std::move(refresh_);
+        gp_run_->refresh_blocks_per_message = work_.refresh_blocks_per_message;
+        refresh_.clear();
+    }
     gp_run_->start(t);
     gp_run_->maybe_complete(t);  // a phase without tasks ends at once
 }

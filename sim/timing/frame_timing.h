@@ -29,6 +29,7 @@ struct GpPhaseCounts {
     std::uint64_t cache_hits = 0;
     std::uint64_t cache_misses = 0;
     std::uint64_t fetch_requests = 0;  // messages to renderers
+    std::uint64_t blocks_refreshed = 0;  // asked for again in refresh messages (FrameWork::refresh_gp_caches)
     std::uint64_t context_switches = 0;
     std::uint64_t pixels_sent = 0;
     Tick gp_busy = 0;

@@ -183,6 +183,14 @@ struct FrameWork {
     std::vector<GpOpKind> op_kinds;
     std::vector<Phase> phases;
     bool invalidate_gp_caches = false;  // the data the GPs cached has changed
+    // The data changed, but as the frame's first GP phase begins each GP asks again for the blocks it
+    // used in the frame before (what it will need again while the view stays), in the order it first
+    // used them and a few blocks a message, instead of asking for each when a ray first misses it. The
+    // rest of its cache is dropped.
+    bool refresh_gp_caches = false;
+    // How many blocks one refresh message asks for: a renderer answers its requests in the order they
+    // come, so smaller messages let every GP's first blocks come back early.
+    std::uint32_t refresh_blocks_per_message = 16;
     std::uint64_t gp_resident_bits = 0; // what each GP keeps besides its cache (checked against gp.memory_bytes)
     // Data a GP keeps for each task key it owns (static assignment: GP key mod G), on top of the above.
     std::vector<std::uint64_t> resident_bits_by_key;

@@ -456,6 +456,28 @@ TEST(Cli, ReproduceWritesTheTableImagesAndPlots) {
     EXPECT_NE(read_file(dir / "out/fit.md").find("| a | "), std::string::npos);
 }
 
+// Levoy's MR head sequence (orbit, then a light move with the observer still): with the GPs asking
+// again for the blocks they used (levoy.after_reshade = refresh), the light frame sends fewer fetch
+// requests than the orbit frame before it, and far fewer than when the GPs drop their caches.
+TEST(Cli, OnTheMrHeadSequenceALightChangeThatRefreshesSendsFewerFetchesThanAnOrbit) {
+    const fs::path dir = scratch("refresh_sequence");
+    const auto requests = [&](const std::string& after_reshade) {
+        const fs::path out = dir / after_reshade;
+        const RunResult r = run("render mr-head-sequence --no-reference --set levoy.after_reshade=" + after_reshade + " --out " + out.string(), dir);
+        EXPECT_EQ(r.exit_code, 0) << r.output;
+        const auto stats = nlohmann::json::parse(read_file(out / "stats.json"));
+        const auto& frames = stats["frames"];
+        EXPECT_EQ(frames[2]["label"], "observer moved again");
+        EXPECT_EQ(frames[3]["label"], "light moved");
+        return std::pair{frames[2]["machine"]["voxel_requests"].get<std::uint64_t>(), frames[3]["machine"]["voxel_requests"].get<std::uint64_t>()};
+    };
+    const auto [orbit, light] = requests("refresh");
+    const auto [orbit_dropping, light_dropping] = requests("drop");
+    EXPECT_EQ(orbit, orbit_dropping);  // nothing changed before the light did
+    EXPECT_LT(light, orbit);
+    EXPECT_LT(light, light_dropping);
+}
+
 TEST(Cli, RenderRefusesAUniprocessorMachine) {
     const fs::path dir = scratch("render_sun");
     const RunResult r = run("render sphere --machine sun4-280 --out " + (dir / "out").string(), dir);

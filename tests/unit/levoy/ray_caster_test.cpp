@@ -300,6 +300,49 @@ TEST(LevoyRenderer, CachesStayWarmWhileVoxelsStayAndAreDroppedWhenTheyChange) {
     EXPECT_FALSE(rebuilt.depth_buffer_used);
 }
 
+// levoy.after_reshade = refresh: on a light change with the observer still, each GP asks again, a few
+// blocks a message, for the blocks it used in the frame before, so it sends fewer fetch requests than
+// when it drops them, and the picture is the same. (Against an observer move on Levoy's MR head
+// sequence: Cli.OnTheMrHeadSequenceALightChangeThatRefreshesSendsFewerFetchesThanAnOrbit.)
+TEST(LevoyRenderer, ALightChangeThatRefreshesTheCachesSendsFewerFetchesThanOneThatDropsThem) {
+    const auto sequence = [](const char* after_reshade) {
+        Scene s;
+        s.config.set("levoy.after_reshade", std::string(after_reshade), "test");
+        s.inputs.lighting.light_follows_camera = false;
+        s.inputs.lighting.specular = 0.0f;
+        s.inputs.lighting.light_direction = glm::vec3(0.3f, -1.0f, 0.5f);
+        Machine machine(s.config);
+        LevoyRenderer renderer(machine, s.volume, LevoySettings::from(s.config), s.image);
+        std::vector<LevoyFrameReport> frames;
+        frames.push_back(renderer.render(s.inputs));
+        LevoyFrameInputs moved = s.inputs;
+        moved.camera.eye += glm::vec3(12.0f, -4.0f, 0.0f);
+        moved.classification_changed = false;
+        moved.lighting_changed = false;
+        frames.push_back(renderer.render(moved));
+        LevoyFrameInputs lit = moved;
+        lit.lighting.light_direction = glm::vec3(-1.0f, 0.2f, 0.1f);
+        lit.lighting_changed = true;
+        frames.push_back(renderer.render(lit));
+        return frames;
+    };
+    const std::vector<LevoyFrameReport> refreshed = sequence("refresh");
+    const std::vector<LevoyFrameReport> dropped = sequence("drop");
+    const LevoyFrameReport& orbit = refreshed[1];
+    const LevoyFrameReport& light = refreshed[2];
+    EXPECT_TRUE(light.caches_refreshed);
+    EXPECT_FALSE(dropped[2].caches_refreshed);
+    EXPECT_TRUE(dropped[2].caches_invalidated);
+    EXPECT_GT(orbit.ray_cast.requests, 0u);
+    // The blocks the orbit frame used are the ones asked for again.
+    EXPECT_GT(light.ray_cast.blocks_refreshed, 0u);
+    EXPECT_LE(light.ray_cast.blocks_refreshed, orbit.ray_cast.cache_hits + orbit.ray_cast.cache_misses);
+    EXPECT_LT(light.ray_cast.requests, dropped[2].ray_cast.requests);
+    // Refreshing or dropping changes when voxels arrive, never what is drawn.
+    EXPECT_EQ(light.final_image.pixels, dropped[2].final_image.pixels);
+    EXPECT_EQ(dropped[2].ray_cast.blocks_refreshed, 0u);
+}
+
 TEST(LevoyRenderer, SameImageAndStatisticsAtOneAndTwoThreads) {
     const auto run = [](int threads) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));

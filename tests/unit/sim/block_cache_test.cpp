@@ -69,6 +69,25 @@ TEST(BlockCache, InvalidateDropsEveryBlock) {
     EXPECT_EQ(cache.invalidations.value(), 1u);
 }
 
+TEST(BlockCache, BlocksUsedThisFrameComeInTheOrderOfTheirFirstUse) {
+    Owner owner;
+    BlockCache cache(&owner, 16, 16);
+    cache.insert(3);
+    cache.insert(9);
+    cache.begin_frame();  // a new frame: nothing used in it yet
+    EXPECT_TRUE(cache.blocks_used_this_frame().empty());
+    EXPECT_TRUE(cache.lookup(9));   // first use: 9
+    cache.insert(5);                // a fill after a miss is a use: 5
+    EXPECT_TRUE(cache.lookup(3));   // then 3
+    EXPECT_TRUE(cache.lookup(9));   // used again: still first
+    cache.insert(11, false);        // a refreshed copy nobody asked for yet is not a use
+    EXPECT_EQ(cache.blocks_used_this_frame(), (std::vector<std::uint64_t>{9, 5, 3}));
+    EXPECT_TRUE(cache.lookup(11));  // until a ray looks it up
+    EXPECT_EQ(cache.blocks_used_this_frame(), (std::vector<std::uint64_t>{9, 5, 3, 11}));
+    cache.begin_frame();
+    EXPECT_TRUE(cache.blocks_used_this_frame().empty());
+}
+
 TEST(BlockCache, GpCacheCapacityIsCacheBitsOverBlockBits) {
     MachineConfig config = Machine::default_config();
     config.apply_override("gp.cache_associativity=4");
