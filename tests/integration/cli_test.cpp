@@ -478,6 +478,25 @@ TEST(Cli, OnTheMrHeadSequenceALightChangeThatRefreshesSendsFewerFetchesThanAnOrb
     EXPECT_LT(light, light_dropping);
 }
 
+// The default ray assignment (interleaved tiles) on Levoy's MR head at his 32 GPs: every GP casts, and
+// none more than three times another (raster-order tiles left whole columns of GPs idle).
+TEST(Cli, OnTheMrHeadEveryOneOfThe32GpsCasts) {
+    const fs::path dir = scratch("balanced_gps");
+    const RunResult r = run("render mr-head --no-reference --out " + (dir / "out").string(), dir);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const auto stats = nlohmann::json::parse(read_file(dir / "out/stats.json"));
+    ASSERT_EQ(stats["frames"].size(), 1u);  // so each GP's counters are that frame's
+    std::uint64_t fewest = ~0ull, most = 0;
+    for (int g = 0; g < 32; ++g) {
+        const auto items = stats["components"]["gp[" + std::to_string(g) + "]"]["items"]["value"].get<std::uint64_t>();
+        fewest = std::min(fewest, items);
+        most = std::max(most, items);
+    }
+    EXPECT_FALSE(stats["components"].contains("gp[32]"));
+    EXPECT_GT(fewest, 0u);
+    EXPECT_LT(most, 3 * fewest) << fewest << ".." << most;
+}
+
 TEST(Cli, RenderRefusesAUniprocessorMachine) {
     const fs::path dir = scratch("render_sun");
     const RunResult r = run("render sphere --machine sun4-280 --out " + (dir / "out").string(), dir);
