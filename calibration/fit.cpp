@@ -383,11 +383,25 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
                                  kScales[free[stronger]].key, worst, p.value);
             free.erase(free.begin() + static_cast<std::ptrdiff_t>(weaker));
         }
-        if (free.size() >= targets.size()) {
+        // Fewer free scales than half the fitted targets, so no scale is pinned by one figure alone: while
+        // there are more, the one that moves the targets least is held.
+        const std::size_t allowed = (targets.size() - 1) / 2;
+        if (!free.empty() && allowed == 0) {
             throw InputError(model.targets().file.string(), "targets",
-                             fmt::format("machine {} has {} fitted targets for {} free scales; a fit needs more targets than "
-                                         "parameters (mark more rows use = \"fit\")",
-                                         machine, targets.size(), free.size()));
+                             fmt::format("machine {} has {} fitted target(s); a fit frees fewer scales than half its targets, so it "
+                                         "needs at least 3 (mark more rows use = \"fit\")",
+                                         machine, targets.size()));
+        }
+        while (free.size() > allowed) {
+            const auto weakest = std::min_element(free.begin(), free.end(), [&](int a, int b) {
+                return norm(columns[static_cast<std::size_t>(a)]) < norm(columns[static_cast<std::size_t>(b)]);
+            });
+            FittedParameter& p = params[static_cast<std::size_t>(*weakest)];
+            p.free = false;
+            p.note = fmt::format("held at {}: {} fitted targets allow at most {} free scale(s) (fewer than half), and this one moves "
+                                 "them least",
+                                 p.value, targets.size(), allowed);
+            free.erase(weakest);
         }
         if (free.empty()) {
             report.parameters.insert(report.parameters.end(), params.begin(), params.end());
@@ -453,7 +467,12 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
                 const MachineFit partial(model, machine, rest, start, free);
                 std::vector<double> y;
                 for (int j : free) y.push_back(start.*kScales[j].member);
-                partial.solve(y, options.max_iterations);
+                const ceres::Solver::Summary refit = partial.solve(y, options.max_iterations);
+                {
+                    const std::lock_guard<std::mutex> lock(progress);
+                    say(fmt::format("{}: leave-one-out without {}: {} iterations, {} simulations", machine, targets[k]->id,
+                                    refit.iterations.size(), refit.num_residual_evaluations + refit.num_jacobian_evaluations * (2 * free.size())));
+                }
                 const double predicted = model.simulate(machine, partial.scales(y.data()), {targets[k]}).front();
                 result.leave_one_out = predicted;
                 result.leave_one_out_error = (predicted - targets[k]->reported) / targets[k]->reported;

@@ -6,7 +6,8 @@
 // (targets.h), under a Cauchy loss so that one figure the model cannot reach does not drag the rest.
 // Before fitting, each scale's effect on the fitted targets is measured; a scale that moves no target
 // by 2% over a 10% change, or one the others mimic (the Jacobian's columns nearly parallel), is
-// reported as not identifiable and held at 1. A machine needs more fitted targets than free scales.
+// reported as not identifiable and held at 1. A machine frees fewer scales than half its fitted targets:
+// beyond that, the scale that moves them least is held too.
 // After the fit: standard errors from Ceres' covariance (scaled up by the residuals' spread when it
 // exceeds their stated uncertainty), and the leave-one-out prediction of every fitted target.
 

@@ -63,7 +63,8 @@ double RecordedScenario::metric(const std::string& name, std::size_t frame, cons
     return kernel_.metric(name, *frames_.at(frame).frame, timing);
 }
 
-std::vector<FrameTiming> RecordedScenario::time_on(const MachineConfig& machine) const {
+std::vector<FrameTiming> RecordedScenario::time_on(const MachineConfig& machine, std::size_t frames) const {
+    frames = std::min(frames, frames_.size());
     const nlohmann::json recorded = functional_.to_json()["parameters"];
     const nlohmann::json timing = machine.to_json()["parameters"];
     for (const auto& [key, entry] : recorded.items()) {
@@ -76,11 +77,11 @@ std::vector<FrameTiming> RecordedScenario::time_on(const MachineConfig& machine)
     }
     std::vector<FrameTiming> times;
     if (machine.machine_kind() == MachineKind::Uniprocessor) {
-        for (const RecordedFrame& frame : frames_) times.push_back(time_frame_on_one_processor(machine, frame.frame->work));
+        for (std::size_t i = 0; i < frames; ++i) times.push_back(time_frame_on_one_processor(machine, frames_[i].frame->work));
         return times;
     }
     Machine timed(machine);
-    for (const RecordedFrame& frame : frames_) times.push_back(time_frame(timed, frame.frame->work));
+    for (std::size_t i = 0; i < frames; ++i) times.push_back(time_frame(timed, frames_[i].frame->work));
     return times;
 }
 
@@ -140,11 +141,16 @@ const RecordedScenario& CalibrationModel::recording(const std::string& scenario)
 std::vector<double> CalibrationModel::simulate(const std::string& machine, const CalibrationScales& scales,
                                                const std::vector<const Target*>& targets) const {
     const MachineConfig config = machine_config(machine, scales);
-    std::map<std::string, std::vector<FrameTiming>> timed;  // each scenario timed once per call
+    // Each scenario timed once per call, up to the last frame these targets read.
+    std::map<std::string, std::size_t> frames_read;
+    for (const Target* t : targets)
+        frames_read[t->scenario] = std::max({frames_read[t->scenario], static_cast<std::size_t>(t->frame) + 1,
+                                             static_cast<std::size_t>(std::max(t->divided_by_frame, 0)) + 1});
+    std::map<std::string, std::vector<FrameTiming>> timed;
     std::vector<double> values;
     for (const Target* t : targets) {
         auto it = timed.find(t->scenario);
-        if (it == timed.end()) it = timed.emplace(t->scenario, recording(t->scenario).time_on(config)).first;
+        if (it == timed.end()) it = timed.emplace(t->scenario, recording(t->scenario).time_on(config, frames_read.at(t->scenario))).first;
         const auto frame = static_cast<std::size_t>(t->frame);
         try {
             double value = recording(t->scenario).metric(t->metric, frame, it->second[frame]);

@@ -38,7 +38,9 @@ public:
     // Every recorded frame's times on `machine`, frames in order (caches carry over between frames on
     // a multicomputer). Throws InputError naming the machine file's key if `machine` differs from the
     // recording machine in anything but timing.
-    std::vector<FrameTiming> time_on(const MachineConfig& machine) const;
+    std::vector<FrameTiming> time_on(const MachineConfig& machine) const { return time_on(machine, frames_.size()); }
+    // Only the first `frames` (later frames cannot change earlier ones' times).
+    std::vector<FrameTiming> time_on(const MachineConfig& machine, std::size_t frames) const;
     // A recorded frame's value of one of its kernel's metrics, timed as `timing`; throws
     // std::domain_error when the frame cannot give it.
     double metric(const std::string& name, std::size_t frame, const FrameTiming& timing) const;

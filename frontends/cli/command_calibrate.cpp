@@ -313,7 +313,7 @@ int run_reproduce(const CalibrateOptions& o) {
             config.set("gp.count", static_cast<std::int64_t>(n), "--gp-counts");
             const RecordedScenario& recording = model->recording(scaling->scenario);
             const auto frame = static_cast<std::size_t>(scaling->frame);
-            const FrameTiming timing = recording.time_on(config)[frame];
+            const FrameTiming timing = recording.time_on(config, frame + 1)[frame];
             nlohmann::json point = {{"gps", n}};
             for (std::size_t m = 0; m < swept.size(); ++m) {
                 const double seconds = recording.metric(swept[m], frame, timing);

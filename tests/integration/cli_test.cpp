@@ -425,7 +425,7 @@ fs::path write_small_calibration(const fs::path& dir, const std::string& extra_r
                            << row("b", 0, "small.toml", "refined_seconds", 0.2, "fit") << row("c", 1, "small.toml", "refined_seconds", 0.1, "fit")
                            << row("d", 0, "small.toml", "pp_seconds", 0.01, "fit") << row("e", 1, "small.toml", "crude_seconds", 0.02, "held-out")
                            << row("f", 1, "uni.toml", "crude_seconds", 0.5, "fit") << row("g", 1, "uni.toml", "refined_seconds", 2.0, "fit")
-                           << extra_row;
+                           << row("h", 0, "uni.toml", "crude_seconds", 0.6, "fit") << extra_row;
     return targets;
 }
 
@@ -439,7 +439,7 @@ TEST(Cli, ReproduceWritesTheTableImagesAndPlots) {
                              "frame_time_vs_gps.json"})
         EXPECT_TRUE(fs::exists(dir / "out" / file)) << file;
     const auto table = nlohmann::json::parse(read_file(dir / "out/reproduction.json"));
-    ASSERT_EQ(table["rows"].size(), 7u);
+    ASSERT_EQ(table["rows"].size(), 8u);
     for (const auto& row : table["rows"]) {
         EXPECT_GT(row["simulated"].get<double>(), 0.0) << row;
         EXPECT_NEAR(row["relative_error"].get<double>(),
@@ -448,7 +448,7 @@ TEST(Cli, ReproduceWritesTheTableImagesAndPlots) {
         EXPECT_GT(row["uncalibrated"].get<double>(), 0.0) << row;  // the documented costs' value beside the fit's
     }
     // Errors judged by unit: every row here is in seconds.
-    EXPECT_EQ(table["summary"]["by_unit"]["s"]["count"].get<int>(), 7) << table["summary"];
+    EXPECT_EQ(table["summary"]["by_unit"]["s"]["count"].get<int>(), 8) << table["summary"];
     const auto sweep = nlohmann::json::parse(read_file(dir / "out/frame_time_vs_gps.json"));
     ASSERT_EQ(sweep["points"].size(), 3u);
     // More GPs never make the crude frame slower here.
@@ -512,7 +512,7 @@ TEST(Cli, FitRejectsABadTargetFileBeforeAnyOutput) {
                                                           "exactness = \"estimate\"\nuse = \"fit\"\n");
     const RunResult r = run("fit --targets " + targets.string() + " --out " + (dir / "out").string(), dir);
     EXPECT_EQ(r.exit_code, 2) << r.output;
-    EXPECT_NE(r.output.find("targets[7].scenario"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("targets[8].scenario"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
