@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -72,6 +73,7 @@ public:
         return s;
     }
     std::vector<double> residuals(const CalibrationScales& s) const {
+        ++simulations_;
         const std::vector<double> simulated = model_.simulate(machine_, s, targets_);
         std::vector<double> r;
         for (std::size_t i = 0; i < targets_.size(); ++i) r.push_back(residual(*targets_[i], simulated[i]));
@@ -110,6 +112,7 @@ public:
 
     const std::vector<const Target*>& targets() const { return targets_; }
     const std::vector<int>& free() const { return free_; }
+    int simulations() const { return simulations_.load(); }
 
 private:
     // The targets' residuals and their central-difference Jacobian. Each evaluation is a whole
@@ -158,6 +161,7 @@ private:
     std::vector<const Target*> targets_;
     CalibrationScales start_;
     std::vector<int> free_;
+    mutable std::atomic<int> simulations_{0};  // the targets simulated so far (a Jacobian's run side by side)
 };
 
 double pearson(const std::vector<double>& a, const std::vector<double>& b) {
@@ -471,7 +475,7 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
                 {
                     const std::lock_guard<std::mutex> lock(progress);
                     say(fmt::format("{}: leave-one-out without {}: {} iterations, {} simulations", machine, targets[k]->id,
-                                    refit.iterations.size(), refit.num_residual_evaluations + refit.num_jacobian_evaluations * (2 * free.size())));
+                                    refit.iterations.size(), partial.simulations()));
                 }
                 const double predicted = model.simulate(machine, partial.scales(y.data()), {targets[k]}).front();
                 result.leave_one_out = predicted;
