@@ -137,9 +137,22 @@ private:
                 points[2 * i + 1][i] += steps[i];
                 points[2 * i + 2][i] -= steps[i];
             }
+            // Ceres often asks about the same point twice or three times running (its cost, then its
+            // Jacobian; a Jacobian, then the cost again): the simulations it needs were run already.
             std::vector<std::vector<double>> values(points.size());
-            pp5::parallel_for(std::size_t{0}, points.size(),
-                              [&](std::size_t p) { values[p] = fit_.residuals(fit_.scales(points[p].data())); });
+            {
+                const std::lock_guard<std::mutex> lock(last_mutex_);
+                if (last_x_ == x)
+                    for (std::size_t p = 0; p < values.size() && p < last_values_.size(); ++p) values[p] = last_values_[p];
+            }
+            pp5::parallel_for(std::size_t{0}, points.size(), [&](std::size_t p) {
+                if (values[p].empty()) values[p] = fit_.residuals(fit_.scales(points[p].data()));
+            });
+            {
+                const std::lock_guard<std::mutex> lock(last_mutex_);
+                if (last_x_ != x || values.size() >= last_values_.size()) last_values_ = values;
+                last_x_ = x;
+            }
             const std::size_t m = values.front().size();
             for (std::size_t r = 0; r < m; ++r) {
                 residuals[r] = values.front()[r];
@@ -154,6 +167,9 @@ private:
     private:
         static constexpr double kRelativeStep = 0.01;
         const MachineFit& fit_;
+        mutable std::mutex last_mutex_;
+        mutable std::vector<double> last_x_;  // the last point evaluated, and the residuals of its points
+        mutable std::vector<std::vector<double>> last_values_;
     };
 
     const CalibrationModel& model_;
