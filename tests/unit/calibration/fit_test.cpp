@@ -128,11 +128,15 @@ TEST(Fit, FreesFewerScalesThanHalfItsTargets) {
     set.targets.resize(5);  // four fitted rows and the held-out one: room for one free scale
     set.targets.back().fitted = false;
     const CalibrationModel model(set, load_run_config(files.machine.string(), {}));
-    const FitReport report = fit_targets(model, FitOptions{.leave_one_out = false});
+    FitOptions options;
+    options.leave_one_out = false;
+    const FitReport report = fit_targets(model, options);
     int free = 0;
     for (const FittedParameter& p : report.parameters) {
         free += p.free;
-        if (!p.free) EXPECT_FALSE(p.note.empty()) << p.key;
+        if (!p.free) {
+            EXPECT_FALSE(p.note.empty()) << p.key;
+        }
     }
     EXPECT_EQ(free, 1);
     const bool any_held_for_parsimony = std::any_of(report.parameters.begin(), report.parameters.end(), [](const FittedParameter& p) {
