@@ -32,71 +32,70 @@ std::string text_field(const toml::table& row, const std::string& file, const st
     return s->get();
 }
 
-// [[figures]]: name, scenario, frame, picture ("final" or "first").
-void read_figures(const toml::table& root, const std::string& file, TargetSet& set) {
-    const toml::array* rows = root["figures"].as_array();
+// Calls read(row, prefix) for each table of the optional array `name` ("figures[2]." its prefix), after
+// refusing a key outside `known` ("unknown field; <what> has a, b and c").
+template <typename Read>
+void for_each_row(const toml::table& root, const std::string& file, const char* name, std::initializer_list<std::string_view> known,
+                  const char* what, Read read) {
+    const toml::array* rows = root[name].as_array();
     if (rows == nullptr) return;
+    std::string listed;
+    for (std::size_t i = 0; i < known.size(); ++i)
+        listed += (i == 0 ? "" : i + 1 == known.size() ? " and " : ", ") + std::string(known.begin()[i]);
     for (std::size_t i = 0; i < rows->size(); ++i) {
-        const std::string prefix = fmt::format("figures[{}].", i);
+        const std::string prefix = fmt::format("{}[{}].", name, i);
         const toml::table* row = (*rows)[i].as_table();
         if (!row) throw InputError(file, prefix.substr(0, prefix.size() - 1), "must be a table");
-        for (const auto& [k, v] : *row) {
-            const std::string key(k.str());
-            if (key != "name" && key != "scenario" && key != "frame" && key != "picture")
-                throw InputError(file, prefix + key, "unknown field; a figure has name, scenario, frame and picture");
-        }
+        for (const auto& [k, v] : *row)
+            if (std::find(known.begin(), known.end(), k.str()) == known.end())
+                throw InputError(file, prefix + std::string(k.str()), fmt::format("unknown field; {} has {}", what, listed));
+        read(*row, prefix);
+    }
+}
+
+// The scenario a row names, or an InputError on the row's scenario field saying why it does not load.
+Scenario scenario_named(const std::string& name, const std::string& file, const std::string& prefix) {
+    try {
+        return load_scenario(resolve_scenario_file(name));
+    } catch (const InputError& e) {
+        throw InputError(file, prefix + "scenario", std::string("\"") + name + "\": " + e.what());
+    }
+}
+
+// [[figures]]: name, scenario, frame, picture ("final" or "first").
+void read_figures(const toml::table& root, const std::string& file, TargetSet& set) {
+    for_each_row(root, file, "figures", {"name", "scenario", "frame", "picture"}, "a figure", [&](const toml::table& row, const std::string& prefix) {
         Figure f;
-        f.name = text_field(*row, file, prefix, "name", true);
+        f.name = text_field(row, file, prefix, "name", true);
         if (f.name.empty() || f.name.find_first_of("/\\.") != std::string::npos)
             throw InputError(file, prefix + "name", "must be a plain file name without slashes or dots");
-        f.scenario = text_field(*row, file, prefix, "scenario", true);
-        if (const toml::node* frame = row->get("frame")) {
+        f.scenario = text_field(row, file, prefix, "scenario", true);
+        if (const toml::node* frame = row.get("frame")) {
             const auto index = frame->value<std::int64_t>();
             if (!index || *index < 0) throw InputError(file, prefix + "frame", "must be a frame index from 0");
             f.frame = static_cast<int>(*index);
         }
-        const std::string picture = text_field(*row, file, prefix, "picture", false);
+        const std::string picture = text_field(row, file, prefix, "picture", false);
         if (!picture.empty() && picture != "final" && picture != "first")
             throw InputError(file, prefix + "picture", "must be final (the finished frame) or first (its first stage)");
         f.final = picture != "first";
         // Any scenario with that frame: a figure of a scenario no row times is recorded for the picture alone.
-        Scenario scenario;
-        try {
-            scenario = load_scenario(resolve_scenario_file(f.scenario));
-        } catch (const InputError& e) {
-            throw InputError(file, prefix + "scenario", std::string("\"") + f.scenario + "\": " + e.what());
-        }
+        const Scenario scenario = scenario_named(f.scenario, file, prefix);
         if (f.frame >= static_cast<int>(scenario.frames.size()))
             throw InputError(file, prefix + "frame", fmt::format("must be a frame of \"{}\": 0 to {}", f.scenario, scenario.frames.size() - 1));
         set.figures.push_back(f);
-    }
-}
-
-// The declared parameter `key` ("group.name"), or null.
-const ParamSpec* find_param(const std::string& key) {
-    for (const ParamGroup* group : run_param_groups())
-        for (const ParamSpec& spec : group->specs())
-            if (group->prefix() + "." + spec.name == key) return &spec;
-    return nullptr;
+    });
 }
 
 // [[workload]]: parameter, bounds, ratio_of (two measured rows on one machine) and why.
 void read_workload(const toml::table& root, const std::string& file, TargetSet& set) {
-    const toml::array* rows = root["workload"].as_array();
-    if (rows == nullptr) return;
-    for (std::size_t i = 0; i < rows->size(); ++i) {
-        const std::string prefix = fmt::format("workload[{}].", i);
-        const toml::table* row = (*rows)[i].as_table();
-        if (!row) throw InputError(file, prefix.substr(0, prefix.size() - 1), "must be a table");
-        for (const auto& [k, v] : *row) {
-            const std::string key(k.str());
-            if (key != "parameter" && key != "bounds" && key != "ratio_of" && key != "why")
-                throw InputError(file, prefix + key, "unknown field; a workload parameter has parameter, bounds, ratio_of and why");
-        }
+    const MachineConfig declared(run_param_groups());  // every machine and kernel parameter, to look keys up in
+    for_each_row(root, file, "workload", {"parameter", "bounds", "ratio_of", "why"}, "a workload parameter",
+                 [&](const toml::table& row, const std::string& prefix) {
         WorkloadSpec w;
-        w.key = text_field(*row, file, prefix, "parameter", true);
-        w.why = text_field(*row, file, prefix, "why", true);
-        const ParamSpec* spec = find_param(w.key);
+        w.key = text_field(row, file, prefix, "parameter", true);
+        w.why = text_field(row, file, prefix, "why", true);
+        const ParamSpec* spec = declared.find_spec(w.key);
         if (spec == nullptr) throw InputError(file, prefix + "parameter", "\"" + w.key + "\" is not a machine or kernel parameter (see `pp5sim params`)");
         if (is_timing_parameter(w.key))
             throw InputError(file, prefix + "parameter",
@@ -107,7 +106,7 @@ void read_workload(const toml::table& root, const std::string& file, TargetSet& 
         for (const auto& other : set.workload)
             if (other.key == w.key) throw InputError(file, prefix + "parameter", "\"" + w.key + "\" is identified by an earlier [[workload]]");
 
-        const toml::array* bounds = row->get_as<toml::array>("bounds");
+        const toml::array* bounds = row.get_as<toml::array>("bounds");
         const auto lower = bounds && bounds->size() == 2 ? (*bounds)[0].value<double>() : std::nullopt;
         const auto upper = bounds && bounds->size() == 2 ? (*bounds)[1].value<double>() : std::nullopt;
         if (!lower || !upper || !std::isfinite(*lower) || !std::isfinite(*upper) || !(*lower < *upper))
@@ -120,7 +119,7 @@ void read_workload(const toml::table& root, const std::string& file, TargetSet& 
         w.lower = *lower;
         w.upper = *upper;
 
-        const toml::array* ratio = row->get_as<toml::array>("ratio_of");
+        const toml::array* ratio = row.get_as<toml::array>("ratio_of");
         if (!ratio || ratio->size() != 2 || !(*ratio)[0].is_string() || !(*ratio)[1].is_string())
             throw InputError(file, prefix + "ratio_of", "must name two targets: [numerator id, denominator id]");
         w.numerator = *(*ratio)[0].value<std::string>();
@@ -139,7 +138,7 @@ void read_workload(const toml::table& root, const std::string& file, TargetSet& 
         if (numerator->machine != denominator->machine)
             throw InputError(file, prefix + "ratio_of", "the two targets must run on one machine, so that its speed cancels in the ratio");
         set.workload.push_back(std::move(w));
-    }
+    });
 }
 
 }  // namespace
@@ -302,12 +301,7 @@ TargetSet load_targets(const std::filesystem::path& path) {
         read_value_fields(*row, file, prefix, t);
 
         // The scenario and machine must exist, and the frame be one of the scenario's.
-        Scenario scenario;
-        try {
-            scenario = load_scenario(resolve_scenario_file(t.scenario));
-        } catch (const InputError& e) {
-            throw InputError(file, prefix + "scenario", std::string("\"") + t.scenario + "\": " + e.what());
-        }
+        const Scenario scenario = scenario_named(t.scenario, file, prefix);
         // The metric is one the scenario's kernel measures its frames by.
         const Kernel* kernel = find_kernel(scenario.kernel);
         if (kernel == nullptr) throw InputError(file, prefix + "scenario", "\"" + t.scenario + "\" names an unknown kernel \"" + scenario.kernel + "\"");
