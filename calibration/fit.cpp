@@ -67,10 +67,17 @@ public:
                std::vector<int> free)
         : model_(model), machine_(std::move(machine)), targets_(std::move(targets)), start_(start), free_(std::move(free)) {}
 
-    CalibrationScales scales(const double* x) const {
+    // The solver works in the scales' logarithms: the residuals are log ratios, and a scale multiplies
+    // a cost, so in log space the problem is close to linear and the Levenberg-Marquardt steps land.
+    CalibrationScales scales(const double* log_x) const {
         CalibrationScales s = start_;
-        for (std::size_t i = 0; i < free_.size(); ++i) s.*kScales[free_[i]].member = x[i];
+        for (std::size_t i = 0; i < free_.size(); ++i) s.*kScales[free_[i]].member = std::exp(log_x[i]);
         return s;
+    }
+    std::vector<double> log_start() const {
+        std::vector<double> x;
+        for (int j : free_) x.push_back(std::log(start_.*kScales[j].member));
+        return x;
     }
     std::vector<double> residuals(const CalibrationScales& s) const {
         ++simulations_;
@@ -86,8 +93,8 @@ public:
         problem->AddResidualBlock(new Residuals(*this, static_cast<int>(x.size())), robust ? new ceres::CauchyLoss(kLossScale) : nullptr,
                                   x.data());
         for (std::size_t i = 0; i < x.size(); ++i) {
-            problem->SetParameterLowerBound(x.data(), static_cast<int>(i), kScales[free_[i]].lower);
-            problem->SetParameterUpperBound(x.data(), static_cast<int>(i), kScales[free_[i]].upper);
+            problem->SetParameterLowerBound(x.data(), static_cast<int>(i), std::log(kScales[free_[i]].lower));
+            problem->SetParameterUpperBound(x.data(), static_cast<int>(i), std::log(kScales[free_[i]].upper));
         }
         return problem;
     }
@@ -105,6 +112,11 @@ public:
         options.logging_type = ceres::SILENT;
         options.minimizer_progress_to_stdout = false;
         options.num_threads = 1;  // one residual block, whose Jacobian runs its simulations side by side
+        // With bounds, Ceres follows every trust-region step with a projected Armijo line search. Its
+        // default cubic interpolation wants the gradient at each trial point, which here is a whole
+        // Jacobian (2n + 1 simulations); a quadratic through the start's value and slope and the trial's
+        // value needs one simulation a trial.
+        options.line_search_interpolation_type = ceres::QUADRATIC;
         ceres::Solver::Summary summary;
         ceres::Solve(options, robust.get(), &summary);
         return summary;
@@ -133,7 +145,7 @@ private:
             std::vector<double> steps(n);
             for (std::size_t i = 0; want_jacobian && i < n; ++i) {
                 // Costs are whole picoseconds and events discrete: a visible step, 1% of the scale.
-                steps[i] = kRelativeStep * std::max(std::abs(x[i]), 1.0);
+                steps[i] = kLogStep;
                 points[2 * i + 1][i] += steps[i];
                 points[2 * i + 2][i] -= steps[i];
             }
@@ -165,7 +177,7 @@ private:
         }
 
     private:
-        static constexpr double kRelativeStep = 0.01;
+        static constexpr double kLogStep = 0.01;
         const MachineFit& fit_;
         mutable std::mutex last_mutex_;
         mutable std::vector<double> last_x_;  // the last point evaluated, and the residuals of its points
@@ -429,8 +441,7 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
         }
 
         const MachineFit fit(model, machine, targets, start, free);
-        std::vector<double> x;
-        for (int j : free) x.push_back(start.*kScales[j].member);
+        std::vector<double> x = fit.log_start();
         say(fmt::format("{}: fitting {} scales to {} targets", machine, free.size(), targets.size()));
         const ceres::Solver::Summary summary = fit.solve(x, options.max_iterations);
         const std::unique_ptr<ceres::Problem> plain = fit.problem(x, false);
@@ -453,9 +464,11 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
         const bool have_cov = covariance.Compute(blocks, plain.get()) && covariance.GetCovarianceBlock(x.data(), x.data(), cov.data());
         for (std::size_t i = 0; i < free.size(); ++i) {
             FittedParameter& p = params[static_cast<std::size_t>(free[i])];
-            p.value = x[i];
-            p.standard_error = have_cov ? std::sqrt(cov[i * x.size() + i] * std::max(1.0, spread)) : std::numeric_limits<double>::quiet_NaN();
-            p.at_bound = std::abs(x[i] - p.lower) < 1e-6 * p.lower || std::abs(x[i] - p.upper) < 1e-6 * p.upper;
+            // The covariance is of the logarithm; to first order the scale's error is the value times it.
+            p.value = std::exp(x[i]);
+            p.standard_error =
+                have_cov ? p.value * std::sqrt(cov[i * x.size() + i] * std::max(1.0, spread)) : std::numeric_limits<double>::quiet_NaN();
+            p.at_bound = std::abs(p.value - p.lower) < 1e-6 * p.lower || std::abs(p.value - p.upper) < 1e-6 * p.upper;
             if (p.at_bound) p.note = "at its bound: the targets push it further; its standard error means little";
             else if (std::isfinite(p.standard_error) && p.standard_error > 0.5 * p.value)
                 p.note = fmt::format("poorly determined: the standard error is {:.0f}% of the value", 100.0 * p.standard_error / p.value);
@@ -485,8 +498,7 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
                     say(fmt::format("{}: leave-one-out: refitting without {}", machine, targets[k]->id));
                 }
                 const MachineFit partial(model, machine, rest, start, free);
-                std::vector<double> y;
-                for (int j : free) y.push_back(start.*kScales[j].member);
+                std::vector<double> y = partial.log_start();
                 const ceres::Solver::Summary refit = partial.solve(y, options.max_iterations);
                 {
                     const std::lock_guard<std::mutex> lock(progress);
