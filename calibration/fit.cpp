@@ -23,24 +23,18 @@ namespace pp5 {
 namespace {
 
 struct ScaleSpec {
-    const char* key;
+    const char* name;  // as in the machine file's [calibration]
     double CalibrationScales::*member;
-    double lower;
-    double upper;
 };
-// Bounds from what the hardware could do: no scale below 1/4 (the documented operation counts at the
-// rated speed are already lean; four times fewer operations, or a processor at four times its rated
-// sustained speed, is beyond any of these machines' peaks: the i860's 80 MFLOPS is 4x Levoy's 20) and
-// none above 10 (an order of magnitude slower than the counts suggest would be a different machine).
+// Each scale's bounds are its machine's (calibration.<name>_min and _max): what that hardware could
+// physically do, with the source in <name>_bounds_why.
 constexpr ScaleSpec kScales[] = {
-    {"calibration.gp_flops_scale", &CalibrationScales::gp_flops, 0.25, 10.0},
-    {"calibration.gp_cycles_scale", &CalibrationScales::gp_cycles, 0.25, 10.0},
-    {"calibration.pp_cycles_scale", &CalibrationScales::pp_cycles, 0.25, 10.0},
+    {"gp_flops_scale", &CalibrationScales::gp_flops},
+    {"gp_cycles_scale", &CalibrationScales::gp_cycles},
+    {"pp_cycles_scale", &CalibrationScales::pp_cycles},
 };
 constexpr int kScaleCount = static_cast<int>(std::size(kScales));
-constexpr const char* kBoundsProvenance =
-    "bounds [1/4, 10]: below 1/4 a processor would beat its peak rate (the i860's 80 MFLOPS is 4x Levoy's sustained 20); "
-    "above 10 it would be an order of magnitude slower than the operation counts";
+std::string key_of(const ScaleSpec& spec) { return std::string("calibration.") + spec.name; }
 constexpr double kIdentifiableElasticity = 0.2;  // a 10% change of the scale moves some target by 2%
 constexpr double kCollinearCosine = 0.98;
 // Residuals are in units of their source's uncertainty; beyond about two of those the Cauchy loss
@@ -54,7 +48,7 @@ double residual(const Target& t, double simulated) {
 CalibrationScales scales_from(const std::map<std::string, double>& values, const std::string& machine) {
     CalibrationScales s;
     for (const ScaleSpec& spec : kScales) {
-        const auto it = values.find(machine + "/" + spec.key);
+        const auto it = values.find(machine + "/" + key_of(spec));
         if (it != values.end()) s.*spec.member = it->second;
     }
     return s;
@@ -64,8 +58,13 @@ CalibrationScales scales_from(const std::map<std::string, double>& values, const
 class MachineFit {
 public:
     MachineFit(const CalibrationModel& model, std::string machine, std::vector<const Target*> targets, CalibrationScales start,
-               std::vector<int> free)
-        : model_(model), machine_(std::move(machine)), targets_(std::move(targets)), start_(start), free_(std::move(free)) {}
+               std::vector<int> free, std::vector<ScaleBounds> bounds)
+        : model_(model),
+          machine_(std::move(machine)),
+          targets_(std::move(targets)),
+          start_(start),
+          free_(std::move(free)),
+          bounds_(std::move(bounds)) {}
 
     // The solver works in the scales' logarithms: the residuals are log ratios, and a scale multiplies
     // a cost, so in log space the problem is close to linear and the Levenberg-Marquardt steps land.
@@ -93,8 +92,8 @@ public:
         problem->AddResidualBlock(new Residuals(*this, static_cast<int>(x.size())), robust ? new ceres::CauchyLoss(kLossScale) : nullptr,
                                   x.data());
         for (std::size_t i = 0; i < x.size(); ++i) {
-            problem->SetParameterLowerBound(x.data(), static_cast<int>(i), std::log(kScales[free_[i]].lower));
-            problem->SetParameterUpperBound(x.data(), static_cast<int>(i), std::log(kScales[free_[i]].upper));
+            problem->SetParameterLowerBound(x.data(), static_cast<int>(i), std::log(bounds_[static_cast<std::size_t>(free_[i])].lower));
+            problem->SetParameterUpperBound(x.data(), static_cast<int>(i), std::log(bounds_[static_cast<std::size_t>(free_[i])].upper));
         }
         return problem;
     }
@@ -189,6 +188,7 @@ private:
     std::vector<const Target*> targets_;
     CalibrationScales start_;
     std::vector<int> free_;
+    std::vector<ScaleBounds> bounds_;  // every scale's, in kScales' order
     mutable std::atomic<int> simulations_{0};  // the targets simulated so far (a Jacobian's run side by side)
 };
 
@@ -214,19 +214,27 @@ std::string number(double v) {
 }
 
 // A machine's three scales at `start`, before any fit.
-std::vector<FittedParameter> initial_parameters(const std::string& machine, const CalibrationScales& start, bool free,
-                                                const std::string& provenance) {
+std::vector<ScaleBounds> bounds_of(const MachineConfig& config) {
+    std::vector<ScaleBounds> bounds;
+    for (const ScaleSpec& spec : kScales) bounds.push_back(scale_bounds(config, spec.name));
+    return bounds;
+}
+
+// `provenance` overrides the bounds' own source (for scales that are given, not fitted).
+std::vector<FittedParameter> initial_parameters(const std::string& machine, const MachineConfig& config, const CalibrationScales& start,
+                                                bool free, const std::string& provenance = {}) {
+    const std::vector<ScaleBounds> bounds = bounds_of(config);
     std::vector<FittedParameter> params;
-    for (const ScaleSpec& spec : kScales) {
+    for (std::size_t i = 0; i < std::size(kScales); ++i) {
         FittedParameter p;
         p.machine = machine;
-        p.key = spec.key;
-        p.value = start.*spec.member;
+        p.key = key_of(kScales[i]);
+        p.value = start.*kScales[i].member;
         p.standard_error = std::numeric_limits<double>::quiet_NaN();
-        p.lower = spec.lower;
-        p.upper = spec.upper;
+        p.lower = bounds[i].lower;
+        p.upper = bounds[i].upper;
         p.free = free;
-        p.provenance = provenance;
+        p.provenance = provenance.empty() ? bounds[i].why : provenance;
         params.push_back(p);
     }
     return params;
@@ -310,7 +318,7 @@ FitReport evaluate_targets(const CalibrationModel& model, const std::map<std::st
     for (const std::string& machine : machines) {
         const auto it = scales.find(machine);
         const CalibrationScales s = it != scales.end() ? it->second : CalibrationScales::from(model.base_config(machine));
-        const std::vector<FittedParameter> given = initial_parameters(machine, s, false, "given, not fitted");
+        const std::vector<FittedParameter> given = initial_parameters(machine, model.base_config(machine), s, false, "given, not fitted");
         report.parameters.insert(report.parameters.end(), given.begin(), given.end());
     }
     evaluate_all(model, report);
@@ -334,7 +342,8 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
     std::map<std::string, TargetResult> loo;
     for (const std::string& machine : machines) {
         const CalibrationScales start = CalibrationScales::from(model.base_config(machine));
-        std::vector<FittedParameter> params = initial_parameters(machine, start, true, kBoundsProvenance);
+        const std::vector<ScaleBounds> bounds = bounds_of(model.base_config(machine));
+        std::vector<FittedParameter> params = initial_parameters(machine, model.base_config(machine), start, true);
         const std::vector<const Target*>& targets = fitted_by_machine[machine];
         if (targets.empty()) {
             for (FittedParameter& p : params) {
@@ -392,7 +401,7 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
         for (std::size_t a = 0; a < free.size(); ++a)
             for (std::size_t b = a + 1; b < free.size(); ++b)
                 report.notes.push_back(fmt::format("{}: {} and {} move the fitted targets alike with cosine {:.3f} (at the start)", machine,
-                                                   kScales[free[a]].key, kScales[free[b]].key, cosine_of(free[a], free[b])));
+                                                   key_of(kScales[free[a]]), key_of(kScales[free[b]]), cosine_of(free[a], free[b])));
         for (bool dropped = true; dropped;) {  // drop the weaker of the most nearly parallel pair, until none is
             dropped = false;
             double worst = kCollinearCosine;
@@ -412,7 +421,7 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
             FittedParameter& p = params[static_cast<std::size_t>(free[weaker])];
             p.free = false;
             p.note = fmt::format("not identifiable apart from {}: the targets respond to both alike (cosine {:.3f}); held at {}",
-                                 kScales[free[stronger]].key, worst, p.value);
+                                 key_of(kScales[free[stronger]]), worst, p.value);
             free.erase(free.begin() + static_cast<std::ptrdiff_t>(weaker));
         }
         // Fewer free scales than half the fitted targets, so no scale is pinned by one figure alone: while
@@ -440,7 +449,7 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
             continue;
         }
 
-        const MachineFit fit(model, machine, targets, start, free);
+        const MachineFit fit(model, machine, targets, start, free, bounds);
         std::vector<double> x = fit.log_start();
         say(fmt::format("{}: fitting {} scales to {} targets", machine, free.size(), targets.size()));
         const ceres::Solver::Summary summary = fit.solve(x, options.max_iterations);
@@ -469,7 +478,13 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
             p.standard_error =
                 have_cov ? p.value * std::sqrt(cov[i * x.size() + i] * std::max(1.0, spread)) : std::numeric_limits<double>::quiet_NaN();
             p.at_bound = std::abs(p.value - p.lower) < 1e-6 * p.lower || std::abs(p.value - p.upper) < 1e-6 * p.upper;
-            if (p.at_bound) p.note = "at its bound: the targets push it further; its standard error means little";
+            // A scale held by its physical range is a finding about the model, not a fitted value: the
+            // targets want a machine the hardware could not be.
+            if (p.at_bound)
+                p.note = fmt::format("at its {} bound, a finding: the targets ask for a machine {} than this range allows ({}); its "
+                                     "standard error means little",
+                                     p.value <= p.lower * (1 + 1e-6) ? "lower" : "upper",
+                                     p.value <= p.lower * (1 + 1e-6) ? "faster" : "slower", p.provenance);
             else if (std::isfinite(p.standard_error) && p.standard_error > 0.5 * p.value)
                 p.note = fmt::format("poorly determined: the standard error is {:.0f}% of the value", 100.0 * p.standard_error / p.value);
             if (!have_cov) p.note += (p.note.empty() ? "" : "; ") + std::string("covariance not computable (rank-deficient Jacobian)");
@@ -497,7 +512,7 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
                     const std::lock_guard<std::mutex> lock(progress);
                     say(fmt::format("{}: leave-one-out: refitting without {}", machine, targets[k]->id));
                 }
-                const MachineFit partial(model, machine, rest, start, free);
+                const MachineFit partial(model, machine, rest, start, free, bounds);
                 std::vector<double> y = partial.log_start();
                 const ceres::Solver::Summary refit = partial.solve(y, options.max_iterations);
                 {
@@ -611,6 +626,9 @@ std::string FitReport::to_markdown() const {
         md << fmt::format("| {} | `{}` | {:.4g} | {} | [{:g}, {:g}] | {} |\n", p.machine, p.key, p.value, number(p.standard_error), p.lower,
                           p.upper, p.free ? (p.note.empty() ? "fitted" : "fitted; " + p.note) : p.note);
     }
+    md << "\nWhere each fitted scale's bounds come from (the machine file's `<scale>_bounds_why`):\n\n";
+    for (const FittedParameter& p : parameters)
+        if (p.free) md << fmt::format("- {} `{}` [{:g}, {:g}]: {}\n", p.machine, p.key, p.lower, p.upper, p.provenance);
     const bool any_uncalibrated = std::any_of(results.begin(), results.end(), [](const TargetResult& r) { return r.uncalibrated.has_value(); });
     md << "\n## Targets\n\n| id | machine | metric | reported | " << (any_uncalibrated ? "uncalibrated | " : "")
        << "simulated | error | use | leave-one-out prediction |\n"
@@ -696,6 +714,7 @@ std::string fitted_machine_file(const CalibrationModel& model, const FitReport& 
     bool in_machine = false;
     std::string table;
     std::set<std::string> workload_tables_written;
+    std::vector<std::string> kept_calibration_lines;
     while (std::getline(text, line)) {
         const std::string bare = trim(line.substr(0, line.find('#')));
         if (bare.size() > 2 && bare.front() == '[' && bare.back() == ']' && bare[1] != '[') {
@@ -709,7 +728,13 @@ std::string fitted_machine_file(const CalibrationModel& model, const FitReport& 
                 continue;
             }
         }
-        if (skipping) continue;
+        if (skipping) {
+            // The fitted values replace the scales; the rest (their bounds and sources) carries over.
+            const std::string key = trim(bare.substr(0, bare.find('=')));
+            const bool scale = std::any_of(std::begin(kScales), std::end(kScales), [&](const ScaleSpec& spec) { return key == spec.name; });
+            if (!bare.empty() && !scale) kept_calibration_lines.push_back(line);
+            continue;
+        }
         if (const auto it = workload_lines.find(table); it != workload_lines.end()) {
             const std::string key = trim(bare.substr(0, bare.find('=')));
             if (std::any_of(it->second.begin(), it->second.end(), [&](const auto& entry) { return entry.first == key; })) continue;
@@ -733,6 +758,7 @@ std::string fitted_machine_file(const CalibrationModel& model, const FitReport& 
         if (p.at_bound) comment += " (at its bound)";
         out << fmt::format("{} = {:.6g}    # {}\n", key, p.value, comment);
     }
+    for (const std::string& kept : kept_calibration_lines) out << kept << "\n";
     return out.str();
 }
 

@@ -20,6 +20,16 @@ struct CalibrationScales {
     static CalibrationScales from(const MachineConfig& config);
 };
 
+// The range a fit may move one scale in, and why: what the machine could physically do, from its
+// machine file (calibration.<scale>_min, <scale>_max and <scale>_bounds_why). `scale` is
+// "gp_flops_scale", "gp_cycles_scale" or "pp_cycles_scale". Throws InputError when min >= max.
+struct ScaleBounds {
+    double lower = 0.0;
+    double upper = 0.0;
+    std::string why;
+};
+ScaleBounds scale_bounds(const MachineConfig& config, const std::string& scale);
+
 // The calibration in force, for stats.json's timing model: "documented costs, uncalibrated (every
 // calibration scale 1)", or the scales that differ from 1 and where each was set.
 std::string describe_calibration(const MachineConfig& config);

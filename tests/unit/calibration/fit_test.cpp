@@ -145,6 +145,43 @@ TEST(Fit, FreesFewerScalesThanHalfItsTargets) {
     EXPECT_TRUE(any_held_for_parsimony);
 }
 
+// The machine file's own range bounds each scale; a scale the targets push past it stays at the bound,
+// and the report says so as a finding, quoting where the range comes from.
+TEST(Fit, AScaleHeldAtItsMachinesBoundIsReportedAsAFinding) {
+    const test::CalibrationFiles files = test::write_calibration_files("bounded");
+    TargetSet set = synthetic_targets(files, CalibrationScales{1.8, 0.6, 1.3});
+    std::ofstream(files.machine, std::ios::app) << "\n[calibration]\npp_cycles_scale_max = 1.1\n"
+                                                   "pp_cycles_scale_bounds_why = \"a test's range\"\n";
+    const CalibrationModel model(set, load_run_config(files.machine.string(), {}));
+    FitOptions options;
+    options.leave_one_out = false;
+    const FitReport report = fit_targets(model, options);
+    const auto pp = std::find_if(report.parameters.begin(), report.parameters.end(),
+                                 [](const FittedParameter& p) { return p.key == "calibration.pp_cycles_scale"; });
+    ASSERT_NE(pp, report.parameters.end());
+    EXPECT_DOUBLE_EQ(pp->upper, 1.1);
+    EXPECT_NEAR(pp->value, 1.1, 1e-6);
+    EXPECT_TRUE(pp->at_bound);
+    EXPECT_NE(pp->note.find("at its upper bound, a finding"), std::string::npos) << pp->note;
+    EXPECT_NE(pp->note.find("a test's range"), std::string::npos) << pp->note;
+    EXPECT_NE(report.to_markdown().find("[1, 1.1]: a test's range"), std::string::npos);
+}
+
+TEST(Fit, AnEmptyRangeForAScaleIsRefusedNamingTheField) {
+    const test::CalibrationFiles files = test::write_calibration_files("empty_range");
+    TargetSet set = synthetic_targets(files, CalibrationScales{});
+    std::ofstream(files.machine, std::ios::app) << "\n[calibration]\ngp_flops_scale_min = 3.0\ngp_flops_scale_max = 2.0\n";
+    const CalibrationModel model(set, load_run_config(files.machine.string(), {}));
+    try {
+        (void)fit_targets(model, FitOptions{});
+        FAIL() << "expected an InputError";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.file(), files.machine.string());
+        EXPECT_EQ(e.field(), "calibration.gp_flops_scale_min");
+        EXPECT_NE(std::string(e.what()).find("must be below"), std::string::npos) << e.what();
+    }
+}
+
 TEST(Fit, NeedsMoreFittedTargetsThanFreeScales) {
     const test::CalibrationFiles files = test::write_calibration_files("too_few");
     TargetSet set;
