@@ -261,6 +261,18 @@ PpProgram build_region_program(const RegionOfInterest& region, glm::ivec3 dims, 
     return b.finish();
 }
 
+PpProgram build_emptiness_program(const PpProgramInputs& inputs) {
+    PpProgramBuilder b("emptiness", inputs.local_memory_bits);
+    const PpField opacity = b.load("opacity", inputs.layout.opacity_offset(), inputs.layout.opacity_bits, false);
+    const PpField non_empty = b.set_const("non-empty", 0, 1, false);
+    b.enable_if(opacity, PpCompare::Greater, 0);
+    b.assign_const(non_empty, 1);
+    b.enable_all();
+    b.release(opacity);
+    b.release(non_empty);  // read out by the renderer, as the pyramid's broadcast charges
+    return b.finish();
+}
+
 std::vector<QeeCoefficients> region_expressions(const RegionOfInterest& region, const SlotFrame& frame) {
     const glm::dvec3 origin(frame.origin);
     const glm::dvec3 center(region.center);

@@ -39,6 +39,11 @@ bool polygon_reaches_slot(const PreparedPolygon& polygon, const SlotFrame& frame
 PpProgram build_region_program(const RegionOfInterest& region, glm::ivec3 dims, const PpProgramInputs& inputs);
 std::vector<QeeCoefficients> region_expressions(const RegionOfInterest& region, const SlotFrame& frame);
 
+// The first step of rebuilding Levoy's pyramid of binary volumes, after a classification that changes
+// which voxels are empty: each PP sets its voxel's bit (non-empty when its opacity code is not zero),
+// which the renderer then reads out and broadcasts to the GPs, a slot's bit plane a message.
+PpProgram build_emptiness_program(const PpProgramInputs& inputs);
+
 // Coverage counts as the PPs compute them, on the host in double precision: the oracle for tests.
 int host_coverage(const PreparedPolygon& polygon, const std::vector<glm::dvec3>& offsets, glm::ivec3 voxel);
 

@@ -341,6 +341,15 @@ LevoyFrameReport LevoyRenderer::record(const LevoyFrameInputs& frame) {
     const PpFrameWork pp = pixel_processors_.compute(frame.classification, frame.colors, frame.lighting, view, classify, reshade);
     if (pp.classification) machine_work.phases.push_back(voxel_pass("classification", *pp.classification, kVoxelClassification));
     if (pp.shading) machine_work.phases.push_back(voxel_pass("shading", *pp.shading, kVoxelShading));
+    // Fresh opacities may empty or fill voxels: the PPs mark each voxel's emptiness before the region
+    // scales them (the pyramid is of the classification's opacities), charged only if the pyramid is rebuilt.
+    std::optional<PpPassWork> emptiness;
+    const std::size_t emptiness_at = machine_work.phases.size();
+    if (classify && settings_.pyramid_skipping) {
+        emptiness = pixel_processors_.execute(
+            build_emptiness_program(pixel_processors_.program_inputs()), [](const SlotFrame&) { return true; },
+            [](const SlotFrame&) { return std::vector<QeeCoefficients>{}; });
+    }
     shaded_for_ = view;
     region_ = frame.region;
     // The pyramid marks what the classification leaves non-empty before the region scales it: a
@@ -369,9 +378,15 @@ LevoyFrameReport LevoyRenderer::record(const LevoyFrameInputs& frame) {
         BinaryPyramid fresh = BinaryPyramid::from_opacity(shaded_, unscaled ? &*unscaled : nullptr);
         if (first_frame_ || !fresh.same_cells(pyramid_)) {
             pyramid_ = std::move(fresh);
-            report.pyramid_rebuilt = true;
-            machine_work.phases.push_back(pyramid_phase());
             depth_for_.reset();
+            // Without skipping the GPs never consult the pyramid, so the machine builds none.
+            if (emptiness) {
+                report.pyramid_rebuilt = true;
+                // The level-0 bits are part of the build a lone processor charges per cell.
+                machine_work.phases.insert(machine_work.phases.begin() + static_cast<std::ptrdiff_t>(emptiness_at),
+                                           Phase{"emptiness", PpPhase{{PpPhase::Pass{*emptiness, 0, {}}}}});
+                machine_work.phases.push_back(pyramid_phase());
+            }
         }
     }
     report.pyramid_cells_occupied = pyramid_.occupied_cells(0);

@@ -50,6 +50,8 @@ Renderer::Renderer(std::size_t index, const MachineConfig& config)
       primitives_drawn(stats().counter("primitives_drawn", "count", "Primitives drawn over the renderer's screen region (program runs)")),
       draw_busy_ps(stats().counter("draw_busy_time", "ps", "Simulated time spent drawing primitives over the screen region")),
       words_written(stats().counter("words_written", "count", "Words that arrived over the ring written into the PPs (pixel blocks)")),
+      read_outs(stats().counter("read_outs", "count", "Messages of the renderer's own read out of the PPs (the pyramid's bit planes)")),
+      words_read_out(stats().counter("words_read_out", "count", "Words read out of the PPs for the renderer's own messages")),
       index_(index),
       clock_(ClockDomain::from_megahertz(name() + ".clock", config.real("renderer.clock_mhz"))),
       columns_(static_cast<std::uint64_t>(config.integer("renderer.pp_columns"))),
@@ -132,6 +134,17 @@ Tick Renderer::serve_fetch(Tick arrival, std::uint64_t units, bool with_setup) {
     fetch_wait_ps += static_cast<std::uint64_t>(begin - arrival);
     busy_ps += static_cast<std::uint64_t>(duration);
     if (trace_ != nullptr) trace_->slice(trace_track_, "answering a fetch", begin, busy_until_);
+    return busy_until_;
+}
+
+Tick Renderer::read_out(Tick ready, std::uint64_t words) {
+    const Tick begin = clock_.next_edge(std::max(ready, busy_until_));
+    const auto cycles = fetch_setup_cycles_ + static_cast<std::uint64_t>(std::ceil(fetch_cycles_per_unit_ * static_cast<double>(words)));
+    busy_until_ = begin + clock_.cycles_to_ticks(cycles);
+    ++read_outs;
+    words_read_out += words;
+    busy_ps += static_cast<std::uint64_t>(busy_until_ - begin);
+    if (trace_ != nullptr) trace_->slice(trace_track_, "reading out", begin, busy_until_);
     return busy_until_;
 }
 

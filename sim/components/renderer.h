@@ -55,6 +55,10 @@ public:
     // and passes are served one at a time in the order they come. Returns when the reply is ready to leave.
     // A batch of fetches in one request pays the setup once: `with_setup` false for all but its first.
     Tick serve_fetch(Tick arrival, std::uint64_t units, bool with_setup = true);
+    // Reads `words` 32-bit words the PPs computed (a bit plane, say) out onto the ring port for a
+    // message of the renderer's own, through the same port and at the same cost as a fetch's reply.
+    // Starts at `ready` or when the renderer is next free; returns when the message can leave.
+    Tick read_out(Tick ready, std::uint64_t words);
     // Screen work (a renderer owning a region of the picture): `runs` runs of one PP program over the
     // whole array, one per primitive (every PP evaluates the primitive at once), after the controller
     // has written `write_words` words from the ring into the PPs. Starts at `ready` or when the
@@ -75,6 +79,8 @@ public:
     Counter& primitives_drawn;
     Counter& draw_busy_ps;
     Counter& words_written;
+    Counter& read_outs;
+    Counter& words_read_out;
 
 private:
     void handle_event(Tick now, std::uint64_t payload) override;

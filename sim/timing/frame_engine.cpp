@@ -981,19 +981,25 @@ void FrameRun::start_pp_phase(const PpPhase& phase, PhaseTiming& timing, Tick t)
     end_phase_at(timing.end_ps);
 }
 
-// Every renderer broadcasts its messages once its PPs are free; every GP takes each in after the one
-// before (taking a message in is slower than the ring delivers it), then computes.
+// Every renderer reads each message out of its PPs once they are free and broadcasts it; every GP takes
+// each in after the one before (taking a message in is slower than the ring delivers it), then computes.
 void FrameRun::start_broadcast_phase(const BroadcastPhase& phase, PhaseTiming& timing, Tick t) {
     RingNetwork& ring = machine_.ring();
     std::vector<std::pair<Tick, std::size_t>> ready;
     for (auto& r : machine_.renderers()) ready.emplace_back(std::max(t, r->busy_until()), r->index());
     std::sort(ready.begin(), ready.end());
-    std::vector<RingTransit> transits;
+    const std::uint64_t words_per_message = (phase.bits_per_message + 31) / 32;
+    // Each renderer reads its messages out one after another; the ring takes them in time order.
+    std::vector<std::pair<Tick, std::size_t>> read;  // (when a message can leave, its station)
     for (const auto& [at, r] : ready) {
+        Renderer& renderer = *machine_.renderers()[r];
         const std::size_t station = ring.position(StationKind::Renderer, r);
-        for (std::uint32_t m = 0; m < phase.messages_per_renderer.at(r); ++m)
-            transits.push_back(ring.transmit(at, RingMessage{MessageKind::Broadcast, station, 0, phase.bits_per_message, true}));
+        for (std::uint32_t m = 0; m < phase.messages_per_renderer.at(r); ++m) read.emplace_back(renderer.read_out(at, words_per_message), station);
     }
+    std::stable_sort(read.begin(), read.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<RingTransit> transits;
+    for (const auto& [leaves, station] : read)
+        transits.push_back(ring.transmit(leaves, RingMessage{MessageKind::Broadcast, station, 0, phase.bits_per_message, true}));
     std::sort(transits.begin(), transits.end(), [](const RingTransit& a, const RingTransit& b) { return a.arrival < b.arrival; });
     const GpCostModel& costs = machine_.gps().front()->costs();
     Tick taken_in = t;

@@ -343,6 +343,47 @@ TEST(LevoyRenderer, ALightChangeThatRefreshesTheCachesSendsFewerFetchesThanOneTh
     EXPECT_EQ(dropped[2].ray_cast.blocks_refreshed, 0u);
 }
 
+// Building the pyramid is modelled work: the PPs mark each voxel's emptiness, each renderer reads out a
+// bit plane a slot and broadcasts it, and every GP builds. Without skipping the machine builds nothing.
+TEST(LevoyRenderer, APyramidBuildChargesTheEmptinessPassAndItsReadOutOnlyWhenRaysSkip) {
+    const auto first_frame = [](bool skipping, std::uint64_t& read_outs, std::uint64_t& slots_used) {
+        Scene s;
+        s.config.set("levoy.pyramid_skipping", skipping, "test");
+        Machine machine(s.config);
+        LevoyRenderer renderer(machine, s.volume, LevoySettings::from(s.config), s.image);
+        LevoyFrameReport report = renderer.render(s.inputs);
+        read_outs = 0;
+        for (const auto& r : machine.renderers()) read_outs += r->read_outs.value();
+        slots_used = 0;
+        for (const Phase& phase : report.work.machine.phases)
+            if (const auto* broadcast = std::get_if<BroadcastPhase>(&phase.work))
+                for (std::uint32_t m : broadcast->messages_per_renderer) slots_used += m;
+        return report;
+    };
+    std::uint64_t read_outs = 0, slots_used = 0;
+    const LevoyFrameReport skipping = first_frame(true, read_outs, slots_used);
+    std::vector<std::string> names;
+    for (const Phase& phase : skipping.work.machine.phases) names.push_back(phase.name);
+    const auto at = [&](const std::string& name) { return std::find(names.begin(), names.end(), name) - names.begin(); };
+    ASSERT_LT(at("emptiness"), static_cast<std::ptrdiff_t>(names.size()));
+    EXPECT_LT(at("classification"), at("emptiness"));
+    EXPECT_LT(at("emptiness"), at("pyramid"));
+    EXPECT_TRUE(skipping.pyramid_rebuilt);
+    EXPECT_GT(skipping.pyramid_ps, 0u);
+    EXPECT_GT(slots_used, 0u);
+    EXPECT_EQ(read_outs, slots_used);  // a bit plane per slot a renderer holds
+
+    const LevoyFrameReport plain = first_frame(false, read_outs, slots_used);
+    for (const Phase& phase : plain.work.machine.phases) {
+        EXPECT_NE(phase.name, "emptiness");
+        EXPECT_NE(phase.name, "pyramid");
+    }
+    EXPECT_FALSE(plain.pyramid_rebuilt);
+    EXPECT_EQ(plain.pyramid_ps, 0u);
+    EXPECT_EQ(read_outs, 0u);
+    EXPECT_EQ(plain.final_image.pixels, skipping.final_image.pixels);  // skipping is exact
+}
+
 TEST(LevoyRenderer, SameImageAndStatisticsAtOneAndTwoThreads) {
     const auto run = [](int threads) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
