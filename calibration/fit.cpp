@@ -106,16 +106,18 @@ public:
         options.max_num_iterations = max_iterations;
         // Stop once the scales settle to four significant digits: every simulation is a whole frame,
         // and the fitted scales' standard errors are tens of percent, so more digits only cost time.
-        options.function_tolerance = 1e-6;
-        options.parameter_tolerance = 1e-4;
+        options.function_tolerance = 1e-5;
+        options.parameter_tolerance = 1e-3;
         options.logging_type = ceres::SILENT;
         options.minimizer_progress_to_stdout = false;
         options.num_threads = 1;  // one residual block, whose Jacobian runs its simulations side by side
         // With bounds, Ceres follows every trust-region step with a projected Armijo line search. Its
         // default cubic interpolation wants the gradient at each trial point, which here is a whole
         // Jacobian (2n + 1 simulations); a quadratic through the start's value and slope and the trial's
-        // value needs one simulation a trial.
+        // value needs one simulation a trial. Past a few trials on this noisy, event-driven cost the
+        // search only shrinks the step towards nothing: the trust region does that job for less.
         options.line_search_interpolation_type = ceres::QUADRATIC;
+        options.max_num_line_search_step_size_iterations = 4;
         ceres::Solver::Summary summary;
         ceres::Solve(options, robust.get(), &summary);
         return summary;
@@ -143,7 +145,8 @@ private:
             std::vector<std::vector<double>> points(want_jacobian ? 2 * n + 1 : 1, x);
             std::vector<double> steps(n);
             for (std::size_t i = 0; want_jacobian && i < n; ++i) {
-                // Costs are whole picoseconds and events discrete: a visible step, 1% of the scale.
+                // Costs are whole picoseconds and events discrete, so the cost jumps a little from one
+                // scale to the next: a step of 5% spans those jumps and gives the slope they sit on.
                 steps[i] = kLogStep;
                 points[2 * i + 1][i] += steps[i];
                 points[2 * i + 2][i] -= steps[i];
@@ -176,7 +179,7 @@ private:
         }
 
     private:
-        static constexpr double kLogStep = 0.01;
+        static constexpr double kLogStep = 0.05;
         const MachineFit& fit_;
         mutable std::mutex last_mutex_;
         mutable std::vector<double> last_x_;  // the last point evaluated, and the residuals of its points
@@ -517,8 +520,9 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
                 const ceres::Solver::Summary refit = partial.solve(y, options.max_iterations);
                 {
                     const std::lock_guard<std::mutex> lock(progress);
-                    say(fmt::format("{}: leave-one-out without {}: {} iterations, {} simulations", machine, targets[k]->id,
-                                    refit.iterations.size(), partial.simulations()));
+                    say(fmt::format("{}: leave-one-out without {}: {} iterations, {} simulations; {}", machine, targets[k]->id,
+                                    refit.iterations.size(), partial.simulations(),
+                                    refit.termination_type == ceres::CONVERGENCE ? "converged" : "not converged: " + refit.message));
                 }
                 const double predicted = model.simulate(machine, partial.scales(y.data()), {targets[k]}).front();
                 result.leave_one_out = predicted;

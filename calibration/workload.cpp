@@ -70,7 +70,23 @@ IdentifiedWorkload identify_one(const TargetSet& targets, const WorkloadSpec& sp
     id.machine_value = spec.integer ? ParamValue(functional.integer(spec.key)) : ParamValue(functional.real(spec.key));
 
     double a = spec.lower, b = spec.upper;
-    double fa = search.miss(a), fb = search.miss(b);
+    double fa = search.miss(a), fb = 0.0;
+    const double f_lower = fa;
+    if (spec.integer && fa != 0.0) {
+        // A whole-number parameter here is a count of work (samples a voxel, say): the upper bound is
+        // the dearest trial of all. Bracket from the lower bound outwards, doubling the step.
+        for (double step = 1.0;; step *= 2.0) {
+            const double x = std::min(a + step, spec.upper);
+            const double fx = search.miss(x);
+            if (fx == 0.0 || (fx > 0.0) != (fa > 0.0) || x >= spec.upper) {
+                b = x, fb = fx;
+                break;
+            }
+            a = x, fa = fx;
+        }
+    } else {
+        fb = search.miss(b);
+    }
     const auto finish = [&](double value, double miss) {
         id.value = value;
         id.simulated_ratio = id.reported_ratio * std::exp(miss);
@@ -83,8 +99,8 @@ IdentifiedWorkload identify_one(const TargetSet& targets, const WorkloadSpec& sp
         // The ratio does not cross the reported one inside the bounds: keep the nearer end, and say so.
         id.at_bound = true;
         id.note = fmt::format("the reported ratio {:.4g} lies outside what [{}, {}] gives ({:.4g} to {:.4g}): held at the nearer bound",
-                              id.reported_ratio, spec.lower, spec.upper, id.reported_ratio * std::exp(fa), id.reported_ratio * std::exp(fb));
-        return std::abs(fa) <= std::abs(fb) ? finish(a, fa) : finish(b, fb);
+                              id.reported_ratio, spec.lower, spec.upper, id.reported_ratio * std::exp(f_lower), id.reported_ratio * std::exp(fb));
+        return std::abs(f_lower) <= std::abs(fb) ? finish(spec.lower, f_lower) : finish(spec.upper, fb);
     }
     // False position with the Illinois correction: an end that stays twice has its miss halved, so
     // the bracket shrinks from both sides even when the ratio curves.

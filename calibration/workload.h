@@ -7,7 +7,8 @@
 //
 // Each trial value re-renders the rows' scenarios (the parameter changes what is computed), so the
 // search is a bracketing one that needs few trials: false position with the Illinois correction, on
-// the logarithm of the ratio, and bisection on whole numbers for an integer parameter.
+// the logarithm of the ratio. An integer parameter counts work (samples), so its bracket grows from
+// the lower bound by doubling steps before false position narrows it to whole numbers.
 
 #include "calibration/targets.h"
 #include "calibration/timing_model.h"
