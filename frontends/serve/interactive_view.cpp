@@ -106,7 +106,7 @@ void InteractiveView::apply(const nlohmann::json& change) {
         if (r.is_null()) {
             next.region.reset();
         } else {
-            only_keys(r, "region", {"shape", "center", "half_size", "scale_inside", "scale_outside", "transition"});
+            only_keys(r, "region", {"shape", "center", "half_size", "scale_inside", "scale_outside", "transition", "cap"});
             RegionOfInterest region = current_.region.value_or(RegionOfInterest{});
             if (!current_.region) {
                 // A new region starts as a cut-away cube in the middle of the volume.
@@ -128,6 +128,10 @@ void InteractiveView::apply(const nlohmann::json& change) {
             if (r.contains("transition")) {
                 region.transition = static_cast<float>(number(r["transition"], "region.transition", 0.0, 100.0));
                 if (region.transition > 0.0f && region.transition < 0.01f) refuse("region.transition", "is 0 (a hard edge) or at least 0.01 voxels");
+            }
+            if (r.contains("cap")) {
+                if (!r["cap"].is_boolean()) refuse("region.cap", "expected true or false");
+                region.cap = r["cap"].get<bool>();
             }
             validate_region(region, kRequest, "region");
             next.region = region;
@@ -227,7 +231,8 @@ nlohmann::json InteractiveView::state() const {
                   {"half_size", to_json(r.half_size)},
                   {"scale_inside", r.scale_inside},
                   {"scale_outside", r.scale_outside},
-                  {"transition", r.transition}};
+                  {"transition", r.transition},
+                  {"cap", r.cap}};
     }
     return {{"version", version_},
             {"scenario", scenario_.name},

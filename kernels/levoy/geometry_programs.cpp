@@ -261,6 +261,102 @@ PpProgram build_region_program(const RegionOfInterest& region, glm::ivec3 dims, 
     return b.finish();
 }
 
+GradientRewrite region_cap(const RegionOfInterest& region, glm::ivec3 dims, const PpProgramInputs& inputs, int first_expression) {
+    if (region.shape != RegionOfInterest::Shape::Box || !(region.transition > 0.0f))
+        throw std::logic_error("region_cap: capping needs a box with a transition (validate_region refuses the rest)");
+    double reach = 0.0;  // the farthest any voxel lies from the region's centre, as the region program bounds it
+    for (int c = 0; c < 8; ++c)
+        reach = std::max(reach, glm::length(box_corner(c, volume_lower(), volume_upper(dims)) - glm::dvec3(region.center)));
+    const auto coordinate_limit = static_cast<std::int64_t>(std::ceil((reach + 2.0) * 256.0));
+    return [region, inputs, first_expression, coordinate_limit](PpProgramBuilder& b, const PpField& value, std::array<PpField, 3>& gradient) {
+        constexpr int kAxisShift = 12;  // the face normals' components, in 1/4096
+        const std::int64_t half_band = std::llround(region.transition * 128.0);  // T / 2 in 1/256 voxel
+        // The box's face distances, and on which side of each pair of faces the voxel lies, as the
+        // region program finds them; then which faces' bands hold the voxel.
+        std::array<PpField, 3> face, below, in_band;
+        for (int i = 0; i < 3; ++i) {
+            const PpField q = b.qee("cap: region coordinate", first_expression + i, pp_bits_for_range(-coordinate_limit, coordinate_limit), true,
+                                    kQeeShift - kDistanceShift);
+            below[i] = b.set_const("cap: below the centre", 0, 1, false);
+            b.enable_if(q, PpCompare::Less, 0);
+            b.assign_const(below[i], 1);
+            b.enable_all();
+            const PpField aq = b.abs_diff_const("cap: |region coordinate|", q, 0);
+            b.release(q);
+            face[i] = b.add_const("cap: face distance", aq, -std::llround(region.half_size[i] * 256.0));
+            b.release(aq);
+        }
+        const PpField distance = b.move("cap: distance", face[0]);
+        for (int i = 1; i < 3; ++i) {
+            const PpField larger = b.sub("cap: face distance - distance", face[i], distance);
+            b.enable_if(larger, PpCompare::Greater, 0);
+            b.release(larger);
+            b.assign(distance, face[i]);
+            b.enable_all();
+        }
+        for (int i = 0; i < 3; ++i) {
+            in_band[i] = b.set_const("cap: in the face's band", 0, 1, false);
+            b.enable_if(face[i], PpCompare::Greater, -half_band);
+            b.assign_const(in_band[i], 1);
+            b.enable_all();
+            b.release(face[i]);
+        }
+        b.enable_if(distance, PpCompare::GreaterEqual, half_band);  // beyond the band outside: no cap
+        for (int i = 0; i < 3; ++i) b.assign_const(in_band[i], 0);
+        b.enable_all();
+        b.release(distance);
+
+        // f - f_air in gradient codes (value units per voxel times gradient_scale).
+        const double codes_per_value = static_cast<double>(inputs.quantization.gradient_scale / inputs.quantization.value_scale);
+        const PpField rise = b.mul_const("cap: value above air", value, std::llround(codes_per_value * 256.0), 8);
+        for (int i = 0; i < 3; ++i) {
+            const glm::vec3 axis = region.axis(i);
+            const auto component = [&](int k) { return std::llround(static_cast<double>(axis[k]) * (1 << kAxisShift)); };
+            PpField along;  // g.a for this face pair's axis a
+            for (int k = 0; k < 3; ++k) {
+                if (component(k) == 0) continue;
+                const PpField term = b.mul_const("cap: gradient along the axis", gradient[static_cast<std::size_t>(k)], component(k), kAxisShift);
+                if (!along.valid()) {
+                    along = term;
+                    continue;
+                }
+                const PpField sum = b.add("cap: gradient along the axis", along, term);
+                b.release(along);
+                b.release(term);
+                along = sum;
+            }
+            // Along n = s a (s = -1 below the centre), twice the change of g is s (f - f_air) - g.a.
+            const PpField change = b.sub("cap: change", rise, along);
+            const PpField other_side = b.add("cap: change", rise, along);
+            b.release(along);
+            const PpField negated = b.mul_const("cap: change", other_side, -1);
+            b.release(other_side);
+            b.enable_if(below[i], PpCompare::Equal, 1);
+            b.assign(change, negated);
+            b.enable_all();
+            b.release(negated);
+            b.release(below[i]);
+            b.enable_if(in_band[i], PpCompare::Equal, 0);
+            b.assign_const(change, 0);
+            b.enable_all();
+            b.release(in_band[i]);
+            const PpField half = b.mul_const("cap: change / 2", change, 1, 1);
+            b.release(change);
+            for (int k = 0; k < 3; ++k) {
+                if (component(k) == 0) continue;
+                const PpField term = b.mul_const("cap: change along the axis", half, component(k), kAxisShift);
+                PpField& g = gradient[static_cast<std::size_t>(k)];
+                const PpField capped = b.add("cap: gradient", g, term);
+                b.release(term);
+                b.release(g);
+                g = capped;
+            }
+            b.release(half);
+        }
+        b.release(rise);
+    };
+}
+
 PpProgram build_emptiness_program(const PpProgramInputs& inputs) {
     PpProgramBuilder b("emptiness", inputs.local_memory_bits);
     const PpField opacity = b.load("opacity", inputs.layout.opacity_offset(), inputs.layout.opacity_bits, false);

@@ -39,6 +39,17 @@ bool polygon_reaches_slot(const PreparedPolygon& polygon, const SlotFrame& frame
 PpProgram build_region_program(const RegionOfInterest& region, glm::ivec3 dims, const PpProgramInputs& inputs);
 std::vector<QeeCoefficients> region_expressions(const RegionOfInterest& region, const SlotFrame& frame);
 
+// Levoy's capping for a box region (his Figure 6): the voxels in the transition zone are shaded as if
+// the region held air, so the structures it cuts through are capped where they enter it. Each face
+// whose transition band holds the voxel (its face distance within half the transition of the surface,
+// and the voxel not beyond the band outside) counts the voxel's neighbour across that face, towards
+// the region, as air: along the face's outward normal n the central difference becomes
+// (f(x + n) - f_air) / 2, to first order g.n + (f - f_air - g.n) / 2, with f_air the volume's lowest
+// value (value code 0). A rewrite for build_shading_program; the region's box coordinates are QEE
+// expressions first_expression to first_expression + 2 (region_expressions' order). A voxel outside
+// every band is shaded as before.
+GradientRewrite region_cap(const RegionOfInterest& region, glm::ivec3 dims, const PpProgramInputs& inputs, int first_expression);
+
 // The first step of rebuilding Levoy's pyramid of binary volumes, after a classification that changes
 // which voxels are empty: each PP sets its voxel's bit (non-empty when its opacity code is not zero),
 // which the renderer then reads out and broadcasts to the GPs, a slot's bit plane a message.

@@ -106,6 +106,21 @@ Phase LevoyRenderer::pyramid_phase() const {
     return Phase{"pyramid", std::move(broadcast)};
 }
 
+// Levoy's Figure 6: the shading pass, with the region's transition zone shaded as if the region held
+// air. The region's box coordinates follow the shading's own QEE expressions.
+PpPassWork LevoyRenderer::capped_shading(const LevoyFrameInputs& frame, const ShadingView& view) {
+    const RegionOfInterest& region = *frame.region;
+    const PpProgramInputs inputs = pixel_processors_.program_inputs();
+    const PpProgram program =
+        build_shading_program(frame.colors, frame.lighting, view, inputs, region_cap(region, dims_, inputs, kShadingExpressions));
+    return pixel_processors_.execute(program, [](const SlotFrame&) { return true; }, [&](const SlotFrame& slot) {
+        const auto shading = slot_expressions(view, slot, spacing_);
+        std::vector<QeeCoefficients> all(shading.begin(), shading.end());
+        for (const QeeCoefficients& e : region_expressions(region, slot)) all.push_back(e);
+        return all;
+    });
+}
+
 void LevoyRenderer::set_polygons(const std::vector<PolygonSpec>& polygons) {
     polygons_.clear();
     polygon_areas_.clear();
@@ -332,15 +347,20 @@ LevoyFrameReport LevoyRenderer::record(const LevoyFrameInputs& frame) {
     // Shade only for a view the colours depend on; otherwise keep the view they were shaded for.
     ShadingView view = make_shading_view(frame.camera, dims_, spacing_);
     if (shaded_for_ && !shading_depends_on_view(frame.lighting)) view = *shaded_for_;
-    // A moved region of interest needs fresh opacities (classification) but no new colours.
+    // A moved region of interest needs fresh opacities (classification) but no new colours, unless it
+    // caps (its transition zone's colours follow it), or stopped capping.
     const bool region_changed = frame.region != region_;
+    const bool capping = frame.region && frame.region->cap;
     bool classify = first_frame_ || frame.classification_changed || region_changed;
-    bool reshade = first_frame_ || frame.classification_changed || frame.lighting_changed || shaded_for_ != view;
+    bool reshade = first_frame_ || frame.classification_changed || frame.lighting_changed || shaded_for_ != view ||
+                   (region_changed && (capping || (region_ && region_->cap)));
     if (!polygons_.empty() && (classify || reshade || polygons_changed_)) classify = reshade = true;  // matte into fresh voxels
     polygons_changed_ = false;
-    const PpFrameWork pp = pixel_processors_.compute(frame.classification, frame.colors, frame.lighting, view, classify, reshade);
+    const PpFrameWork pp =
+        pixel_processors_.compute(frame.classification, frame.colors, frame.lighting, view, classify, reshade && !capping);
     if (pp.classification) machine_work.phases.push_back(voxel_pass("classification", *pp.classification, kVoxelClassification));
     if (pp.shading) machine_work.phases.push_back(voxel_pass("shading", *pp.shading, kVoxelShading));
+    if (reshade && capping) machine_work.phases.push_back(voxel_pass("shading", capped_shading(frame, view), kVoxelShading));
     // Fresh opacities may empty or fill voxels: the PPs mark each voxel's emptiness before the region
     // scales them (the pyramid is of the classification's opacities), charged only if the pyramid is rebuilt.
     std::optional<PpPassWork> emptiness;

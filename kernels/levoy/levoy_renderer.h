@@ -169,6 +169,7 @@ public:
 
 private:
     Phase scan_convert();
+    PpPassWork capped_shading(const LevoyFrameInputs& frame, const ShadingView& view);
     Phase pyramid_phase() const;
     Phase cast_frame(const Camera& camera, LevoyFrameReport& report);
 

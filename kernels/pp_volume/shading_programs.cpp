@@ -290,7 +290,7 @@ PpProgram build_classification_program(const Classification& classification, con
 }
 
 PpProgram build_shading_program(const ColorMap& color_map, const PhongLighting& lighting, const ShadingView& view,
-                                const PpProgramInputs& inputs) {
+                                const PpProgramInputs& inputs, const GradientRewrite& rewrite) {
     const VoxelRecordLayout& layout = inputs.layout;
     const VoxelQuantization& q = inputs.quantization;
     PpProgramBuilder b("shade", inputs.local_memory_bits);
@@ -305,6 +305,7 @@ PpProgram build_shading_program(const ColorMap& color_map, const PhongLighting& 
                                     [&](float f) { return fixed(color_map.color(f)[c] * static_cast<float>(color_max), 0); });
         base[c] = b.lookup(std::string("base_") + channel_names[c], in.value, std::move(table), layout.color_bits, false);
     }
+    if (rewrite) rewrite(b, in.value, in.gradient);
     b.release(in.value);
 
     // Normals come from the gradient per unit length, so an anisotropic volume scales each

@@ -20,6 +20,7 @@
 #include <glm/vec3.hpp>
 
 #include <array>
+#include <functional>
 
 namespace pp5 {
 
@@ -36,8 +37,14 @@ PpProgram build_classification_program(const Classification& classification, con
 // gives what depends on the voxel's position (slot_expressions): its depth for depth cueing and,
 // under perspective with a headlight, its direction to the eye. Under perspective with a fixed light,
 // highlights use the view's central direction (those of a distant viewer).
+//
+// `rewrite`, when given, changes the gradient the program shades with (Levoy's capping at a region of
+// interest, say): it gets the voxel's value code and its three gradient fields, replaces those it
+// changes (releasing the old), may use QEE expressions from kShadingExpressions on, and leaves every PP
+// enabled.
+using GradientRewrite = std::function<void(PpProgramBuilder&, const PpField& value, std::array<PpField, 3>& gradient)>;
 PpProgram build_shading_program(const ColorMap& color_map, const PhongLighting& lighting, const ShadingView& view,
-                                const PpProgramInputs& inputs);
+                                const PpProgramInputs& inputs, const GradientRewrite& rewrite = {});
 
 // The QEE expressions of one slot frame, linear in PP column and row, with kQeeShift fraction bits:
 //   kDepthExpression        256 x the depth in [0,1] that ShadingView::depth gives
@@ -45,6 +52,7 @@ PpProgram build_shading_program(const ColorMap& color_map, const PhongLighting& 
 inline constexpr int kQeeShift = 16;
 inline constexpr int kDepthExpression = 0;
 inline constexpr int kToEyeExpression = 1;
+inline constexpr int kShadingExpressions = 4;  // how many slot_expressions gives
 std::array<QeeCoefficients, 4> slot_expressions(const ShadingView& view, const SlotFrame& frame, glm::vec3 spacing);
 
 }  // namespace pp5

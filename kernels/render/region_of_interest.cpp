@@ -57,6 +57,10 @@ void validate_region(const RegionOfInterest& region, const std::string& file, co
         if (!(v >= 0.0f && v <= 16.0f)) throw InputError(file, field + "." + name, "opacity scales lie in [0, 16]");
     if (!(region.transition >= 0.0f && region.transition <= 1000.0f))
         throw InputError(file, field + ".transition", "the transition is a width in voxels, from 0 to 1000");
+    if (region.cap && region.shape != RegionOfInterest::Shape::Box)
+        throw InputError(file, field + ".cap", "capping is for a box region (its faces give the caps' normals)");
+    if (region.cap && !(region.transition > 0.0f))
+        throw InputError(file, field + ".cap", "capping recolours the transition zone: give the region a transition wider than 0");
 }
 
 }  // namespace pp5

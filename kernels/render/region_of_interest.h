@@ -22,6 +22,7 @@ struct RegionOfInterest {
     float scale_inside = 1.0f;        // opacity factors, in [0, 16]
     float scale_outside = 1.0f;
     float transition = 2.0f;          // voxels across the surface; 0 is a hard edge
+    bool cap = false;                 // shade the transition zone as if the region held air (boxes only)
 
     bool operator==(const RegionOfInterest&) const = default;
 
@@ -35,7 +36,7 @@ struct RegionOfInterest {
 };
 
 // Throws InputError(file, field, reason) for a non-positive size, scales outside [0, 16], or a
-// negative transition.
+// negative transition, or capping asked of an ellipsoid or of a region without a transition.
 void validate_region(const RegionOfInterest& region, const std::string& file, const std::string& field);
 
 }  // namespace pp5

@@ -480,6 +480,9 @@ void read_region(TableReader r, std::optional<RegionOfInterest>& region) {
     constexpr float kNarrowest = 0.01f;
     if (g.transition > 0.0f && g.transition < kNarrowest)
         r.fail("transition", fmt::format("is {} voxels: give 0 for a hard edge, or at least {}", g.transition, kNarrowest));
+    g.cap = r.boolean("cap").value_or(g.cap);
+    if (g.cap && g.shape != RegionOfInterest::Shape::Box) r.fail("cap", "capping is for a box region (its faces give the caps' normals)");
+    if (g.cap && !(g.transition > 0.0f)) r.fail("cap", "capping recolours the transition zone: give the region a transition wider than 0");
     const bool off = !r.boolean("enabled").value_or(true);
     r.finish();
     region = off ? std::nullopt : std::optional<RegionOfInterest>(g);

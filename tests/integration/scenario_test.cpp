@@ -145,6 +145,8 @@ TEST(Scenario, BadGeometryNamesTheFieldOrFile) {
     expect_bad("bad_region", ok + "[region]\nhalf_size = [0, 1, 1]\n", "region.half_size");
     expect_bad("bad_region_shape", ok + "[region]\nshape = \"torus\"\n", "region.shape");
     expect_bad("hairline_ramp", ok + "[region]\ntransition = 1e-30\n", "region.transition");  // its slope would not fit the PPs
+    expect_bad("capped_ellipsoid", ok + "[region]\nshape = \"ellipsoid\"\ncap = true\n", "region.cap");
+    expect_bad("capped_hard_edge", ok + "[region]\ntransition = 0\ncap = true\n", "region.cap");
     expect_bad("dot_dot_name", "[scenario]\nname = \"..\"\n" + ok, "scenario.name");
 }
 

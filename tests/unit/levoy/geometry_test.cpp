@@ -267,10 +267,9 @@ struct RegionRun {
     LevoyFrameReport report;
 };
 
-RegionRun with_region(const std::optional<RegionOfInterest>& region) {
+RegionRun with_region(const std::optional<RegionOfInterest>& region, const Volume& volume = make_constant_volume(glm::ivec3(32), 50.0f)) {
     const MachineConfig config = small_machine();
     Machine machine(config);
-    const Volume volume = make_constant_volume(glm::ivec3(32), 50.0f);
     LevoyRenderer renderer(machine, volume, LevoySettings::from(config), LevoyImageSettings{16, 16, 1.0f, 0.95f, glm::vec3(0.0f)});
     LevoyFrameInputs in;
     in.camera = front_view();
@@ -323,6 +322,59 @@ TEST(RegionOfInterest, PixelProcessorsScaleOpacityAsTheHostModelSays) {
     }
 }
 
+// Levoy's capping: the transition zone is shaded as if the region held air. In a volume of 50 with one
+// voxel of 0 (air) far from the region, a voxel in one face's band has gradient (50 - 0) / 2 along the
+// face's outward normal n, so its normal is -n (into the region): the back wall of the cut faces the
+// light and is lit, the front wall is not. Everywhere else the colours are those of the uncapped run.
+TEST(RegionOfInterest, CappingShadesTheTransitionZoneAsIfTheRegionHeldAir) {
+    std::vector<float> samples(32 * 32 * 32, 50.0f);
+    samples[0] = 0.0f;
+    const Volume volume(glm::ivec3(32), glm::vec3(1.0f), ScalarType::UInt8, samples);
+    RegionOfInterest cut;
+    cut.center = glm::vec3(16.0f, 16.0f, 16.0f);
+    cut.half_size = glm::vec3(6.0f);
+    cut.scale_inside = 0.02f;
+    cut.transition = 3.0f;
+    const RegionRun plain = with_region(cut, volume);
+    cut.cap = true;
+    const RegionRun capped = with_region(cut, volume);
+
+    const LevoyFrameInputs defaults;
+    const ShadingView view = make_shading_view(front_view(), glm::ivec3(32), glm::vec3(1.0f));
+    const glm::vec3 to_viewer = -view.forward;  // the default light is a headlight: L = V
+    int banded = 0, lit = 0, unchanged = 0;
+    float worst = 0.0f;
+    for (int z = 4; z < 28; ++z)
+        for (int y = 4; y < 28; ++y)
+            for (int x = 4; x < 28; ++x) {
+                const std::size_t i = static_cast<std::size_t>(x + 32 * (y + 32 * z));
+                EXPECT_EQ(capped.volume.rgba[i].a, plain.volume.rgba[i].a);  // capping leaves opacities alone
+                const glm::vec3 p(x, y, z);
+                const glm::vec3 face = glm::abs(p - cut.center) - cut.half_size;
+                const float distance = std::max({face.x, face.y, face.z});
+                const float half = 0.5f * cut.transition;
+                const int faces_in_band = (face.x > -half) + (face.y > -half) + (face.z > -half);
+                if (distance >= half || faces_in_band == 0) {
+                    EXPECT_EQ(capped.volume.rgba[i], plain.volume.rgba[i]) << x << " " << y << " " << z;
+                    ++unchanged;
+                    continue;
+                }
+                if (faces_in_band != 1 || distance < -half + 0.25f || distance > half - 0.25f) continue;  // an edge, or a band's rim
+                const int axis = face.x > -half ? 0 : face.y > -half ? 1 : 2;
+                glm::vec3 normal(0.0f);
+                normal[axis] = p[axis] > cut.center[axis] ? -1.0f : 1.0f;
+                const glm::vec3 expect = phong_shade(defaults.lighting, glm::vec3(0.5f), normal, to_viewer, to_viewer, 0.0f);
+                const glm::vec3 got(capped.volume.rgba[i]);
+                worst = std::max(worst, glm::length(got - expect));
+                ++banded;
+                lit += expect.x > 0.5f * defaults.lighting.ambient + 0.05f;
+            }
+    EXPECT_GT(unchanged, 1000);
+    EXPECT_GT(banded, 200);
+    EXPECT_GT(lit, 20);
+    EXPECT_LE(worst, 4.0f / 255.0f);
+}
+
 TEST(RegionOfInterest, BadRegionsAreRejected) {
     RegionOfInterest r;
     r.half_size = glm::vec3(1.0f, 0.0f, 1.0f);
@@ -333,6 +385,14 @@ TEST(RegionOfInterest, BadRegionsAreRejected) {
     r.scale_inside = 0.0f;
     r.transition = -2.0f;
     EXPECT_THROW(validate_region(r, "s.toml", "region"), InputError);
+    r.transition = 0.0f;
+    r.cap = true;  // capping needs a transition zone to recolour
+    EXPECT_THROW(validate_region(r, "s.toml", "region"), InputError);
+    r.transition = 2.0f;
+    r.shape = RegionOfInterest::Shape::Ellipsoid;  // and a box's faces
+    EXPECT_THROW(validate_region(r, "s.toml", "region"), InputError);
+    r.shape = RegionOfInterest::Shape::Box;
+    EXPECT_NO_THROW(validate_region(r, "s.toml", "region"));
 }
 
 }  // namespace

@@ -82,6 +82,12 @@ TEST(InteractiveView, MovingTheRegionReclassifiesAndChangesThePicture) {
     EXPECT_FALSE(phase(s, "shading")["ran"].get<bool>());
     EXPECT_FLOAT_EQ(s["region"]["center"][1].get<float>(), 14.0f);
     EXPECT_NE(view.frame_png(), before);
+    // A capping region's colours follow it: moving it reshades as well.
+    view.apply({{"region", {{"cap", true}, {"transition", 2.0}}}});
+    EXPECT_TRUE(view.state()["region"]["cap"].get<bool>());
+    EXPECT_TRUE(phase(view.state(), "shading")["ran"].get<bool>());
+    view.apply({{"region", {{"center", {16.0, 12.0, 16.0}}}}});
+    EXPECT_TRUE(phase(view.state(), "shading")["ran"].get<bool>());
     view.apply({{"region", nullptr}});
     EXPECT_TRUE(view.state()["region"].is_null());
 }
@@ -98,6 +104,8 @@ TEST(InteractiveView, BadChangesNameTheirFieldAndChangeNothing) {
         {{{"region", {{"half_size", {0.0, 1.0, 1.0}}}}}, "region.half_size[0]"},
         {{{"region", {{"scale_inside", 17.0}}}}, "region.scale_inside"},
         {{{"region", {{"shape", "torus"}}}}, "region.shape"},
+        {{{"region", {{"cap", "yes"}}}}, "region.cap"},
+        {{{"region", {{"shape", "ellipsoid"}, {"cap", true}}}}, "region.cap"},
         {{{"kernel", "no-such-kernel"}}, "kernel"},
         {{{"kernel", "yuan"}}, "kernel"},  // Yuan's kernel has no volume-of-interest tool
         {{{"zoom", 2.0}}, "zoom"},
