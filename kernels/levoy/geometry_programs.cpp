@@ -173,16 +173,21 @@ bool polygon_reaches_slot(const PreparedPolygon& polygon, const SlotFrame& frame
 namespace {
 constexpr int kDistanceShift = 8;   // distances in 1/256 voxel
 constexpr int kQuadraticShift = 32; // the ellipsoid's quadratic, before the QEE's shift back to 2^16
+
+// The farthest any voxel lies from the region's centre, with two voxels to spare: what bounds the
+// fields holding a voxel's region coordinates.
+double region_reach(const RegionOfInterest& region, glm::ivec3 dims) {
+    double reach = 0.0;
+    for (int c = 0; c < 8; ++c)
+        reach = std::max(reach, glm::length(box_corner(c, volume_lower(), volume_upper(dims)) - glm::dvec3(region.center)));
+    return reach + 2.0;
+}
 }  // namespace
 
 PpProgram build_region_program(const RegionOfInterest& region, glm::ivec3 dims, const PpProgramInputs& inputs) {
     const VoxelRecordLayout& layout = inputs.layout;
     const std::int64_t opacity_max = (std::int64_t{1} << layout.opacity_bits) - 1;
-    // The farthest any voxel lies from the region's centre.
-    double reach = 0.0;
-    for (int c = 0; c < 8; ++c)
-        reach = std::max(reach, glm::length(box_corner(c, volume_lower(), volume_upper(dims)) - glm::dvec3(region.center)));
-    reach += 2.0;
+    const double reach = region_reach(region, dims);
     const auto whole = [](double x) { return static_cast<std::int64_t>(std::ceil(x)); };
     PpProgramBuilder b("region of interest", inputs.local_memory_bits);
     PpField distance;
@@ -264,10 +269,7 @@ PpProgram build_region_program(const RegionOfInterest& region, glm::ivec3 dims, 
 GradientRewrite region_cap(const RegionOfInterest& region, glm::ivec3 dims, const PpProgramInputs& inputs, int first_expression) {
     if (region.shape != RegionOfInterest::Shape::Box || !(region.transition > 0.0f))
         throw std::logic_error("region_cap: capping needs a box with a transition (validate_region refuses the rest)");
-    double reach = 0.0;  // the farthest any voxel lies from the region's centre, as the region program bounds it
-    for (int c = 0; c < 8; ++c)
-        reach = std::max(reach, glm::length(box_corner(c, volume_lower(), volume_upper(dims)) - glm::dvec3(region.center)));
-    const auto coordinate_limit = static_cast<std::int64_t>(std::ceil((reach + 2.0) * 256.0));
+    const auto coordinate_limit = static_cast<std::int64_t>(std::ceil(region_reach(region, dims) * 256.0));
     return [region, inputs, first_expression, coordinate_limit](PpProgramBuilder& b, const PpField& value, std::array<PpField, 3>& gradient) {
         constexpr int kAxisShift = 12;  // the face normals' components, in 1/4096
         const std::int64_t half_band = std::llround(region.transition * 128.0);  // T / 2 in 1/256 voxel
