@@ -123,7 +123,7 @@ Volume RenderSession::load_checked_volume(TraceRecorder* trace) {
                            fmt::format("holding a {}x{} frame's pictures", scenario_.image.width, scenario_.image.height));
     // When the scenario gives the volume's size, one the machine cannot hold is refused before reading it.
     if (const auto dims = scenario_.dataset.known_dims(); dims && kernel_.runs_on_machine())
-        kernel_.check_volume_fits(machine_, config_, *dims);
+        kernel_.check_volume_fits(machine_, config_, scenario_, *dims);
     return load_dataset(scenario_);
 }
 

@@ -104,7 +104,7 @@ struct LevoyKernelFrame final : KernelFrame {
 class LevoyRun final : public KernelRun {
 public:
     LevoyRun(Machine& machine, const MachineConfig& config, const Scenario& scenario, const Volume& volume)
-        : volume_(volume), renderer_(machine, volume, LevoySettings::from(config), levoy_image_settings(scenario.image)) {
+        : volume_(volume), renderer_(machine, volume, LevoySettings::for_scenario(config, scenario), levoy_image_settings(scenario.image)) {
         renderer_.set_polygons(scenario.polygons);
     }
 
@@ -126,6 +126,7 @@ public:
         return {{"renderers",
                  {{"classification", pass_record(f.pixel_processors.classification)},
                   {"region_of_interest", pass_record(f.region)},
+                  {"stationary_lights", pass_record(f.pixel_processors.stationary_lights)},
                   {"shading", pass_record(f.pixel_processors.shading)}}},
                 {"geometry",
                  {{"ran", g.ran},
@@ -138,7 +139,7 @@ public:
 
     std::string describe(const nlohmann::json& f) const override {
         std::string line;
-        for (const char* pass : {"classification", "region_of_interest", "shading"}) {
+        for (const char* pass : {"classification", "region_of_interest", "stationary_lights", "shading"}) {
             const auto& p = f["renderers"][pass];
             if (!p["ran"].get<bool>()) continue;
             line += fmt::format("; PP {} {:.2f} ms ({} cycles a slot)", pass, p["simulated_seconds"].get<double>() * 1e3,
@@ -207,8 +208,9 @@ public:
                              "the levoy kernel shades at the voxels (shade-then-interpolate); use kernel = \"reference\" to "
                              "interpolate first");
     }
-    void check_volume_fits(const Machine& machine, const MachineConfig& config, glm::ivec3 dims) const override {
-        LevoyRenderer::check_fits(machine, dims, LevoySettings::from(config));
+    void check_volume_fits(const Machine& machine, const MachineConfig& config, const Scenario& scenario,
+                           glm::ivec3 dims) const override {
+        LevoyRenderer::check_fits(machine, dims, LevoySettings::for_scenario(config, scenario));
     }
     std::unique_ptr<KernelRun> start(Machine& machine, const MachineConfig& config, const Scenario& scenario,
                                      const Volume& volume) const override {

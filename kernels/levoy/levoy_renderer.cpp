@@ -6,6 +6,8 @@
 #include "sim/core/work_progress.h"
 #include "sim/timing/frame_engine.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -19,7 +21,19 @@ int voxel_bits_of(const VoxelRecordLayout& layout) { return 3 * layout.color_bit
 }  // namespace
 
 void LevoyRenderer::check_fits(const Machine& machine, glm::ivec3 dims, const LevoySettings& settings) {
-    PpShading::check_fits(machine, dims, settings.store);
+    try {
+        PpShading::check_fits(machine, dims, settings.store);
+    } catch (const InputError& refusal) {
+        // Say so when only the stationary lights' field stands in the way: it is the one to give up.
+        VoxelStoreSettings without = settings.store;
+        without.layout.stationary_light_bits = 0;
+        if (settings.store.layout.stationary_light_bits == 0) throw;
+        PpShading::check_fits(machine, dims, without);  // refuses as before when even that cannot fit
+        throw InputError(refusal.file(), "levoy.stationary_light_bits",
+                         fmt::format("the stationary lights' precomputed sum takes a voxel's record from {} to {} bits, and then: "
+                                     "{}; set levoy.stationary_light_bits=0 to recompute every light at each reshade instead",
+                                     without.layout.bits(), settings.store.layout.bits(), refusal.reason()));
+    }
     // Every frame's GPs hold the whole pyramid (a bit a cell) beside their caches.
     const bool any_axis_too_thin = dims.x < 2 || dims.y < 2 || dims.z < 2;  // the pyramid refuses these itself
     check_gp_memory_fits(machine, true, settings.pyramid_skipping && !any_axis_too_thin ? BinaryPyramid::total_cells_of(dims) : 0);
@@ -55,11 +69,16 @@ LevoyFrameTiming levoy_frame_timing(const LevoyFrameWork& work, const FrameTimin
     t.start_ps = timing.start_ps;
     t.end_ps = timing.end_ps;
     const PhaseTiming* classification = timing.phase("classification");
+    const PhaseTiming* stationary = timing.phase("stationary_lights");
     const PhaseTiming* shading = timing.phase("shading");
     t.pixel_processors.classification = pass_of(classification);
+    t.pixel_processors.stationary_lights = pass_of(stationary);
     t.pixel_processors.shading = pass_of(shading);
-    t.pixel_processors.start_ps = classification ? classification->start_ps : shading ? shading->start_ps : timing.start_ps;
-    t.pixel_processors.end_ps = shading ? shading->end_ps : classification ? classification->end_ps : timing.start_ps;
+    // The PP passes run one after another in this order; the first that ran starts them.
+    const PhaseTiming* first = classification ? classification : stationary ? stationary : shading;
+    const PhaseTiming* last = shading ? shading : stationary ? stationary : classification;
+    t.pixel_processors.start_ps = first ? first->start_ps : timing.start_ps;
+    t.pixel_processors.end_ps = last ? last->end_ps : timing.start_ps;
     t.region = pass_of(timing.phase("region_of_interest"));
     // A frame that scan-converts records the phase, even when every polygon is degenerate.
     if (const PhaseTiming* scan = timing.phase("scan_conversion")) {
@@ -107,18 +126,24 @@ Phase LevoyRenderer::pyramid_phase() const {
 }
 
 // Levoy's Figure 6: the shading pass, with the region's transition zone shaded as if the region held
-// air. The region's box coordinates follow the shading's own QEE expressions.
-PpPassWork LevoyRenderer::capped_shading(const LevoyFrameInputs& frame, const ShadingView& view) {
+// air. The region's box coordinates follow the shading's own QEE expressions. A stationary-light sum
+// the record keeps is made with the same capped gradients, afresh when the region moved.
+LevoyRenderer::CappedShading LevoyRenderer::capped_shading(const LevoyFrameInputs& frame, const ShadingView& view,
+                                                           bool region_moved) {
     const RegionOfInterest& region = *frame.region;
     const PpProgramInputs inputs = pixel_processors_.program_inputs();
-    const PpProgram program =
-        build_shading_program(frame.colors, frame.lighting, view, inputs, region_cap(region, dims_, inputs, kShadingExpressions));
-    return pixel_processors_.execute(program, [](const SlotFrame&) { return true; }, [&](const SlotFrame& slot) {
+    const GradientRewrite cap = region_cap(region, dims_, inputs, kShadingExpressions);
+    const auto expressions = [&](const SlotFrame& slot) {
         const auto shading = slot_expressions(view, slot, spacing_);
         std::vector<QeeCoefficients> all(shading.begin(), shading.end());
         for (const QeeCoefficients& e : region_expressions(region, slot)) all.push_back(e);
         return all;
-    });
+    };
+    CappedShading out;
+    out.stationary_lights = pixel_processors_.refresh_stationary_lights(frame.lighting, view, cap, expressions, region_moved);
+    const PpProgram program = build_shading_program(frame.colors, frame.lighting, view, inputs, cap);
+    out.shading = pixel_processors_.execute(program, [](const SlotFrame&) { return true; }, expressions);
+    return out;
 }
 
 void LevoyRenderer::set_polygons(const std::vector<PolygonSpec>& polygons) {
@@ -359,8 +384,17 @@ LevoyFrameReport LevoyRenderer::record(const LevoyFrameInputs& frame) {
     const PpFrameWork pp =
         pixel_processors_.compute(frame.classification, frame.colors, frame.lighting, view, classify, reshade && !capping);
     if (pp.classification) machine_work.phases.push_back(voxel_pass("classification", *pp.classification, kVoxelClassification));
+    // A lone processor's cost has no share of this pass: its shading op per voxel is of one light.
+    const auto stationary_pass = [&](const PpPassWork& pass) {
+        machine_work.phases.push_back(Phase{"stationary_lights", PpPhase{{PpPhase::Pass{pass, 0, {}}}}});
+    };
+    if (pp.stationary_lights) stationary_pass(*pp.stationary_lights);
     if (pp.shading) machine_work.phases.push_back(voxel_pass("shading", *pp.shading, kVoxelShading));
-    if (reshade && capping) machine_work.phases.push_back(voxel_pass("shading", capped_shading(frame, view), kVoxelShading));
+    if (reshade && capping) {
+        const CappedShading capped = capped_shading(frame, view, region_changed);
+        if (capped.stationary_lights) stationary_pass(*capped.stationary_lights);
+        machine_work.phases.push_back(voxel_pass("shading", capped.shading, kVoxelShading));
+    }
     // Fresh opacities may empty or fill voxels: the PPs mark each voxel's emptiness before the region
     // scales them (the pyramid is of the classification's opacities), charged only if the pyramid is rebuilt.
     std::optional<PpPassWork> emptiness;

@@ -169,7 +169,11 @@ public:
 
 private:
     Phase scan_convert();
-    PpPassWork capped_shading(const LevoyFrameInputs& frame, const ShadingView& view);
+    struct CappedShading {
+        std::optional<PpPassWork> stationary_lights;
+        PpPassWork shading;
+    };
+    CappedShading capped_shading(const LevoyFrameInputs& frame, const ShadingView& view, bool region_moved);
     Phase pyramid_phase() const;
     Phase cast_frame(const Camera& camera, LevoyFrameReport& report);
 

@@ -1,5 +1,7 @@
 #include "kernels/levoy/levoy_settings.h"
 
+#include <algorithm>
+
 namespace pp5 {
 
 const ParamGroup& LevoySettings::params() {
@@ -40,7 +42,15 @@ const ParamGroup& LevoySettings::params() {
                      Provenance::Default, "pp5sim")
             .integer("jitter_samples", 16, "count", 1, 1024,
                      "Subvoxel translations of each polygon in 3D scan-conversion (1: binary voxelisation)", Provenance::Default,
-                     "Levoy 1989: 'moved through a set of subvoxel-sized translations', count not given");
+                     "Levoy 1989: 'moved through a set of subvoxel-sized translations', count not given")
+            .integer("stationary_light_bits", 10, "bits", 0, 16,
+                     "Bits each voxel's record keeps for the summed light of the scenario's stationary lights, stored by "
+                     "their own PP pass when they change and added by every reshade after (0: every reshade recomputes every "
+                     "light). The sum is in 1/256ths of a full light and saturates at 2^bits - 1 (10 bits: about 4 lights at "
+                     "full strength). Used only by scenarios with stationary lights",
+                     Provenance::Default,
+                     "Levoy 1989: with several lights of which one moves, 'the contribution made by the stationary sources can "
+                     "be pre-computed'; the field's width is ours");
         return g;
     }();
     return group;
@@ -61,6 +71,15 @@ LevoySettings LevoySettings::from(const MachineConfig& config) {
     s.jitter_samples = static_cast<int>(config.integer("levoy.jitter_samples"));
     s.refresh_caches = config.text("levoy.after_reshade") == "refresh";
     s.refresh_blocks_per_message = static_cast<int>(config.integer("levoy.refresh_blocks_per_message"));
+    s.stationary_light_bits = static_cast<int>(config.integer("levoy.stationary_light_bits"));
+    return s;
+}
+
+LevoySettings LevoySettings::for_scenario(const MachineConfig& config, const Scenario& scenario) {
+    LevoySettings s = from(config);
+    const bool stationary = std::any_of(scenario.frames.begin(), scenario.frames.end(),
+                                        [](const FrameSpec& f) { return !f.lighting.stationary_lights.empty(); });
+    if (stationary) s.store.layout.stationary_light_bits = s.stationary_light_bits;
     return s;
 }
 

@@ -4,6 +4,7 @@
 
 #include "kernels/levoy/adaptive_refinement.h"
 #include "kernels/pp_volume/pp_shading.h"
+#include "kernels/scenario/scenario.h"
 #include "sim/core/config.h"
 #include "sim/core/param.h"
 #include "sim/timing/recorded_work.h"
@@ -22,9 +23,14 @@ struct LevoySettings {
     bool refresh_caches = false;  // after a reshade, GPs ask again for the blocks they used (false: they drop them)
     int refresh_blocks_per_message = 16;
     int jitter_samples = 16;
+    // Bits a voxel's record keeps for the stationary lights' precomputed sum (0: recompute them at every
+    // reshade). for_scenario() adds the field to the layout only when some frame has stationary lights.
+    int stationary_light_bits = 10;
 
     static const ParamGroup& params();
     static LevoySettings from(const MachineConfig& config);
+    // The same, with the record's stationary-light field when a frame of `scenario` has stationary lights.
+    static LevoySettings for_scenario(const MachineConfig& config, const Scenario& scenario);
 };
 
 }  // namespace pp5

@@ -160,12 +160,15 @@ PpFrameReport PpShading::update(const Classification& classification, const Colo
     const PpFrameWork work = compute(classification, color_map, lighting, view, classification_changed, shading_changed);
     FrameWork frame;
     if (work.classification) frame.phases.push_back(Phase{"classification", PpPhase{{PpPhase::Pass{*work.classification, 0, {}}}}});
+    if (work.stationary_lights)
+        frame.phases.push_back(Phase{"stationary_lights", PpPhase{{PpPhase::Pass{*work.stationary_lights, 0, {}}}}});
     if (work.shading) frame.phases.push_back(Phase{"shading", PpPhase{{PpPhase::Pass{*work.shading, 0, {}}}}});
     const FrameTiming timing = time_frame(machine_, frame);
     PpFrameReport report;
     report.start_ps = timing.start_ps;
     report.end_ps = timing.end_ps;
     if (const PhaseTiming* p = timing.phase("classification")) report.classification = PpProgramPass(p->passes.front());
+    if (const PhaseTiming* p = timing.phase("stationary_lights")) report.stationary_lights = PpProgramPass(p->passes.front());
     if (const PhaseTiming* p = timing.phase("shading")) report.shading = PpProgramPass(p->passes.front());
     return report;
 }
@@ -176,10 +179,24 @@ PpFrameWork PpShading::compute(const Classification& classification, const Color
     PpFrameWork work;
     if (classification_changed) work.classification = execute_program(build_classification_program(classification, inputs), nullptr);
     if (shading_changed) {
+        work.stationary_lights = refresh_stationary_lights(lighting, view);
         const PpProgram program = build_shading_program(color_map, lighting, view, inputs);
         work.shading = execute_program(program, program.expressions > 0 ? &view : nullptr);
     }
     return work;
+}
+
+std::optional<PpPassWork> PpShading::refresh_stationary_lights(const PhongLighting& lighting, const ShadingView& view,
+                                                               const GradientRewrite& rewrite, const SlotExpressions& expressions,
+                                                               bool rewrite_changed) {
+    if (settings_.layout.stationary_light_bits <= 0 || lighting.stationary_lights.empty()) return std::nullopt;
+    StationaryLightKey key{lighting.stationary_lights, lighting.diffuse, lighting.specular, lighting.shininess,
+                           lighting.specular > 0.0f ? view.forward : glm::vec3(0.0f), static_cast<bool>(rewrite)};
+    if (stationary_for_ == key && !rewrite_changed) return std::nullopt;
+    const PpProgram program = build_stationary_light_program(lighting, view, program_inputs(), rewrite);
+    stationary_for_ = std::move(key);
+    if (expressions) return execute(program, [](const SlotFrame&) { return true; }, expressions);
+    return execute_program(program, program.expressions > 0 ? &view : nullptr);
 }
 
 ShadedVolume PpShading::shaded_volume() const {

@@ -56,11 +56,13 @@ struct PpProgramPass : PpPassTiming {
 // The passes a frame's classification and shading ran, in order.
 struct PpFrameWork {
     std::optional<PpPassWork> classification;
+    std::optional<PpPassWork> stationary_lights;  // Levoy's precomputed stationary lights, before the shading
     std::optional<PpPassWork> shading;
 };
 
 struct PpFrameReport {
     PpProgramPass classification;
+    PpProgramPass stationary_lights;
     PpProgramPass shading;
     Tick start_ps = 0;
     Tick end_ps = 0;
@@ -83,10 +85,20 @@ public:
     PpFrameWork compute(const Classification& classification, const ColorMap& color_map, const PhongLighting& lighting,
                         const ShadingView& view, bool classification_changed, bool shading_changed);
 
-    // Runs `program` on every renderer over the slots `select` accepts, each with the QEE expressions
-    // `expressions` gives for its frame (none when empty), and records what each renderer ran.
+    // When the record keeps the stationary lights' sum (layout.stationary_light_bits > 0), stores it
+    // afresh if what it depends on changed since it was stored: the stationary lights, k_d, k_s, n, the
+    // view's direction (with a highlight), or the gradients, as `rewrite` leaves them (the caller says
+    // when its rewrite moved). Returns the pass it ran, or nothing when the stored sum still holds.
+    // compute() calls it before shading without a rewrite; a caller that shades with a rewrite calls it
+    // itself, with the same rewrite and the expressions the rewrite reads.
     using SlotSelector = std::function<bool(const SlotFrame&)>;
     using SlotExpressions = std::function<std::vector<QeeCoefficients>(const SlotFrame&)>;
+    std::optional<PpPassWork> refresh_stationary_lights(const PhongLighting& lighting, const ShadingView& view,
+                                                        const GradientRewrite& rewrite = {}, const SlotExpressions& expressions = {},
+                                                        bool rewrite_changed = false);
+
+    // Runs `program` on every renderer over the slots `select` accepts, each with the QEE expressions
+    // `expressions` gives for its frame (none when empty), and records what each renderer ran.
     PpPassWork execute(const PpProgram& program, const SlotSelector& select, const SlotExpressions& expressions);
     PpProgramInputs program_inputs() const;
 
@@ -110,6 +122,17 @@ private:
     glm::vec3 spacing_;
     VoxelQuantization quantization_;
     VoxelPlacement placement_;
+
+    // What the stored stationary-light sum was computed for.
+    struct StationaryLightKey {
+        std::vector<StationaryLight> lights;
+        float diffuse = 0, specular = 0, shininess = 0;
+        glm::vec3 forward{0.0f};  // only with a highlight
+        bool rewritten = false;
+
+        bool operator==(const StationaryLightKey&) const = default;
+    };
+    std::optional<StationaryLightKey> stationary_for_;
 };
 
 }  // namespace pp5

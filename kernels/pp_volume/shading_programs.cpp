@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 namespace pp5 {
@@ -276,6 +277,105 @@ PpField power_256(PpProgramBuilder& b, PpField x, float n) {
     return b.lookup("spec", x, std::move(table), kOneShift + 1, false);
 }
 
+// The gradient in world units (each component scaled by the smallest spacing over its own, 6
+// fraction bits, when the volume is anisotropic) and 4 |w|: what every normal is made from. The
+// gradient fields are released when scaled copies replace them.
+struct NormalInputs {
+    std::array<PpField, 3> w;
+    PpField gmag4;
+};
+
+NormalInputs normal_inputs(PpProgramBuilder& b, const std::array<PpField, 3>& gradient, glm::vec3 spacing) {
+    NormalInputs n{gradient, {}};
+    const float finest = std::min({spacing.x, spacing.y, spacing.z});
+    if (spacing != glm::vec3(finest)) {
+        for (int axis = 0; axis < 3; ++axis) {
+            n.w[axis] = b.mul_const("world_gradient", gradient[axis], fixed(finest / spacing[axis], 6));
+            b.release(gradient[axis]);
+        }
+    }
+    n.gmag4 = magnitude_times_four(b, n.w);
+    return n;
+}
+
+void release(PpProgramBuilder& b, const NormalInputs& n) {
+    for (const PpField& f : n.w) b.release(f);
+    b.release(n.gmag4);
+}
+
+// s [k_d (N.L) + k_s (N.H)^n] in 1/256ths for a light in a fixed direction, zero where it does not
+// reach the face (N.L <= 0). Every PP is enabled on return.
+PpField fixed_light_lit(PpProgramBuilder& b, const std::string& name, const NormalInputs& n, const PhongLighting& lighting,
+                        glm::vec3 to_light, glm::vec3 to_viewer, float intensity) {
+    const PpField n_dot_l = normal_dot(b, name + "_n_dot_l", n.w, n.gmag4, to_light);
+    PpField n_dot_h;
+    const glm::vec3 halfway = to_light + to_viewer;
+    if (lighting.specular > 0.0f && glm::length(halfway) > 0.0f)
+        n_dot_h = normal_dot(b, name + "_n_dot_h", n.w, n.gmag4, glm::normalize(halfway));
+    b.enable_if(n_dot_l, PpCompare::Greater, 0);
+    PpField lit = b.mul_const(name + "_diffuse", n_dot_l, fixed(intensity * lighting.diffuse, kOneShift));
+    if (n_dot_h.valid()) {
+        const PpField spec = power_256(b, n_dot_h, lighting.shininess);
+        b.release(n_dot_h);
+        const PpField specular = b.mul_const(name + "_specular", spec, fixed(intensity * lighting.specular, kOneShift));
+        b.release(spec);
+        const PpField sum = b.add(name + "_sum", lit, specular);
+        b.release(specular);
+        b.release(lit);
+        lit = sum;
+    }
+    lit = rounded_shift(b, name, lit, kOneShift);
+    b.enable_all();
+    const PpField out = b.set_const(name, 0, lit.bits, false);
+    b.enable_if(n_dot_l, PpCompare::Greater, 0);
+    b.assign(out, lit);
+    b.enable_all();
+    b.release(lit);
+    b.release(n_dot_l);
+    return out;
+}
+
+// The stationary lights' sum, in 1/256ths. Highlights use the view's central direction, as the key
+// light's do under a fixed light.
+PpField stationary_lit(PpProgramBuilder& b, const NormalInputs& n, const PhongLighting& lighting, glm::vec3 to_viewer) {
+    PpField sum;
+    for (const StationaryLight& light : lighting.stationary_lights) {
+        const PpField term = fixed_light_lit(b, "stationary", n, lighting, glm::normalize(light.direction), to_viewer, light.intensity);
+        if (!sum.valid()) {
+            sum = term;
+            continue;
+        }
+        const PpField next = b.add("stationary_sum", sum, term);
+        b.release(sum);
+        b.release(term);
+        sum = next;
+    }
+    return sum;
+}
+
+// lit / (k1 + k2 d), with d from the QEE (256 d, clamped to [0, 256]); releases `lit`.
+PpField depth_cued(PpProgramBuilder& b, PpField lit, const PhongLighting& lighting) {
+    const PpField raw = b.qee("depth_raw", kDepthExpression, kOneShift + 3, true, kQeeShift);
+    const PpField low = b.max_const("depth_low", raw, 0);
+    b.release(raw);
+    const PpField depth = b.min_const("depth", low, kOne);
+    b.release(low);
+    const PpField cue = b.mul_const("cue", depth, fixed(lighting.depth_cue_k2, kOneShift), kOneShift);
+    b.release(depth);
+    const PpField divisor = b.add_const("cue_divisor", cue, fixed(lighting.depth_cue_k1, kOneShift));
+    b.release(cue);
+    const PpField one = b.set_const("one", 1, 1, false);
+    const float smallest_divisor = std::min(lighting.depth_cue_k1, lighting.depth_cue_k1 + lighting.depth_cue_k2);
+    const int attenuation_bits = pp_bits_for_range(0, fixed(1.0 / smallest_divisor, kOneShift) + 1);
+    const PpField attenuation = b.div("attenuation", one, divisor, 2 * kOneShift, attenuation_bits);
+    b.release(one);
+    b.release(divisor);
+    const PpField cued = b.mul("lit_cued", lit, attenuation, kOneShift);
+    b.release(attenuation);
+    b.release(lit);
+    return cued;
+}
+
 }  // namespace
 
 PpProgram build_classification_program(const Classification& classification, const PpProgramInputs& inputs) {
@@ -307,31 +407,27 @@ PpProgram build_shading_program(const ColorMap& color_map, const PhongLighting& 
     }
     if (rewrite) rewrite(b, in.value, in.gradient);
     b.release(in.value);
-
-    // Normals come from the gradient per unit length, so an anisotropic volume scales each
-    // component by (smallest spacing / its spacing), with 6 fraction bits.
-    std::array<PpField, 3> w = in.gradient;
-    const float finest = std::min({inputs.spacing.x, inputs.spacing.y, inputs.spacing.z});
-    if (inputs.spacing != glm::vec3(finest)) {
-        for (int axis = 0; axis < 3; ++axis) {
-            w[axis] = b.mul_const("world_gradient", in.gradient[axis], fixed(finest / inputs.spacing[axis], 6));
-            b.release(in.gradient[axis]);
-        }
-    }
-    const PpField gmag4 = magnitude_times_four(b, w);
+    const NormalInputs normals = normal_inputs(b, in.gradient, inputs.spacing);
 
     const glm::vec3 to_viewer = -view.forward;
     const glm::vec3 to_light = lighting.light_follows_camera ? to_viewer : glm::normalize(lighting.light_direction);
     const bool eye_per_voxel = lighting.light_follows_camera && view.projection == Projection::Perspective;
-    const PpField n_dot_l = eye_per_voxel ? normal_dot_eye(b, w, gmag4) : normal_dot(b, "n_dot_l", w, gmag4, to_light);
+    const PpField n_dot_l =
+        eye_per_voxel ? normal_dot_eye(b, normals.w, normals.gmag4) : normal_dot(b, "n_dot_l", normals.w, normals.gmag4, to_light);
     PpField n_dot_h;
     const glm::vec3 halfway = to_light + to_viewer;
     const bool headlight = lighting.light_follows_camera;
-    if (!headlight && glm::length(halfway) > 0.0f) n_dot_h = normal_dot(b, "n_dot_h", w, gmag4, glm::normalize(halfway));
-    for (const PpField& f : w) b.release(f);
-    b.release(gmag4);
+    if (!headlight && glm::length(halfway) > 0.0f)
+        n_dot_h = normal_dot(b, "n_dot_h", normals.w, normals.gmag4, glm::normalize(halfway));
+    // The stationary lights: from the record when a stationary-light pass has stored their sum there,
+    // else computed here with the key light.
+    const bool stationary = !lighting.stationary_lights.empty();
+    const bool stored = stationary && layout.stationary_light_bits > 0;
+    PpField stationary_light;
+    if (stationary && !stored) stationary_light = stationary_lit(b, normals, lighting, to_viewer);
+    release(b, normals);
 
-    // The lit fraction k_d (N.L) + k_s (N.H)^n, in 1/256ths, where the light reaches the face.
+    // The key light's k_d (N.L) + k_s (N.H)^n, in 1/256ths, where it reaches the face.
     b.enable_if(n_dot_l, PpCompare::Greater, 0);
     PpField lit = b.mul_const("diffuse", n_dot_l, fixed(lighting.diffuse, kOneShift));
     PpField highlight_source = headlight ? n_dot_l : n_dot_h;
@@ -346,36 +442,23 @@ PpProgram build_shading_program(const ColorMap& color_map, const PhongLighting& 
     }
     if (n_dot_h.valid()) b.release(n_dot_h);
     lit = rounded_shift(b, "lit", lit, kOneShift);
-
-    // Depth cueing: divide by k1 + k2 d, with d from the QEE (256 d, clamped to [0, 256]).
-    if (lighting.depth_cue_k2 != 0.0f) {
-        const PpField raw = b.qee("depth_raw", kDepthExpression, kOneShift + 3, true, kQeeShift);
-        const PpField low = b.max_const("depth_low", raw, 0);
-        b.release(raw);
-        const PpField depth = b.min_const("depth", low, kOne);
-        b.release(low);
-        const PpField cue = b.mul_const("cue", depth, fixed(lighting.depth_cue_k2, kOneShift), kOneShift);
-        b.release(depth);
-        const PpField divisor = b.add_const("cue_divisor", cue, fixed(lighting.depth_cue_k1, kOneShift));
-        b.release(cue);
-        const PpField one = b.set_const("one", 1, 1, false);
-        const float smallest_divisor = std::min(lighting.depth_cue_k1, lighting.depth_cue_k1 + lighting.depth_cue_k2);
-        const int attenuation_bits = pp_bits_for_range(0, fixed(1.0 / smallest_divisor, kOneShift) + 1);
-        const PpField attenuation = b.div("attenuation", one, divisor, 2 * kOneShift, attenuation_bits);
-        b.release(one);
-        b.release(divisor);
-        const PpField cued = b.mul("lit_cued", lit, attenuation, kOneShift);
-        b.release(attenuation);
-        b.release(lit);
-        lit = cued;
-    }
+    // With one light the depth cue divides only where it reaches; with several, the sum below.
+    const bool cue = lighting.depth_cue_k2 != 0.0f;
+    if (cue && !stationary) lit = depth_cued(b, lit, lighting);
     b.enable_all();
-    const PpField light = b.set_const("light", 0, lit.bits, false);
+    PpField light = b.set_const("light", 0, lit.bits, false);
     b.enable_if(n_dot_l, PpCompare::Greater, 0);
     b.assign(light, lit);
     b.enable_all();
     b.release(lit);
     b.release(n_dot_l);
+    if (stationary) {
+        if (stored) stationary_light = b.load("stationary_light", layout.stationary_light_offset(), layout.stationary_light_bits, false);
+        const PpField total = b.add("all_lights", light, stationary_light);
+        b.release(light);
+        b.release(stationary_light);
+        light = cue ? depth_cued(b, total, lighting) : total;
+    }
 
     // c = c_p (k_a + lit), rounded and clamped to the colour code.
     const PpField factor = b.add_const("factor", light, fixed(lighting.ambient, kOneShift));
@@ -390,6 +473,26 @@ PpProgram build_shading_program(const ColorMap& color_map, const PhongLighting& 
         b.release(clamped);
     }
     b.release(factor);
+    return b.finish();
+}
+
+PpProgram build_stationary_light_program(const PhongLighting& lighting, const ShadingView& view, const PpProgramInputs& inputs,
+                                         const GradientRewrite& rewrite) {
+    const VoxelRecordLayout& layout = inputs.layout;
+    if (layout.stationary_light_bits <= 0 || lighting.stationary_lights.empty())
+        throw std::logic_error("build_stationary_light_program: needs stationary lights and a record field for their sum");
+    PpProgramBuilder b("stationary_lights", inputs.local_memory_bits);
+    VoxelInputs in = load_inputs(b, layout);
+    if (rewrite) rewrite(b, in.value, in.gradient);
+    b.release(in.value);
+    const NormalInputs normals = normal_inputs(b, in.gradient, inputs.spacing);
+    const PpField sum = stationary_lit(b, normals, lighting, -view.forward);
+    release(b, normals);
+    // A sum beyond the field saturates (documented with levoy.stationary_light_bits).
+    const PpField clamped = b.min_const("stationary_clamped", sum, (std::int64_t{1} << layout.stationary_light_bits) - 1);
+    b.release(sum);
+    b.store(clamped, layout.stationary_light_offset(), layout.stationary_light_bits);
+    b.release(clamped);
     return b.finish();
 }
 

@@ -7,6 +7,7 @@
 // Both programs read the slot's record (voxel_record.h) and write their results back into it:
 //   classification: value, gradient -> opacity (changes only with the classification)
 //   shading:        value, gradient -> red, green, blue (changes with colours, lights and the view)
+//   stationary lights: gradient -> their summed light (changes with those lights only)
 // so changing the light reruns only shading, and changing the classification only classification.
 
 #include "kernels/pp_volume/voxel_placement.h"
@@ -43,8 +44,18 @@ PpProgram build_classification_program(const Classification& classification, con
 // changes (releasing the old), may use QEE expressions from kShadingExpressions on, and leaves every PP
 // enabled.
 using GradientRewrite = std::function<void(PpProgramBuilder&, const PpField& value, std::array<PpField, 3>& gradient)>;
+//
+// Stationary lights are summed with the key light before the depth cue. When the record has a field
+// for them (layout.stationary_light_bits > 0), the program adds the sum stored there by
+// build_stationary_light_program instead of computing it: the caller reruns that program whenever
+// the stationary lights, k_d, k_s, n, the view's direction (with a highlight) or the gradients change.
 PpProgram build_shading_program(const ColorMap& color_map, const PhongLighting& lighting, const ShadingView& view,
                                 const PpProgramInputs& inputs, const GradientRewrite& rewrite = {});
+
+// Levoy's precomputed stationary lights: sum_i s_i [k_d (N.L_i) + k_s (N.H_i)^n] per voxel, in
+// 1/256ths, saturating at the field's largest code, stored in the record's stationary-light field.
+PpProgram build_stationary_light_program(const PhongLighting& lighting, const ShadingView& view, const PpProgramInputs& inputs,
+                                         const GradientRewrite& rewrite = {});
 
 // The QEE expressions of one slot frame, linear in PP column and row, with kQeeShift fraction bits:
 //   kDepthExpression        256 x the depth in [0,1] that ShadingView::depth gives

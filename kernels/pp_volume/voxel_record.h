@@ -22,13 +22,17 @@ struct VoxelRecordLayout {
     int gradient_bits = 8;  // per component, signed
     int color_bits = 8;     // per channel
     int opacity_bits = 8;
+    // The precomputed light of the stationary lights (Levoy 1989), in 1/256ths, unsigned; 0 when the
+    // record keeps none. It is a result like the colours, kept only while the stationary lights stay.
+    int stationary_light_bits = 0;
 
     // Bit offsets within the record, in this order.
     int value_offset() const { return 0; }
     int gradient_offset(int axis) const { return value_bits + axis * gradient_bits; }
     int color_offset(int channel) const { return value_bits + 3 * gradient_bits + channel * color_bits; }
     int opacity_offset() const { return value_bits + 3 * gradient_bits + 3 * color_bits; }
-    int bits() const { return value_bits + 3 * gradient_bits + 3 * color_bits + opacity_bits; }
+    int stationary_light_offset() const { return opacity_offset() + opacity_bits; }
+    int bits() const { return stationary_light_offset() + stationary_light_bits; }
 };
 
 struct VoxelQuantization {

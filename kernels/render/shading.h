@@ -1,6 +1,9 @@
 #pragma once
-// Phong shading with depth cueing, as Levoy uses it:
-//   c = c_p k_a + c_p / (k1 + k2 d) [ k_d (N.L) + k_s (N.H)^n ]
+// Phong shading with depth cueing, as Levoy uses it, summed over the lights:
+//   c = c_p k_a + c_p / (k1 + k2 d) sum_i s_i [ k_d (N.L_i) + k_s (N.H_i)^n ]
+// The first light (s = 1) is the one a sequence moves, or a headlight; the stationary lights are
+// Levoy's "multiple light sources only one of which is moving": their sum does not change while only
+// the first light moves, so a renderer may precompute it per voxel and add it on each frame.
 // N is the unit normal (minus the normalised gradient, so it points out of dense material),
 // L the unit direction towards the light, H the half-vector of L and V (towards the viewer),
 // d the voxel's depth in [0,1] across the volume's bounding sphere (0 = nearest the viewer).
@@ -14,8 +17,17 @@
 #include <glm/vec3.hpp>
 
 #include <cmath>
+#include <vector>
 
 namespace pp5 {
+
+// A light that stays put while a sequence moves the key light: a direction and a strength.
+struct StationaryLight {
+    glm::vec3 direction{0.0f, 0.0f, -1.0f};  // world space, towards the light (normalised on use)
+    float intensity = 1.0f;                   // s: scales its diffuse and specular terms
+
+    bool operator==(const StationaryLight&) const = default;
+};
 
 struct PhongLighting {
     float ambient = 0.15f;          // k_a
@@ -26,12 +38,14 @@ struct PhongLighting {
     bool light_follows_camera = true;               // a headlight: L = V, light_direction ignored
     float depth_cue_k1 = 1.0f;
     float depth_cue_k2 = 0.0f;      // 0 disables depth cueing
+    std::vector<StationaryLight> stationary_lights;  // beside the key light above
 
     bool operator==(const PhongLighting&) const = default;
 };
 
 // Throws pp5::InputError (field "lighting.*") for negative coefficients, a zero light direction
-// (unless the light follows the camera), or depth cueing whose divisor k1 + k2 d is not positive
+// (unless the light follows the camera), a stationary light with a zero direction or a negative
+// intensity, or depth cueing whose divisor k1 + k2 d is not positive
 // over d in [0,1].
 void validate_lighting(const PhongLighting& lighting);
 
@@ -47,15 +61,43 @@ glm::vec3 phong_shade(const PhongLighting& lighting, glm::vec3 base, glm::vec3 n
 class PhongShader {
 public:
     explicit PhongShader(const PhongLighting& lighting)
-        : lighting_(lighting), integer_exponent_(whole_exponent(lighting.shininess)) {}
+        : lighting_(lighting), integer_exponent_(whole_exponent(lighting.shininess)) {
+        for (const StationaryLight& light : lighting.stationary_lights)
+            stationary_.push_back({glm::normalize(light.direction), light.intensity});
+    }
 
     const PhongLighting& lighting() const { return lighting_; }
 
     glm::vec3 shade(glm::vec3 base, glm::vec3 normal, glm::vec3 to_light, glm::vec3 to_viewer, float depth) const {
         const glm::vec3 ambient = base * lighting_.ambient;
         if (normal == glm::vec3(0.0f)) return ambient;
+        const float lit = lit_by(normal, to_light, to_viewer) + stationary_lit(normal, to_viewer);
+        if (lit <= 0.0f) return ambient;  // one-sided: no light reaches this face
+        return ambient + base * (attenuation(depth) * lit);
+    }
+
+    // The same with the key light at the viewer (L = V, hence H = V): one dot product instead of three.
+    glm::vec3 shade_headlight(glm::vec3 base, glm::vec3 normal, glm::vec3 to_viewer, float depth) const {
+        const glm::vec3 ambient = base * lighting_.ambient;
+        const float n_dot_v = glm::dot(normal, to_viewer);  // zero for a zero normal
+        float lit = n_dot_v > 0.0f ? lighting_.diffuse * n_dot_v + lighting_.specular * power(n_dot_v) : 0.0f;
+        if (normal != glm::vec3(0.0f)) lit += stationary_lit(normal, to_viewer);
+        if (lit <= 0.0f) return ambient;
+        return ambient + base * (attenuation(depth) * lit);
+    }
+
+    // sum_i s_i [k_d (N.L_i) + k_s (N.H_i)^n] over the stationary lights: what a renderer may keep.
+    float stationary_lit(glm::vec3 normal, glm::vec3 to_viewer) const {
+        float sum = 0.0f;
+        for (const auto& light : stationary_) sum += light.intensity * lit_by(normal, light.to_light, to_viewer);
+        return sum;
+    }
+
+private:
+    // k_d (N.L) + k_s (N.H)^n where the light reaches the face, else 0 (no highlight either).
+    float lit_by(glm::vec3 normal, glm::vec3 to_light, glm::vec3 to_viewer) const {
         const float n_dot_l = glm::dot(normal, to_light);
-        if (n_dot_l <= 0.0f) return ambient;  // one-sided: the light does not reach this face
+        if (n_dot_l <= 0.0f) return 0.0f;
         float highlight = 0.0f;
         const glm::vec3 halfway = to_light + to_viewer;
         const float halfway_length = glm::length(halfway);
@@ -63,21 +105,11 @@ public:
             const float n_dot_h = glm::dot(normal, halfway) / halfway_length;
             if (n_dot_h > 0.0f) highlight = lighting_.specular * power(n_dot_h);
         }
-        const float attenuation = 1.0f / (lighting_.depth_cue_k1 + lighting_.depth_cue_k2 * depth);
-        return ambient + base * (attenuation * (lighting_.diffuse * n_dot_l + highlight));
+        return lighting_.diffuse * n_dot_l + highlight;
     }
 
-    // The same with the light at the viewer (L = V, hence H = V): one dot product instead of three.
-    glm::vec3 shade_headlight(glm::vec3 base, glm::vec3 normal, glm::vec3 to_viewer, float depth) const {
-        const glm::vec3 ambient = base * lighting_.ambient;
-        const float n_dot_v = glm::dot(normal, to_viewer);
-        if (n_dot_v <= 0.0f) return ambient;  // also a zero normal
-        const float highlight = lighting_.specular * power(n_dot_v);
-        const float attenuation = 1.0f / (lighting_.depth_cue_k1 + lighting_.depth_cue_k2 * depth);
-        return ambient + base * (attenuation * (lighting_.diffuse * n_dot_v + highlight));
-    }
+    float attenuation(float depth) const { return 1.0f / (lighting_.depth_cue_k1 + lighting_.depth_cue_k2 * depth); }
 
-private:
     static int whole_exponent(float n) {
         return n >= 0.0f && n <= 1024.0f && n == std::floor(n) ? static_cast<int>(n) : -1;
     }
@@ -92,8 +124,14 @@ private:
         return result;
     }
 
+    struct UnitLight {
+        glm::vec3 to_light;
+        float intensity;
+    };
+
     PhongLighting lighting_;
     int integer_exponent_;  // -1: not a small whole number, use std::pow
+    std::vector<UnitLight> stationary_;
 };
 
 }  // namespace pp5

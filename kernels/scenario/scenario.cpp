@@ -244,6 +244,8 @@ void read_classification(TableReader r, Classification& c, ColorMap& colors) {
         r.fail("points", "needs at least two points");
 }
 
+constexpr std::size_t kMaxStationaryLights = 8;
+
 void read_shading(TableReader r, PhongLighting& l) {
     l.ambient = static_cast<float>(r.number("ambient", 0, 10).value_or(l.ambient));
     l.diffuse = static_cast<float>(r.number("diffuse", 0, 10).value_or(l.diffuse));
@@ -266,6 +268,19 @@ void read_shading(TableReader r, PhongLighting& l) {
         l.depth_cue_k2 = static_cast<float>((*a)[1].value<double>().value());
         if (!(l.depth_cue_k1 > 0.0f) || !(l.depth_cue_k2 >= 0.0f) || !std::isfinite(l.depth_cue_k1 + l.depth_cue_k2))
             r.fail("depth_cue", "needs k1 > 0 and k2 >= 0");
+    }
+    std::vector<StationaryLight> stationary;
+    if (r.table_array("stationary_lights", [&](TableReader& item) {
+            const auto direction = item.vec3("direction", -kHuge, kHuge);
+            if (!direction) item.fail("direction", "required: [x, y, z] towards the light, world space");
+            const float length = glm::length(*direction);
+            if (!(length > 0.0f) || !std::isfinite(length)) item.fail("direction", "must be non-zero and finite");
+            const auto intensity = item.number("intensity", 0, 10).value_or(1.0);
+            stationary.push_back({glm::normalize(*direction), static_cast<float>(intensity)});
+        })) {
+        if (stationary.size() > kMaxStationaryLights)
+            r.fail("stationary_lights", fmt::format("at most {} lights (each adds its own Phong terms to every reshade)", kMaxStationaryLights));
+        l.stationary_lights = stationary;
     }
     r.finish();
 }

@@ -161,7 +161,8 @@ public:
             if (frame.region)
                 throw InputError(file, "region", "the yuan kernel has no volume-of-interest tool; use kernel = \"levoy\"");
     }
-    void check_volume_fits(const Machine& machine, const MachineConfig& config, glm::ivec3 dims) const override {
+    void check_volume_fits(const Machine& machine, const MachineConfig& config, const Scenario& /*scenario*/,
+                           glm::ivec3 dims) const override {
         PpShading::check_fits(machine, dims, VoxelStoreSettings::from(config));
     }
     std::unique_ptr<KernelRun> start(Machine& machine, const MachineConfig& config, const Scenario& scenario,

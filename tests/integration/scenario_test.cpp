@@ -106,6 +106,33 @@ TEST(Scenario, MalformedFilesNameTheField) {
     expect_bad("raw_without_type", "[dataset]\nfile = \"x.raw\"\nraw = { dims = [2, 2, 2] }\n[classification]\ncontours = [{ value = 1 }]\n",
                "dataset.raw.type");
     expect_bad("depth_cue", ok + "[shading]\ndepth_cue = [0, 1]\n", "shading.depth_cue");
+    expect_bad("stationary_no_direction", ok + "[shading]\nstationary_lights = [{ intensity = 0.5 }]\n",
+               "shading.stationary_lights[0].direction");
+    expect_bad("stationary_zero", ok + "[shading]\nstationary_lights = [{ direction = [1, 0, 0] }, { direction = [0, 0, 0] }]\n",
+               "shading.stationary_lights[1].direction");
+    expect_bad("stationary_dark", ok + "[shading]\nstationary_lights = [{ direction = [1, 0, 0], intensity = -1 }]\n",
+               "shading.stationary_lights[0].intensity");
+    std::string nine = "stationary_lights = [";
+    for (int i = 0; i < 9; ++i) nine += std::string(i == 0 ? "" : ", ") + "{ direction = [1, " + std::to_string(i) + ", 0] }";
+    expect_bad("stationary_many", ok + "[shading]\n" + nine + "]\n", "shading.stationary_lights");
+}
+
+TEST(Scenario, StationaryLightsAreReadAndKeptByLaterFrames) {
+    const std::string text =
+        "[dataset]\nphantom = \"sphere\"\n[classification]\ncontours = [{ value = 100 }]\n"
+        "[shading]\nlight_direction = [0, 0, -1]\nstationary_lights = [{ direction = [-2, 0, 0], intensity = 0.5 }, "
+        "{ direction = [0, 1, 0] }]\n"
+        "[[frames]]\n[[frames]]\nshading = { light_direction = [1, 0, -1] }\n";
+    const Scenario s = load_scenario_text(text, "stationary.toml");
+    ASSERT_EQ(s.frames.size(), 2u);
+    for (const FrameSpec& f : s.frames) {
+        ASSERT_EQ(f.lighting.stationary_lights.size(), 2u);
+        EXPECT_EQ(f.lighting.stationary_lights[0].direction, glm::vec3(-1.0f, 0.0f, 0.0f));  // normalised
+        EXPECT_FLOAT_EQ(f.lighting.stationary_lights[0].intensity, 0.5f);
+        EXPECT_FLOAT_EQ(f.lighting.stationary_lights[1].intensity, 1.0f);
+    }
+    EXPECT_TRUE(s.frames[1].lighting_changed);
+    EXPECT_NE(s.frames[1].lighting.light_direction, s.frames[0].lighting.light_direction);
 }
 
 TEST(Scenario, GeometryAndRegionAreRead) {

@@ -212,6 +212,63 @@ TEST(PpShading, SameResultsAtOneAndTwoThreads) {
     EXPECT_EQ(0, std::memcmp(one.first.rgba.data(), two.first.rgba.data(), one.first.rgba.size() * sizeof(glm::vec4)));
 }
 
+// A key light to move and two stationary ones, one dimmed.
+PhongLighting with_stationary_lights() {
+    PhongLighting l = phong();
+    l.light_follows_camera = false;
+    l.light_direction = glm::normalize(glm::vec3(0.4f, -0.3f, -1.0f));
+    l.stationary_lights = {{glm::vec3(-1.0f, 0.5f, -0.5f), 0.6f}, {glm::vec3(0.2f, 1.0f, -0.3f), 0.8f}};
+    return l;
+}
+
+TEST(PpShading, StationaryLightImageMatchesTheReference) {
+    const Volume ball = test::ball_volume(glm::ivec3(40, 36, 30), glm::vec3(19.5f, 17.0f, 14.5f), 12.0f);
+    const Rendered r = render_both(ball, skin_contour(), kWarm, with_stationary_lights(), small_machine());
+    const ImageDifference d = compare_images(r.machine, r.reference);
+    EXPECT_GE(d.psnr_db, 35.0) << "rms " << d.rms_error << " max " << d.max_error;
+    const Rendered key_only = render_both(ball, skin_contour(), kWarm, [] {
+        PhongLighting l = with_stationary_lights();
+        l.stationary_lights.clear();
+        return l;
+    }(), small_machine());
+    EXPECT_LT(compare_images(r.machine, key_only.machine).psnr_db, 30.0) << "the stationary lights should show";
+}
+
+// Kept in the record, the stationary lights' sum gives exactly the colours that recomputing it does;
+// a move of the key light alone then skips the stationary pass and shades in fewer cycles.
+TEST(PpShading, KeptStationaryLightsGiveTheSameColoursAndCheaperKeyLightMoves) {
+    const Volume ball = test::ball_volume(glm::ivec3(24), glm::vec3(11.5f), 8.0f);
+    const MachineConfig config = small_machine();
+    VoxelStoreSettings keeping = VoxelStoreSettings::from(config);
+    keeping.layout.stationary_light_bits = 10;
+    Machine kept_machine(config), recomputing_machine(config);
+    PpShading kept(kept_machine, ball, keeping);
+    PpShading recomputed(recomputing_machine, ball, VoxelStoreSettings::from(config));
+    const ShadingView view = make_shading_view(oblique_camera(ball), ball.dims(), ball.spacing());
+    const auto both = [&](const PhongLighting& lighting, bool classify) {
+        const PpFrameReport a = kept.update(skin_contour(), kWarm, lighting, view, classify, true);
+        const PpFrameReport b = recomputed.update(skin_contour(), kWarm, lighting, view, classify, true);
+        EXPECT_EQ(kept.shaded_volume().rgba, recomputed.shaded_volume().rgba);
+        EXPECT_FALSE(b.stationary_lights.ran);
+        return std::pair{a, b};
+    };
+    PhongLighting lighting = with_stationary_lights();
+    EXPECT_TRUE(both(lighting, true).first.stationary_lights.ran);
+
+    lighting.light_direction = glm::normalize(glm::vec3(-0.6f, 0.1f, -0.8f));
+    const auto [moved, moved_recomputed] = both(lighting, false);
+    EXPECT_FALSE(moved.stationary_lights.ran);
+    EXPECT_LT(moved.shading.slot_cost.compute_cycles(), moved_recomputed.shading.slot_cost.compute_cycles());
+    EXPECT_LT(moved.duration_ps(), moved_recomputed.duration_ps());
+
+    lighting.stationary_lights[1].intensity = 0.3f;  // a stationary light dims: its sum is stored again
+    EXPECT_TRUE(both(lighting, false).first.stationary_lights.ran);
+    lighting.specular = 0.1f;  // so does a change of k_s
+    EXPECT_TRUE(both(lighting, false).first.stationary_lights.ran);
+    lighting.ambient = 0.3f;  // but not of k_a, which the sum leaves out
+    EXPECT_FALSE(both(lighting, false).first.stationary_lights.ran);
+}
+
 TEST(PpShading, AVolumeTooLargeIsAnErrorSayingWhatWouldFit) {
     const Volume big = test::constant_volume(glm::ivec3(64, 64, 40), 10.0f);
     const MachineConfig config = small_machine();

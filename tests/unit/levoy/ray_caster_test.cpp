@@ -345,6 +345,94 @@ TEST(LevoyRenderer, ALightChangeThatRefreshesTheCachesSendsFewerFetchesThanOneTh
 
 // Building the pyramid is modelled work: the PPs mark each voxel's emptiness, each renderer reads out a
 // bit plane a slot and broadcasts it, and every GP builds. Without skipping the machine builds nothing.
+// Levoy's stationary lights: with their sum kept in each voxel's record, a frame that moves only the
+// key light skips the stationary pass and shades in fewer PP cycles, a capping region's move stores the
+// sum afresh (its gradients changed), and every frame's picture is the one recomputing every light gives.
+TEST(LevoyRenderer, StationaryLightsKeptInTheRecordGiveTheSameFramesAndCheaperLightMoves) {
+    struct Run {
+        std::vector<LevoyFrameReport> frames;
+        int record_bits = 0;
+    };
+    const auto sequence = [](const char* bits) {
+        Scene s;
+        s.config.apply_override(std::string("levoy.stationary_light_bits=") + bits);
+        s.inputs.lighting.light_follows_camera = false;
+        s.inputs.lighting.specular = 0.0f;  // view-independent: an orbit reshades nothing
+        s.inputs.lighting.light_direction = glm::vec3(0.3f, -1.0f, 0.5f);
+        s.inputs.lighting.stationary_lights = {{glm::vec3(-1.0f, 0.4f, 0.6f), 0.5f}, {glm::vec3(0.2f, 0.3f, 1.0f), 0.7f}};
+        Scenario scenario;
+        scenario.frames.push_back(FrameSpec{});
+        scenario.frames.back().lighting = s.inputs.lighting;
+        Machine machine(s.config);
+        LevoyRenderer renderer(machine, s.volume, LevoySettings::for_scenario(s.config, scenario), s.image);
+        Run run;
+        run.record_bits = renderer.pixel_processors().placement().record_bits();
+        LevoyFrameInputs frame = s.inputs;
+        run.frames.push_back(renderer.render(frame));
+        frame.classification_changed = false;
+        frame.lighting.light_direction = glm::vec3(-1.0f, 0.2f, 0.1f);  // the key light moves
+        run.frames.push_back(renderer.render(frame));
+        frame.lighting_changed = false;
+        frame.camera.eye += glm::vec3(12.0f, -4.0f, 0.0f);  // an orbit
+        run.frames.push_back(renderer.render(frame));
+        RegionOfInterest cut;
+        cut.center = glm::vec3(16.0f);
+        cut.half_size = glm::vec3(6.0f);
+        cut.scale_inside = 0.02f;
+        cut.transition = 3.0f;
+        cut.cap = true;
+        frame.region = cut;  // a capping region: its band's gradients change
+        run.frames.push_back(renderer.render(frame));
+        frame.lighting.light_direction = glm::vec3(0.5f, 0.5f, 0.7f);
+        frame.lighting_changed = true;
+        run.frames.push_back(renderer.render(frame));
+        return run;
+    };
+    const Run kept = sequence("10");
+    const Run recomputed = sequence("0");
+    EXPECT_EQ(kept.record_bits, recomputed.record_bits + 10);
+    const std::vector<bool> stationary_ran = {true, false, false, true, false};
+    ASSERT_EQ(kept.frames.size(), stationary_ran.size());
+    for (std::size_t i = 0; i < kept.frames.size(); ++i) {
+        EXPECT_EQ(kept.frames[i].pixel_processors.stationary_lights.ran, stationary_ran[i]) << "frame " << i;
+        EXPECT_FALSE(recomputed.frames[i].pixel_processors.stationary_lights.ran) << "frame " << i;
+        EXPECT_EQ(kept.frames[i].final_image.pixels, recomputed.frames[i].final_image.pixels) << "frame " << i;
+    }
+    for (const std::size_t light_move : {1u, 4u}) {
+        const PpProgramPass& fast = kept.frames[light_move].pixel_processors.shading;
+        const PpProgramPass& slow = recomputed.frames[light_move].pixel_processors.shading;
+        ASSERT_TRUE(fast.ran && slow.ran);
+        EXPECT_LT(fast.slot_cost.compute_cycles(), slow.slot_cost.compute_cycles()) << "frame " << light_move;
+        EXPECT_LT(kept.frames[light_move].pixel_processors.duration_ps(), recomputed.frames[light_move].pixel_processors.duration_ps());
+    }
+    EXPECT_FALSE(kept.frames[2].pixel_processors.shading.ran);
+}
+
+// The field is refused by name when it alone keeps the volume from fitting the backing stores.
+TEST(LevoyRenderer, AStationaryLightFieldThatCannotFitIsRefusedByName) {
+    const MachineConfig config = small_machine();
+    const Machine machine(config);
+    const glm::ivec3 dims(64, 64, 30);  // 30 slots a PP: 1920 of the 2048 bits at 64 bits a record
+    LevoySettings settings = LevoySettings::from(config);
+    EXPECT_NO_THROW(LevoyRenderer::check_fits(machine, dims, settings));
+    settings.store.layout.stationary_light_bits = 10;
+    try {
+        LevoyRenderer::check_fits(machine, dims, settings);
+        FAIL() << "74-bit records of 30 slots need 2220 bits of 2048";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.field(), "levoy.stationary_light_bits");
+        EXPECT_NE(std::string(e.what()).find("from 64 to 74 bits"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("levoy.stationary_light_bits=0"), std::string::npos) << e.what();
+    }
+    // Too large either way: the backing store is what to change.
+    try {
+        LevoyRenderer::check_fits(machine, glm::ivec3(64, 64, 40), settings);
+        FAIL() << "40 slots do not fit";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.field(), "renderer.backing_store_bits");
+    }
+}
+
 TEST(LevoyRenderer, APyramidBuildChargesTheEmptinessPassAndItsReadOutOnlyWhenRaysSkip) {
     const auto first_frame = [](bool skipping, std::uint64_t& read_outs, std::uint64_t& slots_used) {
         Scene s;

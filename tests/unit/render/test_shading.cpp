@@ -89,6 +89,41 @@ TEST(PhongShader, HeadlightMatchesTheGeneralFormula) {
     }
 }
 
+// Each stationary light adds what it would give alone, scaled by its intensity; the ambient term is
+// counted once, and the depth cue divides the sum.
+TEST(PhongShader, StationaryLightsAddTheirOwnTerms) {
+    PhongLighting key;
+    key.light_follows_camera = false;
+    key.light_direction = glm::normalize(glm::vec3(0.3f, -0.2f, 1.0f));
+    key.depth_cue_k2 = 0.5f;
+    PhongLighting all = key;
+    all.stationary_lights = {{glm::vec3(-1.0f, 0.5f, 1.0f), 0.4f}, {glm::vec3(0.0f, 2.0f, 1.0f), 1.0f}};
+    const PhongShader shader(all);
+    const PhongShader key_only(key);
+    for (const glm::vec3 n : {glm::normalize(glm::vec3(0.2f, -0.4f, 1.0f)), glm::normalize(glm::vec3(-1.0f, 1.0f, 0.1f)), kZ}) {
+        glm::vec3 expected = key_only.shade(kBase, n, key.light_direction, kZ, 0.6f);
+        for (const StationaryLight& light : all.stationary_lights) {
+            PhongLighting one = key;
+            one.ambient = 0.0f;
+            one.diffuse *= light.intensity;
+            one.specular *= light.intensity;
+            expected += PhongShader(one).shade(kBase, n, glm::normalize(light.direction), kZ, 0.6f);
+        }
+        expect_near(shader.shade(kBase, n, key.light_direction, kZ, 0.6f), expected, 1e-5f);
+    }
+    // A face the key light does not reach (N.L < 0) is still lit by a stationary light that does.
+    const glm::vec3 up = glm::normalize(glm::vec3(0.0f, 1.0f, -0.3f));
+    ASSERT_LT(glm::dot(up, key.light_direction), 0.0f);
+    EXPECT_EQ(key_only.shade(kBase, up, key.light_direction, kZ, 0.0f), kBase * key.ambient);
+    EXPECT_GT(shader.shade(kBase, up, key.light_direction, kZ, 0.0f).r, kBase.r * key.ambient + 0.05f);
+    // With a headlight too.
+    PhongLighting head = all;
+    head.light_follows_camera = true;
+    const PhongShader headlight(head);
+    const glm::vec3 n = glm::normalize(glm::vec3(0.5f, 0.5f, 0.7f));
+    expect_near(headlight.shade_headlight(kBase, n, kZ, 0.3f), headlight.shade(kBase, n, kZ, kZ, 0.3f), 1e-6f);
+}
+
 TEST(Phong, ValidationRejectsBadLighting) {
     EXPECT_NO_THROW(validate_lighting(PhongLighting{}));
     PhongLighting negative;
@@ -102,6 +137,17 @@ TEST(Phong, ValidationRejectsBadLighting) {
     no_light.light_follows_camera = false;
     no_light.light_direction = glm::vec3(0.0f);
     EXPECT_THROW(validate_lighting(no_light), InputError);
+    PhongLighting dark_stationary;
+    dark_stationary.stationary_lights = {{glm::vec3(0.0f, 0.0f, 1.0f), 1.0f}, {glm::vec3(1.0f, 0.0f, 0.0f), -0.5f}};
+    try {
+        validate_lighting(dark_stationary);
+        ADD_FAILURE() << "a negative intensity was accepted";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.field(), "lighting.stationary_lights[1].intensity");
+    }
+    PhongLighting pointless;
+    pointless.stationary_lights = {{glm::vec3(0.0f), 1.0f}};
+    EXPECT_THROW(validate_lighting(pointless), InputError);
 }
 
 }  // namespace
