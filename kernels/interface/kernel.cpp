@@ -1,5 +1,7 @@
 #include "kernels/interface/kernel.h"
 
+#include "sim/core/input_error.h"
+
 #include <stdexcept>
 
 namespace pp5 {
@@ -10,6 +12,14 @@ double Kernel::metric(const std::string& name, const KernelFrame&, const FrameTi
 
 double Kernel::formula(const std::string& name, const FormulaInputs&) const {
     throw std::domain_error("kernel " + this->name() + " has no formula " + name);
+}
+
+void refuse_stationary_lights(const Scenario& scenario, const std::string& kernel, const std::string& why) {
+    for (const FrameSpec& frame : scenario.frames)
+        if (!frame.lighting.stationary_lights.empty())
+            throw InputError(scenario.file.string(), "shading.stationary_lights",
+                             "the " + kernel + " kernel cannot time stationary lights: " + why +
+                                 "; the levoy and yuan kernels shade them on the PPs");
 }
 
 }  // namespace pp5

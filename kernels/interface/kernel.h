@@ -106,4 +106,8 @@ public:
                                              const Volume& volume) const = 0;
 };
 
+// For a kernel's check(): InputError naming the scenario's shading.stationary_lights when a frame has
+// stationary lights that the kernel's cost model cannot count (`why` says what it counts instead).
+void refuse_stationary_lights(const Scenario& scenario, const std::string& kernel, const std::string& why);
+
 }  // namespace pp5

@@ -362,11 +362,16 @@ LevoyFrameReport LevoyRenderer::record(const LevoyFrameInputs& frame) {
     machine_work.image_height = image_.height;
     const std::uint64_t voxels = static_cast<std::uint64_t>(dims_.x) * static_cast<std::uint64_t>(dims_.y) * static_cast<std::uint64_t>(dims_.z);
     // A PP pass over every voxel, and what one processor would do for it instead.
-    const auto voxel_pass = [&](const char* name, const PpPassWork& pass, LevoyOp per_voxel) {
+    const auto voxel_pass = [&](const char* name, const PpPassWork& pass, LevoyOp per_voxel, std::uint64_t per_voxel_count = 1) {
         PpPhase phase{{PpPhase::Pass{pass, 0, {}}}};
-        add_op(phase.passes.front().on_one_processor, per_voxel, voxels);
+        add_op(phase.passes.front().on_one_processor, per_voxel, voxels * per_voxel_count);
         return Phase{name, std::move(phase)};
     };
+    // A lone processor shades a voxel once per light it computes: the stationary lights' terms cost it
+    // what the key light's do, in their own pass when kept, else in every shading.
+    const std::uint64_t stationary_lights = frame.lighting.stationary_lights.size();
+    const bool stationary_kept = settings_.store.layout.stationary_light_bits > 0;
+    const std::uint64_t lights_per_shading = 1 + (stationary_kept ? 0 : stationary_lights);
 
     // Function first: what this frame changes, and the work that follows from it.
     // Shade only for a view the colours depend on; otherwise keep the view they were shaded for.
@@ -384,16 +389,15 @@ LevoyFrameReport LevoyRenderer::record(const LevoyFrameInputs& frame) {
     const PpFrameWork pp =
         pixel_processors_.compute(frame.classification, frame.colors, frame.lighting, view, classify, reshade && !capping);
     if (pp.classification) machine_work.phases.push_back(voxel_pass("classification", *pp.classification, kVoxelClassification));
-    // A lone processor's cost has no share of this pass: its shading op per voxel is of one light.
     const auto stationary_pass = [&](const PpPassWork& pass) {
-        machine_work.phases.push_back(Phase{"stationary_lights", PpPhase{{PpPhase::Pass{pass, 0, {}}}}});
+        machine_work.phases.push_back(voxel_pass("stationary_lights", pass, kVoxelShading, stationary_lights));
     };
     if (pp.stationary_lights) stationary_pass(*pp.stationary_lights);
-    if (pp.shading) machine_work.phases.push_back(voxel_pass("shading", *pp.shading, kVoxelShading));
+    if (pp.shading) machine_work.phases.push_back(voxel_pass("shading", *pp.shading, kVoxelShading, lights_per_shading));
     if (reshade && capping) {
         const CappedShading capped = capped_shading(frame, view, region_changed);
         if (capped.stationary_lights) stationary_pass(*capped.stationary_lights);
-        machine_work.phases.push_back(voxel_pass("shading", capped.shading, kVoxelShading));
+        machine_work.phases.push_back(voxel_pass("shading", capped.shading, kVoxelShading, lights_per_shading));
     }
     // Fresh opacities may empty or fill voxels: the PPs mark each voxel's emptiness before the region
     // scales them (the pyramid is of the classification's opacities), charged only if the pyramid is rebuilt.

@@ -306,6 +306,7 @@ public:
             throw InputError(file, "polygons", "the perm kernel does not scan-convert polygons; use kernel = \"levoy\"");
         for (const FrameSpec& frame : scenario.frames)
             if (frame.region) throw InputError(file, "region", "the perm kernel has no volume-of-interest tool; use kernel = \"levoy\"");
+        refuse_stationary_lights(scenario, "perm", "its GPs shade each sample with one light (gp_cost.perm.* counts one)");
     }
     std::unique_ptr<KernelRun> start(Machine& machine, const MachineConfig& config, const Scenario& scenario,
                                      const Volume& volume) const override {

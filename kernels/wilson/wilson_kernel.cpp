@@ -266,6 +266,7 @@ public:
         for (const FrameSpec& frame : scenario.frames)
             if (frame.region)
                 throw InputError(file, "region", "the wilson kernel has no volume-of-interest tool; use kernel = \"levoy\"");
+        refuse_stationary_lights(scenario, "wilson", "its GPs shade each error point with one light (gp_cost.wilson.* counts one)");
     }
     std::unique_ptr<KernelRun> start(Machine& machine, const MachineConfig& config, const Scenario& scenario,
                                      const Volume& volume) const override {

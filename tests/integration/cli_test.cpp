@@ -300,6 +300,18 @@ TEST(Cli, BadMachineIsRejected) {
                                    "[scenario]\nkernel = \"yuan\"\n[dataset]\nphantom = \"sphere\"\nsize = 24\n[classification]\n"
                                    "contours = [{value = 100}]\n[region]\nshape = \"box\"\ncenter = [12, 12, 12]\nhalf_size = [4, 4, 4]\n");
     expect_rejected("yuan_region", "render " + with_region.string(), "region");
+    // Stationary lights: refused by the kernels whose GP costs count one light, and, on the levoy
+    // kernel, their record field refused by name when only it keeps the volume out of the backing store.
+    const std::string lights = "[dataset]\nphantom = \"sphere\"\nsize = 24\n[classification]\ncontours = [{value = 100}]\n"
+                               "[image]\nresampling = \"interpolate-then-shade\"\n"
+                               "[shading]\nstationary_lights = [{ direction = [1, 0, 0] }]\n";
+    const auto perm_lights = write(yuan_dir, "perm_lights.toml", "[scenario]\nkernel = \"perm\"\n" + lights);
+    expect_rejected("perm_lights", "render " + perm_lights.string(), "shading.stationary_lights");
+    const auto big_lights = write(big_dir, "big_lights.toml",
+                                  "[dataset]\nfile = \"absent.raw\"\nraw = { dims = [512, 512, 60], type = \"uint8\" }\n"
+                                  "[classification]\ncontours = [{value = 100}]\n"
+                                  "[shading]\nstationary_lights = [{ direction = [1, 0, 0] }]\n");
+    expect_rejected("too_big_lights", "render " + big_lights.string(), "levoy.stationary_light_bits");
 }
 
 TEST(Cli, BadVolumeIsRejected) {

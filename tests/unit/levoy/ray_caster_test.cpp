@@ -406,6 +406,21 @@ TEST(LevoyRenderer, StationaryLightsKeptInTheRecordGiveTheSameFramesAndCheaperLi
         EXPECT_LT(kept.frames[light_move].pixel_processors.duration_ps(), recomputed.frames[light_move].pixel_processors.duration_ps());
     }
     EXPECT_FALSE(kept.frames[2].pixel_processors.shading.ran);
+    // A lone processor shades a voxel once per light it computes: all three lights in the first frame
+    // either way, then the key light alone when the stationary ones are kept.
+    const auto voxel_shadings = [](const LevoyFrameReport& f) {
+        std::uint64_t n = 0;
+        for (const Phase& phase : f.work.machine.phases)
+            if (const auto* pp = std::get_if<PpPhase>(&phase.work))
+                for (const PpPhase::Pass& pass : pp->passes)
+                    for (const GpOp& op : pass.on_one_processor) n += op.kind == kVoxelShading ? op.count : 0;
+        return n;
+    };
+    const std::uint64_t voxels = 32 * 32 * 32;
+    EXPECT_EQ(voxel_shadings(kept.frames[0]), 3 * voxels);
+    EXPECT_EQ(voxel_shadings(recomputed.frames[0]), 3 * voxels);
+    EXPECT_EQ(voxel_shadings(kept.frames[1]), voxels);
+    EXPECT_EQ(voxel_shadings(recomputed.frames[1]), 3 * voxels);
 }
 
 // The field is refused by name when it alone keeps the volume from fitting the backing stores.
