@@ -725,6 +725,7 @@ std::string fitted_machine_file(const CalibrationModel& model, const FitReport& 
             table = trim(bare.substr(1, bare.size() - 2));
             skipping = table == "calibration";
             in_machine = table == "machine";
+            if (skipping) continue;  // one [calibration] table, written below with the fitted values first
             if (const auto it = workload_lines.find(table); it != workload_lines.end()) {
                 out << line << "\n";
                 for (const auto& [name, setting] : it->second) out << setting << "\n";

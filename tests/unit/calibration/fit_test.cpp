@@ -60,6 +60,10 @@ TargetSet synthetic_targets(const test::CalibrationFiles& files, const Calibrati
 
 TEST(Fit, RecoversTheScalesItsTargetsWereMadeWith) {
     const test::CalibrationFiles files = test::write_calibration_files("recover");
+    // A [calibration] table of its own, as the presets have (the defaults written out): the fitted
+    // file must merge it with the fitted values, not add a second table.
+    std::ofstream(files.machine, std::ios::app) << "\n[calibration]\ngp_flops_scale = 1.0\ngp_flops_scale_min = 0.5\n"
+                                                   "gp_flops_scale_max = 10.0   # the default range\n";
     const CalibrationScales truth{1.8, 0.6, 1.3};
     const TargetSet set = synthetic_targets(files, truth);
     const MachineConfig functional = load_run_config(files.machine.string(), {});
@@ -102,6 +106,7 @@ TEST(Fit, RecoversTheScalesItsTargetsWereMadeWith) {
     const MachineConfig reloaded = load_run_config(fitted_file.string(), {});
     EXPECT_NEAR(reloaded.real("calibration.gp_flops_scale"), fitted.gp_flops, 1e-5 * fitted.gp_flops);
     EXPECT_EQ(reloaded.machine_name(), "tiny-fitted");
+    EXPECT_DOUBLE_EQ(reloaded.real("calibration.gp_flops_scale_max"), 10.0);
 }
 
 TEST(Fit, TheSameAtOneAndTwoThreads) {
