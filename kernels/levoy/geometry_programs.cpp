@@ -317,15 +317,8 @@ GradientRewrite region_cap(const RegionOfInterest& region, glm::ivec3 dims, cons
             PpField along;  // g.a for this face pair's axis a
             for (int k = 0; k < 3; ++k) {
                 if (component(k) == 0) continue;
-                const PpField term = b.mul_const("cap: gradient along the axis", gradient[static_cast<std::size_t>(k)], component(k), kAxisShift);
-                if (!along.valid()) {
-                    along = term;
-                    continue;
-                }
-                const PpField sum = b.add("cap: gradient along the axis", along, term);
-                b.release(along);
-                b.release(term);
-                along = sum;
+                along = b.accumulate("cap: gradient along the axis", along,
+                                     b.mul_const("cap: gradient along the axis", gradient[static_cast<std::size_t>(k)], component(k), kAxisShift));
             }
             // Along n = s a (s = -1 below the centre), twice the change of g is s (f - f_air) - g.a.
             const PpField change = b.sub("cap: change", rise, along);

@@ -193,15 +193,7 @@ PpField normal_dot(PpProgramBuilder& b, const std::string& name, const std::arra
     for (int axis = 0; axis < 3; ++axis) {
         const std::int64_t k = fixed(-direction[axis], kOneShift);
         if (k == 0) continue;
-        const PpField term = b.mul_const(name + "_term", w[axis], k);
-        if (!dot.valid()) {
-            dot = term;
-        } else {
-            const PpField sum = b.add(name + "_sum", dot, term);
-            b.release(dot);
-            b.release(term);
-            dot = sum;
-        }
+        dot = b.accumulate(name + "_sum", dot, b.mul_const(name + "_term", w[axis], k));
     }
     if (!dot.valid()) return b.set_const(name, 0, kOneShift + 1, false);
     const PpField positive = b.max_const(name + "_positive", dot, 0);
@@ -223,14 +215,7 @@ PpField normal_dot_eye(PpProgramBuilder& b, const std::array<PpField, 3>& w, PpF
     for (int axis = 0; axis < 3; ++axis) {
         const PpField term = b.mul("n_dot_v_term", w[axis], eye[axis]);
         b.release(eye[axis]);
-        if (!dot.valid()) {
-            dot = term;
-            continue;
-        }
-        const PpField sum = b.add("n_dot_v_sum", dot, term);
-        b.release(dot);
-        b.release(term);
-        dot = sum;
+        dot = b.accumulate("n_dot_v_sum", dot, term);
     }
     // -w.e, clamped at zero: the faces turned to the eye.
     const PpField facing = b.mul_const("n_dot_v_facing", dot, -1);
@@ -339,17 +324,9 @@ PpField fixed_light_lit(PpProgramBuilder& b, const std::string& name, const Norm
 // light's do under a fixed light.
 PpField stationary_lit(PpProgramBuilder& b, const NormalInputs& n, const PhongLighting& lighting, glm::vec3 to_viewer) {
     PpField sum;
-    for (const StationaryLight& light : lighting.stationary_lights) {
-        const PpField term = fixed_light_lit(b, "stationary", n, lighting, glm::normalize(light.direction), to_viewer, light.intensity);
-        if (!sum.valid()) {
-            sum = term;
-            continue;
-        }
-        const PpField next = b.add("stationary_sum", sum, term);
-        b.release(sum);
-        b.release(term);
-        sum = next;
-    }
+    for (const StationaryLight& light : lighting.stationary_lights)
+        sum = b.accumulate("stationary_sum", sum,
+                           fixed_light_lit(b, "stationary", n, lighting, glm::normalize(light.direction), to_viewer, light.intensity));
     return sum;
 }
 

@@ -274,6 +274,14 @@ PpField PpProgramBuilder::add(const std::string& name, PpField a, PpField b) {
     return emit(i, name, c.add(lo(a), lo(b)), c.add(hi(a), hi(b)));
 }
 
+PpField PpProgramBuilder::accumulate(const std::string& name, PpField sum, PpField term) {
+    if (!sum.valid()) return term;
+    const PpField next = add(name, sum, term);
+    release(sum);
+    release(term);
+    return next;
+}
+
 PpField PpProgramBuilder::sub(const std::string& name, PpField a, PpField b) {
     check_live(a);
     check_live(b);

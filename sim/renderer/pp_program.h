@@ -110,6 +110,8 @@ public:
     PpField set_const(const std::string& name, std::int64_t value, int bits, bool is_signed);
     PpField move(const std::string& name, PpField a, int shift = 0);
     PpField add(const std::string& name, PpField a, PpField b);
+    // A running sum: `term` itself while `sum` is not yet valid, else sum + term with both released.
+    PpField accumulate(const std::string& name, PpField sum, PpField term);
     PpField sub(const std::string& name, PpField a, PpField b);
     PpField add_const(const std::string& name, PpField a, std::int64_t imm);
     PpField abs_diff_const(const std::string& name, PpField a, std::int64_t imm);
