@@ -189,7 +189,13 @@ PpFrameWork PpShading::compute(const Classification& classification, const Color
 std::optional<PpPassWork> PpShading::refresh_stationary_lights(const PhongLighting& lighting, const ShadingView& view,
                                                                const GradientRewrite& rewrite, const SlotExpressions& expressions,
                                                                bool rewrite_changed) {
-    if (settings_.layout.stationary_light_bits <= 0 || lighting.stationary_lights.empty()) return std::nullopt;
+    if (settings_.layout.stationary_light_bits <= 0) return std::nullopt;
+    if (lighting.stationary_lights.empty()) {
+        // Nothing is stored now, and the gradients may change (a capping region moving) before the
+        // lights come back: they will be summed afresh.
+        stationary_for_.reset();
+        return std::nullopt;
+    }
     StationaryLightKey key{lighting.stationary_lights, lighting.diffuse, lighting.specular, lighting.shininess,
                            lighting.specular > 0.0f ? view.forward : glm::vec3(0.0f), static_cast<bool>(rewrite)};
     if (stationary_for_ == key && !rewrite_changed) return std::nullopt;

@@ -22,12 +22,15 @@ void validate_lighting(const PhongLighting& lighting) {
     if (!lighting.light_follows_camera && !(glm::length(lighting.light_direction) > 0.0f)) {
         fail("lighting.light_direction", "must be non-zero");
     }
+    if (lighting.stationary_lights.size() > kMaxStationaryLights)
+        fail("lighting.stationary_lights", "at most " + std::to_string(kMaxStationaryLights) + " lights");
     for (std::size_t i = 0; i < lighting.stationary_lights.size(); ++i) {
         const StationaryLight& light = lighting.stationary_lights[i];
         const std::string field = "lighting.stationary_lights[" + std::to_string(i) + "]";
         if (!(glm::length(light.direction) > 0.0f) || !std::isfinite(glm::length(light.direction)))
             fail(field + ".direction", "must be non-zero and finite");
-        if (!non_negative(light.intensity)) fail(field + ".intensity", "must be >= 0");
+        if (!non_negative(light.intensity) || light.intensity > kMaxLightIntensity)
+            fail(field + ".intensity", "must be in [0, " + std::to_string(static_cast<int>(kMaxLightIntensity)) + "]");
     }
     // k1 + k2 d is linear in d, so positive on [0,1] iff positive at both ends.
     const float near_divisor = lighting.depth_cue_k1;

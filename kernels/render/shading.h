@@ -17,6 +17,7 @@
 #include <glm/vec3.hpp>
 
 #include <cmath>
+#include <cstddef>
 #include <vector>
 
 namespace pp5 {
@@ -28,6 +29,11 @@ struct StationaryLight {
 
     bool operator==(const StationaryLight&) const = default;
 };
+
+// The most stationary lights a scenario may give, and the strongest light: each light adds its own
+// Phong terms to every shading, and its strength widens the PPs' fields that hold them.
+constexpr std::size_t kMaxStationaryLights = 8;
+constexpr float kMaxLightIntensity = 10.0f;
 
 struct PhongLighting {
     float ambient = 0.15f;          // k_a
@@ -44,8 +50,8 @@ struct PhongLighting {
 };
 
 // Throws pp5::InputError (field "lighting.*") for negative coefficients, a zero light direction
-// (unless the light follows the camera), a stationary light with a zero direction or a negative
-// intensity, or depth cueing whose divisor k1 + k2 d is not positive
+// (unless the light follows the camera), more than kMaxStationaryLights stationary lights or one with a
+// zero direction or an intensity outside [0, kMaxLightIntensity], or depth cueing whose divisor k1 + k2 d is not positive
 // over d in [0,1].
 void validate_lighting(const PhongLighting& lighting);
 

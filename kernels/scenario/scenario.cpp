@@ -244,8 +244,6 @@ void read_classification(TableReader r, Classification& c, ColorMap& colors) {
         r.fail("points", "needs at least two points");
 }
 
-constexpr std::size_t kMaxStationaryLights = 8;
-
 void read_shading(TableReader r, PhongLighting& l) {
     l.ambient = static_cast<float>(r.number("ambient", 0, 10).value_or(l.ambient));
     l.diffuse = static_cast<float>(r.number("diffuse", 0, 10).value_or(l.diffuse));
@@ -275,7 +273,7 @@ void read_shading(TableReader r, PhongLighting& l) {
             if (!direction) item.fail("direction", "required: [x, y, z] towards the light, world space");
             const float length = glm::length(*direction);
             if (!(length > 0.0f) || !std::isfinite(length)) item.fail("direction", "must be non-zero and finite");
-            const auto intensity = item.number("intensity", 0, 10).value_or(1.0);
+            const auto intensity = item.number("intensity", 0, kMaxLightIntensity).value_or(1.0);
             stationary.push_back({glm::normalize(*direction), static_cast<float>(intensity)});
         })) {
         if (stationary.size() > kMaxStationaryLights)

@@ -45,13 +45,14 @@ public:
         FrameWork& work = out->work;
         work.op_kinds = yuan_op_kinds();
         const std::uint64_t voxels = static_cast<std::uint64_t>(volume_.samples().size());
-        const auto voxel_pass = [&](const char* name, const PpPassWork& pass, YuanOp per_voxel) {
+        const auto voxel_pass = [&](const char* name, const PpPassWork& pass, YuanOp per_voxel, std::uint64_t per_voxel_count) {
             PpPhase phase{{PpPhase::Pass{pass, 0, {}}}};
-            append_ops(phase.passes.front().on_one_processor, per_voxel, voxels);
+            append_ops(phase.passes.front().on_one_processor, per_voxel, voxels * per_voxel_count);
             work.phases.push_back(Phase{name, std::move(phase)});
         };
-        if (pp.classification) voxel_pass("classification", *pp.classification, kYuanVoxelClassification);
-        if (pp.shading) voxel_pass("shading", *pp.shading, kYuanVoxelShading);
+        if (pp.classification) voxel_pass("classification", *pp.classification, kYuanVoxelClassification, 1);
+        // A lone processor shades each voxel once per light (the voxel store keeps no stationary sum here).
+        if (pp.shading) voxel_pass("shading", *pp.shading, kYuanVoxelShading, 1 + frame.lighting.stationary_lights.size());
         if (pp.classification || pp.shading) voxel_store_.read_shaded_codes(shaded_);
         shaded_for_ = view;
         first_frame_ = false;

@@ -307,6 +307,10 @@ TEST(Cli, BadMachineIsRejected) {
                                "[shading]\nstationary_lights = [{ direction = [1, 0, 0] }]\n";
     const auto perm_lights = write(yuan_dir, "perm_lights.toml", "[scenario]\nkernel = \"perm\"\n" + lights);
     expect_rejected("perm_lights", "render " + perm_lights.string(), "shading.stationary_lights");
+    std::string wilson_text = "[scenario]\nkernel = \"wilson\"\n" + lights;
+    wilson_text.replace(wilson_text.find("interpolate-then-shade"), std::string("interpolate-then-shade").size(), "shade-then-interpolate");
+    const auto wilson_lights = write(yuan_dir, "wilson_lights.toml", wilson_text);
+    expect_rejected("wilson_lights", "render " + wilson_lights.string(), "shading.stationary_lights");
     const auto big_lights = write(big_dir, "big_lights.toml",
                                   "[dataset]\nfile = \"absent.raw\"\nraw = { dims = [512, 512, 60], type = \"uint8\" }\n"
                                   "[classification]\ncontours = [{value = 100}]\n"

@@ -267,6 +267,16 @@ TEST(PpShading, KeptStationaryLightsGiveTheSameColoursAndCheaperKeyLightMoves) {
     EXPECT_TRUE(both(lighting, false).first.stationary_lights.ran);
     lighting.ambient = 0.3f;  // but not of k_a, which the sum leaves out
     EXPECT_FALSE(both(lighting, false).first.stationary_lights.ran);
+
+    // With a highlight the sum depends on the view's direction: a new view stores it again.
+    ASSERT_GT(lighting.specular, 0.0f);
+    Camera turned = oblique_camera(ball);
+    turned.eye = test::box_center(ball) + glm::vec3(400.0f, -150.0f, -300.0f);
+    const ShadingView turned_view = make_shading_view(turned, ball.dims(), ball.spacing());
+    const PpFrameReport a = kept.update(skin_contour(), kWarm, lighting, turned_view, false, true);
+    recomputed.update(skin_contour(), kWarm, lighting, turned_view, false, true);
+    EXPECT_TRUE(a.stationary_lights.ran);
+    EXPECT_EQ(kept.shaded_volume().rgba, recomputed.shaded_volume().rgba);
 }
 
 TEST(PpShading, AVolumeTooLargeIsAnErrorSayingWhatWouldFit) {

@@ -343,11 +343,10 @@ TEST(LevoyRenderer, ALightChangeThatRefreshesTheCachesSendsFewerFetchesThanOneTh
     EXPECT_EQ(dropped[2].ray_cast.blocks_refreshed, 0u);
 }
 
-// Building the pyramid is modelled work: the PPs mark each voxel's emptiness, each renderer reads out a
-// bit plane a slot and broadcasts it, and every GP builds. Without skipping the machine builds nothing.
 // Levoy's stationary lights: with their sum kept in each voxel's record, a frame that moves only the
 // key light skips the stationary pass and shades in fewer PP cycles, a capping region's move stores the
-// sum afresh (its gradients changed), and every frame's picture is the one recomputing every light gives.
+// sum afresh (its gradients changed), so does the lights' return after the region moved while they were
+// off, and every frame's picture is the one recomputing every light gives.
 TEST(LevoyRenderer, StationaryLightsKeptInTheRecordGiveTheSameFramesAndCheaperLightMoves) {
     struct Run {
         std::vector<LevoyFrameReport> frames;
@@ -386,12 +385,22 @@ TEST(LevoyRenderer, StationaryLightsKeptInTheRecordGiveTheSameFramesAndCheaperLi
         frame.lighting.light_direction = glm::vec3(0.5f, 0.5f, 0.7f);
         frame.lighting_changed = true;
         run.frames.push_back(renderer.render(frame));
+        frame.lighting_changed = false;
+        frame.region->center.x += 3.0f;  // the capping region moves: its band's gradients with it
+        run.frames.push_back(renderer.render(frame));
+        const auto stationary = frame.lighting.stationary_lights;
+        frame.lighting.stationary_lights.clear();  // the stationary lights go off while the region moves
+        frame.lighting_changed = true;
+        frame.region->center.y -= 3.0f;
+        run.frames.push_back(renderer.render(frame));
+        frame.lighting.stationary_lights = stationary;  // and come back with the region where it is now
+        run.frames.push_back(renderer.render(frame));
         return run;
     };
     const Run kept = sequence("10");
     const Run recomputed = sequence("0");
     EXPECT_EQ(kept.record_bits, recomputed.record_bits + 10);
-    const std::vector<bool> stationary_ran = {true, false, false, true, false};
+    const std::vector<bool> stationary_ran = {true, false, false, true, false, true, false, true};
     ASSERT_EQ(kept.frames.size(), stationary_ran.size());
     for (std::size_t i = 0; i < kept.frames.size(); ++i) {
         EXPECT_EQ(kept.frames[i].pixel_processors.stationary_lights.ran, stationary_ran[i]) << "frame " << i;
@@ -448,6 +457,8 @@ TEST(LevoyRenderer, AStationaryLightFieldThatCannotFitIsRefusedByName) {
     }
 }
 
+// Building the pyramid is modelled work: the PPs mark each voxel's emptiness, each renderer reads out a
+// bit plane a slot and broadcasts it, and every GP builds. Without skipping the machine builds nothing.
 TEST(LevoyRenderer, APyramidBuildChargesTheEmptinessPassAndItsReadOutOnlyWhenRaysSkip) {
     const auto first_frame = [](bool skipping, std::uint64_t& read_outs, std::uint64_t& slots_used) {
         Scene s;
