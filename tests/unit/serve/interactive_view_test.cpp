@@ -17,12 +17,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-Scenario small_scenario(bool region) {
+Scenario small_scenario(bool region, const std::string& more_shading = "") {
     const fs::path file = fs::temp_directory_path() / ("pp5_view_test_" + std::to_string(getpid()) + (region ? "_region" : "") + ".toml");
     std::ofstream(file) << "[scenario]\nname = \"view-test\"\n[dataset]\nphantom = \"head\"\nsize = 32\n[image]\nwidth = 48\nheight = 48\n"
                            "[classification]\nkind = \"piecewise-linear\"\npoints = [{ value = 40.0, opacity = 0.0 }, { value = 120.0, opacity = 0.9 }]\n"
-                           "[shading]\nlight_direction = [0.4, 1.0, 0.5]\nspecular = 0.0\n"
-                           "[camera]\nazimuth = 30.0\nelevation = 10.0\n"
+                           "[shading]\nlight_direction = [0.4, 1.0, 0.5]\nspecular = 0.0\n" << more_shading
+                        << "[camera]\nazimuth = 30.0\nelevation = 10.0\n"
                         << (region ? "[region]\nshape = \"box\"\ncenter = [16.0, 10.0, 16.0]\nhalf_size = [6.0, 6.0, 6.0]\nscale_inside = 0.0\n" : "")
                         << "[[frames]]\nlabel = \"first\"\n";
     Scenario s = load_scenario(file);
@@ -58,6 +58,24 @@ TEST(InteractiveView, ALightMoveReshadesAndCastsButKeepsTheClassificationAndPyra
         EXPECT_GT(s["frame"]["utilisation"][kind].get<double>(), 0.0) << kind;
         EXPECT_LE(s["frame"]["utilisation"][kind].get<double>(), 1.0) << kind;
     }
+}
+
+// Levoy's two bats: the page's light control moves the key light, the scenario's stationary lights
+// stay, and their sum, stored by the first frame, is not recomputed.
+TEST(InteractiveView, ALightMoveKeepsTheStationaryLightsAndTheirStoredSum) {
+    InteractiveView view(small_scenario(false, "stationary_lights = [{ direction = [-1.0, 0.2, 0.3], intensity = 0.6 }]\n"),
+                         load_run_config("pxpl5", {}));
+    EXPECT_TRUE(phase(view.state(), "stationary_lights")["ran"].get<bool>());
+    const std::string first = view.frame_png();
+    view.apply({{"light", {{"direction", {-0.6, 1.0, 0.3}}}}});
+    const nlohmann::json s = view.state();
+    EXPECT_TRUE(phase(s, "shading")["ran"].get<bool>());
+    EXPECT_FALSE(phase(s, "stationary_lights")["ran"].get<bool>());
+    EXPECT_NE(view.frame_png(), first);
+    // Without them the same move gives another picture: they are still lighting it.
+    InteractiveView unlit(small_scenario(false), load_run_config("pxpl5", {}));
+    unlit.apply({{"light", {{"direction", {-0.6, 1.0, 0.3}}}}});
+    EXPECT_NE(unlit.frame_png(), view.frame_png());
 }
 
 TEST(InteractiveView, AnOrbitCastsAgainWithoutReshadingAndAChangeOfNothingRendersNothing) {
