@@ -15,11 +15,10 @@ double Kernel::formula(const std::string& name, const FormulaInputs&) const {
 }
 
 void refuse_stationary_lights(const Scenario& scenario, const std::string& kernel, const std::string& why) {
-    for (const FrameSpec& frame : scenario.frames)
-        if (!frame.lighting.stationary_lights.empty())
-            throw InputError(scenario.file.string(), "shading.stationary_lights",
-                             "the " + kernel + " kernel cannot time stationary lights: " + why +
-                                 "; the levoy and yuan kernels shade them on the PPs");
+    if (has_stationary_lights(scenario))
+        throw InputError(scenario.file.string(), "shading.stationary_lights",
+                         "the " + kernel + " kernel cannot time stationary lights: " + why +
+                             "; the levoy and yuan kernels shade them on the PPs");
 }
 
 }  // namespace pp5

@@ -1,7 +1,5 @@
 #include "kernels/levoy/levoy_settings.h"
 
-#include <algorithm>
-
 namespace pp5 {
 
 const ParamGroup& LevoySettings::params() {
@@ -77,9 +75,7 @@ LevoySettings LevoySettings::from(const MachineConfig& config) {
 
 LevoySettings LevoySettings::for_scenario(const MachineConfig& config, const Scenario& scenario) {
     LevoySettings s = from(config);
-    const bool stationary = std::any_of(scenario.frames.begin(), scenario.frames.end(),
-                                        [](const FrameSpec& f) { return !f.lighting.stationary_lights.empty(); });
-    if (stationary) s.store.layout.stationary_light_bits = s.stationary_light_bits;
+    if (has_stationary_lights(scenario)) s.store.layout.stationary_light_bits = s.stationary_light_bits;
     return s;
 }
 

@@ -18,6 +18,7 @@
 #include <glm/vector_relational.hpp>
 #include <tiny_obj_loader.h>
 
+#include <algorithm>
 #include <charconv>
 #include <climits>
 #include <cmath>
@@ -504,6 +505,11 @@ void read_region(TableReader r, std::optional<RegionOfInterest>& region) {
 namespace {
 Scenario read_scenario(const toml::table& root, const std::filesystem::path& path);
 }  // namespace
+
+bool has_stationary_lights(const Scenario& scenario) {
+    return std::any_of(scenario.frames.begin(), scenario.frames.end(),
+                       [](const FrameSpec& frame) { return !frame.lighting.stationary_lights.empty(); });
+}
 
 Scenario load_scenario(const std::filesystem::path& path) { return read_scenario(read_toml_file(path.string()), path); }
 

@@ -98,6 +98,9 @@ Scenario load_scenario(const std::filesystem::path& path);
 // and mesh paths start from).
 Scenario load_scenario_text(const std::string& text, const std::filesystem::path& path);
 
+// Whether any frame lights the volume with stationary lights besides its key light.
+bool has_stationary_lights(const Scenario& scenario);
+
 // The scenario that `pp5sim render` runs when given none: the real MR head.
 inline constexpr const char* kDefaultScenario = "mr-head";
 
