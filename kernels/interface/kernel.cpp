@@ -2,9 +2,13 @@
 
 #include "sim/core/input_error.h"
 
+#include <nlohmann/json.hpp>
+
 #include <stdexcept>
 
 namespace pp5 {
+
+nlohmann::json KernelRun::run_stats() const { return nullptr; }
 
 double Kernel::metric(const std::string& name, const KernelFrame&, const FrameTiming&) const {
     throw std::domain_error("kernel " + this->name() + " has no metric " + name);

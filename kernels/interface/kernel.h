@@ -17,7 +17,7 @@
 #include "sim/timing/frame_timing.h"
 #include "sim/timing/recorded_work.h"
 
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include <map>
 #include <memory>
@@ -49,7 +49,7 @@ public:
     // A line for the terminal about that frame.
     virtual std::string describe(const nlohmann::json& frame_stats) const = 0;
     // What the run set up once (how data sits in the machine), for stats.json; null when nothing.
-    virtual nlohmann::json run_stats() const { return nullptr; }
+    virtual nlohmann::json run_stats() const;
 };
 
 // A figure a kernel's frame can be measured by (a calibration target's metric).

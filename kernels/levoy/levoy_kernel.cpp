@@ -6,6 +6,7 @@
 #include "sim/core/input_error.h"
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <stdexcept>
 

@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 #include <glm/vector_relational.hpp>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>

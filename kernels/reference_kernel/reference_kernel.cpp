@@ -4,6 +4,8 @@
 #include "kernels/reference/reference_renderer.h"
 #include "kernels/scenario/scenario_inputs.h"
 
+#include <nlohmann/json.hpp>
+
 namespace pp5 {
 
 namespace {

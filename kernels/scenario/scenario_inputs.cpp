@@ -1,6 +1,7 @@
 #include "kernels/scenario/scenario_inputs.h"
 
 #include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 

@@ -6,7 +6,7 @@
 #include "kernels/reference/reference_renderer.h"
 #include "kernels/render/camera.h"
 
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 #include "kernels/scenario/scenario.h"
 #include "kernels/volume/volume.h"
 

@@ -1,5 +1,7 @@
 #include "kernels/screen_regions/region_machine.h"
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <numeric>
 #include <utility>

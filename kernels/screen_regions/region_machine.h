@@ -7,7 +7,7 @@
 #include "sim/timing/frame_timing.h"
 
 #include <glm/vec3.hpp>
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include <functional>
 

@@ -10,6 +10,7 @@
 #include "sim/core/input_error.h"
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,7 @@
-// The driver for builds without libFuzzer (GCC, the sanitizer build): runs each file named on the
-// command line, or every file in each directory named, through the harness once. This is how the suite
-// replays the seed corpora and any input a fuzzing run found; a finding aborts as it would under
-// libFuzzer.
+// The driver for builds without libFuzzer (GCC, or any build without -DPP5_FUZZ=ON): runs each file
+// named on the command line, or every file in each directory named, through the harness once. This is
+// how the suite replays the seed corpora and any input a fuzzing run found; a finding aborts as it
+// would under libFuzzer.
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>

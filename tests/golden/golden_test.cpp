@@ -8,6 +8,7 @@
 
 #include <OpenImageIO/imageio.h>
 #include "tests/support/run_files.h"
+#include "tests/support/source_dir.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -27,7 +28,7 @@ namespace fs = std::filesystem;
 using pp5::test::read_file;
 using pp5::test::without_host_fields;
 
-const fs::path kSource = PP5_SOURCE_DIR;
+const fs::path kSource = pp5::test::source_dir();
 const fs::path kGolden = kSource / "tests/golden/scenarios";
 
 

@@ -2,6 +2,7 @@
 // error line, exit code 2 and no output, and the thread count changes nothing.
 
 #include "tests/support/run_files.h"
+#include "tests/support/source_dir.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -48,7 +49,7 @@ RunResult run_with_path(const fs::path& path, const std::string& args, const fs:
 }
 
 
-std::string scenario(const std::string& name) { return std::string(PP5_SOURCE_DIR) + "/traces/scenarios/" + name; }
+std::string scenario(const std::string& name) { return (pp5::test::source_dir() / "traces/scenarios" / name).string(); }
 
 
 // Without a scenario, render runs the shipped default (the MR head, from the mricron-data package);
@@ -683,7 +684,7 @@ TEST(Cli, ScenariosListsWhatCanBeRunByName) {
     const fs::path dir = scratch("scenarios");
     const RunResult r = run("scenarios", dir);
     ASSERT_EQ(r.exit_code, 0) << r.output;
-    for (const auto& entry : fs::directory_iterator(std::string(PP5_SOURCE_DIR) + "/traces/scenarios"))
+    for (const auto& entry : fs::directory_iterator(pp5::test::source_dir() / "traces/scenarios"))
         EXPECT_NE(r.output.find("  " + entry.path().stem().string() + " "), std::string::npos) << entry.path();
     for (const char* listed : {"perm       ", "gp-ring-cache", "ch2 ", "ct-head ", "installed"}) EXPECT_NE(r.output.find(listed), std::string::npos) << listed;
     EXPECT_EQ(r.output.find("cannot be read"), std::string::npos) << r.output;

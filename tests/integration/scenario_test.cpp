@@ -2,6 +2,7 @@
 
 #include "kernels/scenario/scenario.h"
 #include "sim/core/input_error.h"
+#include "tests/support/source_dir.h"
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
@@ -14,7 +15,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path shipped(const std::string& name) { return fs::path(PP5_SOURCE_DIR) / "traces/scenarios" / name; }
+fs::path shipped(const std::string& name) { return pp5::test::source_dir() / "traces/scenarios" / name; }
 
 fs::path write_scenario(const std::string& name, const std::string& text) {
     const fs::path path = fs::temp_directory_path() / ("pp5_scenario_test_" + name + ".toml");
@@ -23,7 +24,7 @@ fs::path write_scenario(const std::string& name, const std::string& text) {
 }
 
 TEST(Scenario, EveryShippedScenarioLoads) {
-    for (const auto& entry : fs::directory_iterator(fs::path(PP5_SOURCE_DIR) / "traces/scenarios")) {
+    for (const auto& entry : fs::directory_iterator(pp5::test::source_dir() / "traces/scenarios")) {
         if (entry.path().extension() != ".toml") continue;
         EXPECT_NO_THROW(load_scenario(entry.path())) << entry.path();
     }

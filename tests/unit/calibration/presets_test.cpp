@@ -4,6 +4,7 @@
 #include "kernels/registry/registry.h"
 #include "kernels/registry/run_config.h"
 #include "sim/machine/machine.h"
+#include "tests/support/source_dir.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -18,7 +19,7 @@ namespace {
 
 TEST(Presets, Pxpl5RestatesEveryMachineDefault) {
     MachineConfig preset(run_param_groups());
-    preset.load_file(std::filesystem::path(PP5_SOURCE_DIR) / "sim/machines/pxpl5.toml");
+    preset.load_file(pp5::test::source_dir() / "sim/machines/pxpl5.toml");
     EXPECT_EQ(preset.machine_name(), "pxpl5");
     const nlohmann::json defaults = MachineConfig(run_param_groups()).to_json()["parameters"];
     const nlohmann::json loaded = preset.to_json()["parameters"];

@@ -2,6 +2,8 @@
 // names a file of its own folder or of a lower layer. Kernels do not include one another, the ring
 // depends on the event core alone, and the machine (sim/, ring/) includes no kernel.
 
+#include "tests/support/source_dir.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -79,7 +81,7 @@ std::string quoted_include(const std::string& line) {
 }
 
 std::vector<Include> project_includes() {
-    const fs::path root = PP5_SOURCE_DIR;
+    const fs::path root = pp5::test::source_dir();
     std::vector<Include> all;
     for (const char* top : {"sim", "ring", "kernels", "calibration", "frontends"}) {
         for (const auto& entry : fs::recursive_directory_iterator(root / top)) {

@@ -11,6 +11,7 @@
 #include "sim/timing/frame_engine.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 #include <unistd.h>
 

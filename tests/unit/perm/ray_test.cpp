@@ -21,6 +21,7 @@
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 #include <unistd.h>
 

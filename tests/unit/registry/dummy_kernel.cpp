@@ -2,6 +2,8 @@
 
 #include "sim/core/input_error.h"
 
+#include <nlohmann/json.hpp>
+
 #include <stdexcept>
 
 namespace pp5::test {

@@ -13,6 +13,7 @@
 #include "sim/timing/frame_engine.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 
 #include <glm/geometric.hpp>
