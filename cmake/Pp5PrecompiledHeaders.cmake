@@ -38,7 +38,11 @@ function(_pp5_pch_host set out_host)
   file(CONFIGURE OUTPUT ${source} CONTENT "// Compiles the precompiled headers of the ${set} set (cmake/Pp5PrecompiledHeaders.cmake).\n")
   add_library(${host} OBJECT ${source})
   if(set STREQUAL "library")
-    set_target_properties(${host} PROPERTIES POSITION_INDEPENDENT_CODE ${CMAKE_POSITION_INDEPENDENT_CODE})
+    if(CMAKE_POSITION_INDEPENDENT_CODE)
+      set_target_properties(${host} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+    else()
+      set_target_properties(${host} PROPERTIES POSITION_INDEPENDENT_CODE OFF)
+    endif()
   else()
     # Programs are position independent by the compiler's default (-fPIE), which an object library
     # without -fPIC matches.

@@ -200,7 +200,10 @@ SweepResult run_sweep(const SweepSpec& spec, const Shard& shard, const SweepProg
         if (progress) progress(finished, total);
     };
 
-    for (const auto& [key, members] : groups) {
+    for (const auto& group : groups) {
+        // Named, not bound: clang 14 (the sanitizer build) cannot capture a structured binding.
+        const auto& key = group.first;
+        const std::vector<std::size_t>& members = group.second;
         const Scenario& scenario = scenarios.at(key.first);
         std::set<std::string> kernel_metrics;
         for (const KernelMetric& m : kernel_of.at(key.first)->metrics()) kernel_metrics.insert(m.name);
