@@ -3,8 +3,8 @@
 # line) are parsed once per build, not once per file, which was most of a file's compile time.
 #
 # Each set is compiled once, by a host target of its own (one empty source), and reused by every
-# target that asks for it. Reusing needs the same compile options, so libraries (-fPIC when the Python
-# module is built) and programs (-fPIE) get a host each, and a user links the same third-party targets
+# target that asks for it. Reusing needs the same compile options, so libraries (-fPIC outside the
+# sanitizer builds) and programs (-fPIE) get a host each, and a user links the same third-party targets
 # as its host (fmt::fmt defines FMT_SHARED, which the compiled header was made with).
 #
 # The sources still include what they use: configure with -DCMAKE_DISABLE_PRECOMPILE_HEADERS=ON to
@@ -37,17 +37,13 @@ function(_pp5_pch_host set out_host)
   set(source ${PROJECT_BINARY_DIR}/precompiled_headers/${host}.cpp)
   file(CONFIGURE OUTPUT ${source} CONTENT "// Compiles the precompiled headers of the ${set} set (cmake/Pp5PrecompiledHeaders.cmake).\n")
   add_library(${host} OBJECT ${source})
-  if(set STREQUAL "library")
-    if(CMAKE_POSITION_INDEPENDENT_CODE)
-      set_target_properties(${host} PROPERTIES POSITION_INDEPENDENT_CODE ON)
-    else()
-      set_target_properties(${host} PROPERTIES POSITION_INDEPENDENT_CODE OFF)
-    endif()
-  else()
-    # Programs are position independent by the compiler's default (-fPIE), which an object library
-    # without -fPIC matches.
-    set_target_properties(${host} PROPERTIES POSITION_INDEPENDENT_CODE OFF)
+  # Libraries are -fPIC outside the sanitizer builds; programs are position independent by the
+  # compiler's default (-fPIE), which an object library without -fPIC matches.
+  set(pic OFF)
+  if(set STREQUAL "library" AND CMAKE_POSITION_INDEPENDENT_CODE)
+    set(pic ON)
   endif()
+  set_target_properties(${host} PROPERTIES POSITION_INDEPENDENT_CODE ${pic})
   target_link_libraries(${host} PRIVATE ${PP5_PCH_${set}_TARGETS})
   pp5_target_warnings(${host})
   if(CMAKE_CXX_COMPILER_ID MATCHES "Clang")
