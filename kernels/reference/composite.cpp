@@ -7,24 +7,18 @@
 
 namespace pp5 {
 
-namespace {
-
-void fail(const char* field, const char* reason) { throw InputError("", field, reason); }
-
-}  // namespace
-
 void validate_composite_settings(const CompositeSettings& settings) {
     constexpr int kMaxSize = 16384;
-    if (settings.width < 1 || settings.width > kMaxSize) fail("render.width", "must lie in [1, 16384]");
-    if (settings.height < 1 || settings.height > kMaxSize) fail("render.height", "must lie in [1, 16384]");
+    if (settings.width < 1 || settings.width > kMaxSize) reject_field("render.width", "must lie in [1, 16384]");
+    if (settings.height < 1 || settings.height > kMaxSize) reject_field("render.height", "must lie in [1, 16384]");
     if (!(settings.sample_step >= 1e-3f && std::isfinite(settings.sample_step))) {
-        fail("render.sample_step", "must be at least 0.001 voxels and finite");
+        reject_field("render.sample_step", "must be at least 0.001 voxels and finite");
     }
     if (!(settings.termination_opacity > 0.0f && settings.termination_opacity <= 1.0f)) {
-        fail("render.termination_opacity", "must lie in (0, 1]");
+        reject_field("render.termination_opacity", "must lie in (0, 1]");
     }
     const glm::vec3 bg = settings.background;
-    if (!(std::isfinite(bg.r) && std::isfinite(bg.g) && std::isfinite(bg.b))) fail("render.background", "must be finite");
+    if (!(std::isfinite(bg.r) && std::isfinite(bg.g) && std::isfinite(bg.b))) reject_field("render.background", "must be finite");
 }
 
 CompositeStats& CompositeStats::operator+=(const CompositeStats& other) {

@@ -14,8 +14,6 @@ namespace {
 
 bool is_finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-void fail(const std::string& field, const std::string& reason) { throw InputError("", field, reason); }
-
 }  // namespace
 
 glm::vec3 Camera::forward() const { return glm::normalize(target - eye); }
@@ -25,20 +23,20 @@ Ray Camera::ray_for_pixel(int px, int py, int width, int height) const {
 }
 
 void validate_camera(const Camera& camera) {
-    if (!is_finite(camera.eye)) fail("camera.eye", "must be finite");
-    if (!is_finite(camera.target)) fail("camera.target", "must be finite");
-    if (!is_finite(camera.up)) fail("camera.up", "must be finite");
+    if (!is_finite(camera.eye)) reject_field("camera.eye", "must be finite");
+    if (!is_finite(camera.target)) reject_field("camera.target", "must be finite");
+    if (!is_finite(camera.up)) reject_field("camera.up", "must be finite");
     const glm::vec3 view = camera.target - camera.eye;
-    if (glm::length(view) <= 0.0f) fail("camera.target", "must differ from camera.eye");
+    if (glm::length(view) <= 0.0f) reject_field("camera.target", "must differ from camera.eye");
     const glm::vec3 side = glm::cross(glm::normalize(view), camera.up);
     // Up within ~0.06 degrees of the view direction leaves the image's orientation undefined.
-    if (!(glm::length(side) > 1e-6f * glm::length(camera.up))) fail("camera.up", "must not be parallel to the view direction");
+    if (!(glm::length(side) > 1e-6f * glm::length(camera.up))) reject_field("camera.up", "must not be parallel to the view direction");
     if (camera.projection == Projection::Perspective &&
         !(camera.fov_y_degrees > 0.0f && camera.fov_y_degrees < 180.0f)) {
-        fail("camera.fov_y_degrees", "must lie in (0, 180)");
+        reject_field("camera.fov_y_degrees", "must lie in (0, 180)");
     }
     if (camera.projection == Projection::Parallel && !(camera.view_height > 0.0f && std::isfinite(camera.view_height))) {
-        fail("camera.view_height", "must be positive");
+        reject_field("camera.view_height", "must be positive");
     }
 }
 
@@ -66,11 +64,11 @@ PixelRays::PixelRays(const Camera& camera, int width, int height)
 }
 
 Camera orbit_camera(glm::vec3 center, float radius, const OrbitView& view) {
-    if (!(radius > 0.0f && std::isfinite(radius))) fail("orbit.radius", "must be positive");
+    if (!(radius > 0.0f && std::isfinite(radius))) reject_field("orbit.radius", "must be positive");
     if (!(view.distance_factor > 1.0f && std::isfinite(view.distance_factor))) {
-        fail("orbit.distance_factor", "must exceed 1 (the eye outside the bounding sphere)");
+        reject_field("orbit.distance_factor", "must exceed 1 (the eye outside the bounding sphere)");
     }
-    if (!(view.zoom > 0.0f && std::isfinite(view.zoom))) fail("orbit.zoom", "must be positive");
+    if (!(view.zoom > 0.0f && std::isfinite(view.zoom))) reject_field("orbit.zoom", "must be positive");
 
     const float azimuth = glm::radians(view.azimuth_degrees);
     const float elevation = glm::radians(view.elevation_degrees);

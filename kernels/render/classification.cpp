@@ -75,16 +75,15 @@ float contour_opacity(const IsovalueContour& contour, float f, float grad_mag) {
     return 0.0f;
 }
 
-void fail(const std::string& field, const std::string& reason) { throw InputError("", field, reason); }
 
 bool is_unit_interval(float x) { return x >= 0.0f && x <= 1.0f; }
 
 template <class Point>
 void check_sorted(std::span<const Point> points, const std::string& field) {
     for (std::size_t i = 0; i < points.size(); ++i) {
-        if (!std::isfinite(points[i].value)) fail(field + "[" + std::to_string(i) + "].value", "must be finite");
+        if (!std::isfinite(points[i].value)) reject_field(field + "[" + std::to_string(i) + "].value", "must be finite");
         if (i > 0 && points[i].value < points[i - 1].value) {
-            fail(field + "[" + std::to_string(i) + "].value", "points must be sorted by value");
+            reject_field(field + "[" + std::to_string(i) + "].value", "points must be sorted by value");
         }
     }
 }
@@ -134,15 +133,15 @@ void validate_classification(const Classification& classification) {
     for (std::size_t i = 0; i < classification.contours.size(); ++i) {
         const IsovalueContour& c = classification.contours[i];
         const std::string field = "classification.contours[" + std::to_string(i) + "]";
-        if (!std::isfinite(c.value)) fail(field + ".value", "must be finite");
-        if (!is_unit_interval(c.opacity)) fail(field + ".opacity", "must lie in [0, 1]");
-        if (!(c.thickness > 0.0f && std::isfinite(c.thickness))) fail(field + ".thickness", "must be positive");
+        if (!std::isfinite(c.value)) reject_field(field + ".value", "must be finite");
+        if (!is_unit_interval(c.opacity)) reject_field(field + ".opacity", "must lie in [0, 1]");
+        if (!(c.thickness > 0.0f && std::isfinite(c.thickness))) reject_field(field + ".thickness", "must be positive");
     }
     const std::span<const OpacityPoint> points = classification.points;
     check_sorted(points, "classification.points");
     for (std::size_t i = 0; i < points.size(); ++i) {
         if (!is_unit_interval(points[i].opacity)) {
-            fail("classification.points[" + std::to_string(i) + "].opacity", "must lie in [0, 1]");
+            reject_field("classification.points[" + std::to_string(i) + "].opacity", "must lie in [0, 1]");
         }
     }
 }
@@ -164,7 +163,7 @@ void validate_color_map(const ColorMap& color_map) {
     for (std::size_t i = 0; i < points.size(); ++i) {
         const glm::vec3 c = points[i].color;
         if (!is_unit_interval(c.r) || !is_unit_interval(c.g) || !is_unit_interval(c.b)) {
-            fail("color_map.points[" + std::to_string(i) + "].color", "components must lie in [0, 1]");
+            reject_field("color_map.points[" + std::to_string(i) + "].color", "components must lie in [0, 1]");
         }
     }
 }

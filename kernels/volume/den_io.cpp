@@ -34,7 +34,7 @@ namespace {
 
 using volume_detail::read_field;
 
-constexpr std::size_t kHeaderBytes = 62;
+constexpr std::size_t kDenHeaderBytes = 62;
 constexpr std::size_t kMapLenOffset = 50;
 constexpr std::size_t kMapLengthOffset = 58;
 
@@ -52,13 +52,13 @@ Volume load_den(const std::filesystem::path& path) {
     volume_detail::GzFile in(path);
     const std::string& file = in.file();
 
-    const auto header = in.read_up_to(kHeaderBytes, "header");
+    const auto header = in.read_up_to(kDenHeaderBytes, "header");
     if (header.size() < 2) {
         throw InputError(file, "header",
                          fmt::format("file holds only {} bytes, a .den header needs 62", header.size()));
     }
     const std::endian order = byte_order(header, file);  // a wrong first field says more than a short header
-    if (header.size() < kHeaderBytes) {
+    if (header.size() < kDenHeaderBytes) {
         throw InputError(file, "header",
                          fmt::format("file holds only {} bytes, a .den header needs 62", header.size()));
     }

@@ -28,7 +28,7 @@ namespace {
 
 using volume_detail::read_field;
 
-constexpr std::size_t kHeaderBytes = 348;
+constexpr std::size_t kNiftiHeaderBytes = 348;
 
 // Byte offsets of the header fields read here (nifti1.h, struct nifti_1_header).
 namespace offset {
@@ -85,8 +85,8 @@ std::endian header_byte_order(std::span<const std::byte> header, const std::stri
     const auto little = read_field<std::int32_t>(header, offset::sizeof_hdr, std::endian::little);
     const auto big = read_field<std::int32_t>(header, offset::sizeof_hdr, std::endian::big);
     // A writer stores the header in its own byte order; sizeof_hdr tells which.
-    if (little == static_cast<std::int32_t>(kHeaderBytes)) return std::endian::little;
-    if (big == static_cast<std::int32_t>(kHeaderBytes)) return std::endian::big;
+    if (little == static_cast<std::int32_t>(kNiftiHeaderBytes)) return std::endian::little;
+    if (big == static_cast<std::int32_t>(kNiftiHeaderBytes)) return std::endian::big;
     if (little == 540 || big == 540)
         throw InputError(file, "header.sizeof_hdr", "is 540: a NIfTI-2 file; only NIfTI-1 is read");
     throw InputError(file, "header.sizeof_hdr",
@@ -149,7 +149,7 @@ std::size_t read_vox_offset(std::span<const std::byte> header, std::endian order
     const auto v = static_cast<double>(read_field<float>(header, offset::vox_offset, order));
     if (!std::isfinite(v) || v != std::floor(v))
         throw InputError(file, "header.vox_offset", fmt::format("is {}: must be a whole byte offset", v));
-    if (v < static_cast<double>(kHeaderBytes)) {
+    if (v < static_cast<double>(kNiftiHeaderBytes)) {
         throw InputError(file, "header.vox_offset",
                          fmt::format("is {}: in a single-file NIfTI-1 the samples start at byte 348 or later "
                                      "(usually 352)",
@@ -185,8 +185,8 @@ Volume load_nifti(const std::filesystem::path& path) {
     volume_detail::GzFile in(path);
     const std::string& file = in.file();
 
-    const auto header = in.read_up_to(kHeaderBytes, "header");
-    if (header.size() < kHeaderBytes) {
+    const auto header = in.read_up_to(kNiftiHeaderBytes, "header");
+    if (header.size() < kNiftiHeaderBytes) {
         throw InputError(file, "header",
                          fmt::format("file holds only {} bytes, a NIfTI-1 header needs 348{}", header.size(),
                                      cut_short_note(in)));
@@ -200,7 +200,7 @@ Volume load_nifti(const std::filesystem::path& path) {
     const volume_detail::SampleEncoding encoding = read_encoding(header, order, type);
 
     // Extensions, if any, lie between the header and vox_offset; nothing in them is needed.
-    const std::size_t gap = vox_offset - kHeaderBytes;
+    const std::size_t gap = vox_offset - kNiftiHeaderBytes;
     if (in.read_up_to(gap, "header.vox_offset").size() < gap) {
         throw InputError(file, "header.vox_offset",
                          fmt::format("is {} but the file ends before it{}", vox_offset, cut_short_note(in)));

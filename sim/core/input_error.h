@@ -33,4 +33,8 @@ private:
     std::string reason_;
 };
 
+// Refuses a value whose file is not known where it is checked (a setting validated on its own); the
+// reader that knows the file catches the error and names it.
+[[noreturn]] inline void reject_field(const std::string& field, const std::string& reason) { throw InputError("", field, reason); }
+
 }  // namespace pp5

@@ -22,7 +22,7 @@ namespace pp5 {
 namespace {
 
 // A small machine so tests run in milliseconds: 4 renderers of 32x32 PPs, 2048 bits of backing store.
-MachineConfig small_machine(std::initializer_list<std::string_view> overrides = {}) {
+MachineConfig pp_shading_machine(std::initializer_list<std::string_view> overrides = {}) {
     return test::levoy_config({"renderer.count=4", "renderer.pp_columns=32", "renderer.pp_rows=32", "renderer.backing_store_bits=2048"},
                               overrides);
 }
@@ -85,7 +85,7 @@ const ColorMap kWarm{{{0.0f, {0.9f, 0.6f, 0.5f}}, {255.0f, {1.0f, 1.0f, 0.9f}}}}
 
 TEST(PpShading, IsovalueContourImageMatchesTheReference) {
     const Volume ball = test::ball_volume(glm::ivec3(40, 36, 30), glm::vec3(19.5f, 17.0f, 14.5f), 12.0f);
-    const Rendered r = render_both(ball, skin_contour(), kWarm, phong(), small_machine());
+    const Rendered r = render_both(ball, skin_contour(), kWarm, phong(), pp_shading_machine());
     const ImageDifference d = compare_images(r.machine, r.reference);
     EXPECT_GE(d.psnr_db, 35.0) << "rms " << d.rms_error << " max " << d.max_error;
     EXPECT_TRUE(r.report.classification.ran);
@@ -99,7 +99,7 @@ TEST(PpShading, PiecewiseAndRegionBoundaryImagesMatchTheReference) {
     boundary.kind = ClassificationKind::RegionBoundaries;
     boundary.points = {{0.0f, 0.0f}, {90.0f, 0.02f}, {170.0f, 0.05f}};
     for (const Classification& c : {ramp, boundary}) {
-        const Rendered r = render_both(lumpy, c, kWarm, phong(), small_machine());
+        const Rendered r = render_both(lumpy, c, kWarm, phong(), pp_shading_machine());
         const ImageDifference d = compare_images(r.machine, r.reference);
         EXPECT_GE(d.psnr_db, 35.0) << "kind " << static_cast<int>(c.kind) << " rms " << d.rms_error;
     }
@@ -110,7 +110,7 @@ TEST(PpShading, PiecewiseAndRegionBoundaryImagesMatchTheReference) {
 TEST(PpShading, VoxelColoursAndOpacitiesMatchTheReference) {
     const Volume sphere = make_sphere_phantom(32);
     const Classification ramp = test::piecewise({{50.0f, 0.0f}, {150.0f, 0.8f}});
-    const MachineConfig config = small_machine();
+    const MachineConfig config = pp_shading_machine();
     Machine machine(config);
     PpShading pps(machine, sphere, VoxelStoreSettings::from(config));
     const ShadingView view = make_shading_view(oblique_camera(sphere), sphere.dims(), sphere.spacing());
@@ -137,7 +137,7 @@ TEST(PpShading, VoxelColoursAndOpacitiesMatchTheReference) {
 
 TEST(PpShading, EachChangeRerunsOnlyItsPass) {
     const Volume ball = test::ball_volume(glm::ivec3(24), glm::vec3(11.5f), 8.0f);
-    const MachineConfig config = small_machine();
+    const MachineConfig config = pp_shading_machine();
     Machine machine(config);
     PpShading pps(machine, ball, VoxelStoreSettings::from(config));
     const Camera camera = oblique_camera(ball);
@@ -175,7 +175,7 @@ TEST(PpShading, EachChangeRerunsOnlyItsPass) {
 
 TEST(PpShading, SimulatedTimeIsTheCostModelsPassOnTheBusiestRenderer) {
     const Volume ball = test::ball_volume(glm::ivec3(64, 64, 16), glm::vec3(31.5f, 31.5f, 7.5f), 20.0f);
-    const MachineConfig config = small_machine();
+    const MachineConfig config = pp_shading_machine();
     Machine machine(config);
     PpShading pps(machine, ball, VoxelStoreSettings::from(config));
     // 64x64 in x, y is 2x2 tiles of 32x32, 16 slices: 64 units over 4 renderers, 16 slots each.
@@ -197,7 +197,7 @@ TEST(PpShading, SameResultsAtOneAndTwoThreads) {
     const Volume lumpy = test::lumpy_volume(glm::ivec3(45, 38, 21));
     auto run = [&](int threads) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
-        const MachineConfig config = small_machine({"voxel_store.placement=slices"});
+        const MachineConfig config = pp_shading_machine({"voxel_store.placement=slices"});
         Machine machine(config);
         PpShading pps(machine, lumpy, VoxelStoreSettings::from(config));
         const Camera camera = oblique_camera(lumpy);
@@ -223,14 +223,14 @@ PhongLighting with_stationary_lights() {
 
 TEST(PpShading, StationaryLightImageMatchesTheReference) {
     const Volume ball = test::ball_volume(glm::ivec3(40, 36, 30), glm::vec3(19.5f, 17.0f, 14.5f), 12.0f);
-    const Rendered r = render_both(ball, skin_contour(), kWarm, with_stationary_lights(), small_machine());
+    const Rendered r = render_both(ball, skin_contour(), kWarm, with_stationary_lights(), pp_shading_machine());
     const ImageDifference d = compare_images(r.machine, r.reference);
     EXPECT_GE(d.psnr_db, 35.0) << "rms " << d.rms_error << " max " << d.max_error;
     const Rendered key_only = render_both(ball, skin_contour(), kWarm, [] {
         PhongLighting l = with_stationary_lights();
         l.stationary_lights.clear();
         return l;
-    }(), small_machine());
+    }(), pp_shading_machine());
     EXPECT_LT(compare_images(r.machine, key_only.machine).psnr_db, 30.0) << "the stationary lights should show";
 }
 
@@ -238,7 +238,7 @@ TEST(PpShading, StationaryLightImageMatchesTheReference) {
 // a move of the key light alone then skips the stationary pass and shades in fewer cycles.
 TEST(PpShading, KeptStationaryLightsGiveTheSameColoursAndCheaperKeyLightMoves) {
     const Volume ball = test::ball_volume(glm::ivec3(24), glm::vec3(11.5f), 8.0f);
-    const MachineConfig config = small_machine();
+    const MachineConfig config = pp_shading_machine();
     VoxelStoreSettings keeping = VoxelStoreSettings::from(config);
     keeping.layout.stationary_light_bits = 10;
     Machine kept_machine(config), recomputing_machine(config);
@@ -281,7 +281,7 @@ TEST(PpShading, KeptStationaryLightsGiveTheSameColoursAndCheaperKeyLightMoves) {
 
 TEST(PpShading, AVolumeTooLargeIsAnErrorSayingWhatWouldFit) {
     const Volume big = test::constant_volume(glm::ivec3(64, 64, 40), 10.0f);
-    const MachineConfig config = small_machine();
+    const MachineConfig config = pp_shading_machine();
     Machine machine(config);
     try {
         PpShading pps(machine, big, VoxelStoreSettings::from(config));
@@ -294,7 +294,7 @@ TEST(PpShading, AVolumeTooLargeIsAnErrorSayingWhatWouldFit) {
 
 TEST(PpShading, AProgramTooLargeForLocalMemoryIsAnError) {
     const Volume ball = test::ball_volume(glm::ivec3(16), glm::vec3(7.5f), 5.0f);
-    const MachineConfig config = small_machine({"renderer.local_memory_bits=48"});
+    const MachineConfig config = pp_shading_machine({"renderer.local_memory_bits=48"});
     Machine machine(config);
     PpShading pps(machine, ball, VoxelStoreSettings::from(config));
     const Camera camera = oblique_camera(ball);

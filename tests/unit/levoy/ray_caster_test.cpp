@@ -25,7 +25,7 @@
 namespace pp5 {
 namespace {
 
-MachineConfig small_machine(std::initializer_list<std::string_view> overrides = {}) {
+MachineConfig ray_casting_machine(std::initializer_list<std::string_view> overrides = {}) {
     return test::levoy_config({"renderer.count=4", "renderer.pp_columns=32", "renderer.pp_rows=32", "renderer.backing_store_bits=2048",
                                "gp.count=4", "levoy.tile_pixels=8"},
                               overrides);
@@ -141,7 +141,7 @@ TEST(AdaptiveRefinement, SplitsOnlyWhereCornersDiffer) {
 // A small shaded phantom with its pyramid and blocks, for casting.
 struct Scene {
     Volume volume = make_head_phantom(32);
-    MachineConfig config = small_machine();
+    MachineConfig config = ray_casting_machine();
     Machine machine{config};
     LevoyImageSettings image{72, 64, 1.0f, 1.0f, glm::vec3(0.1f, 0.1f, 0.2f)};
     Camera camera;
@@ -434,7 +434,7 @@ TEST(LevoyRenderer, StationaryLightsKeptInTheRecordGiveTheSameFramesAndCheaperLi
 
 // The field is refused by name when it alone keeps the volume from fitting the backing stores.
 TEST(LevoyRenderer, AStationaryLightFieldThatCannotFitIsRefusedByName) {
-    const MachineConfig config = small_machine();
+    const MachineConfig config = ray_casting_machine();
     const Machine machine(config);
     const glm::ivec3 dims(64, 64, 30);  // 30 slots a PP: 1920 of the 2048 bits at 64 bits a record
     LevoySettings settings = LevoySettings::from(config);

@@ -1,5 +1,6 @@
 #include "kernels/render/camera.h"
 #include "sim/core/input_error.h"
+#include "tests/support/vector_expectations.h"
 
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
@@ -10,11 +11,7 @@
 namespace pp5 {
 namespace {
 
-void expect_near(glm::vec3 a, glm::vec3 b, float tolerance = 1e-5f) {
-    EXPECT_NEAR(a.x, b.x, tolerance);
-    EXPECT_NEAR(a.y, b.y, tolerance);
-    EXPECT_NEAR(a.z, b.z, tolerance);
-}
+using test::expect_near;
 
 Camera looking_along_z(Projection projection) {
     Camera c;

@@ -10,14 +10,14 @@ namespace pp5 {
 namespace {
 
 // Records the payloads it is handed, in the order the queue runs them.
-struct Recorder final : EventHandler {
+struct EventRecorder final : EventHandler {
     std::vector<std::pair<Tick, std::uint64_t>> seen;
     void handle_event(Tick now, std::uint64_t payload) override { seen.emplace_back(now, payload); }
 };
 
 TEST(EventQueue, RunsInTimeOrder) {
     EventQueue q;
-    Recorder r;
+    EventRecorder r;
     q.schedule(300, r, 3);
     q.schedule(100, r, 1);
     q.schedule(200, r, 2);
@@ -31,7 +31,7 @@ TEST(EventQueue, RunsInTimeOrder) {
 
 TEST(EventQueue, EqualTimesRunByPriorityThenInsertion) {
     EventQueue q;
-    Recorder r;
+    EventRecorder r;
     q.schedule(50, r, 10, /*priority=*/1);
     q.schedule(50, r, 11, 0);
     q.schedule(50, r, 12, 1);
@@ -44,7 +44,7 @@ TEST(EventQueue, EqualTimesRunByPriorityThenInsertion) {
 
 TEST(EventQueue, FirstInFirstOutOverManyTies) {
     EventQueue q;
-    Recorder r;
+    EventRecorder r;
     for (std::uint64_t i = 0; i < 1000; ++i) q.schedule(7, r, i);
     q.run_until();
     for (std::uint64_t i = 0; i < 1000; ++i) ASSERT_EQ(r.seen[i].second, i);
@@ -52,7 +52,7 @@ TEST(EventQueue, FirstInFirstOutOverManyTies) {
 
 TEST(EventQueue, RunUntilStopsAtTheLimitAndResumes) {
     EventQueue q;
-    Recorder r;
+    EventRecorder r;
     q.schedule(10, r, 1);
     q.schedule(20, r, 2);
     q.schedule(30, r, 3);
@@ -86,7 +86,7 @@ TEST(EventQueue, HandlersScheduleRelativeToNow) {
 
 TEST(EventQueue, RejectsEventsInThePast) {
     EventQueue q;
-    Recorder r;
+    EventRecorder r;
     q.schedule(100, r);
     q.run_until();
     EXPECT_THROW(q.schedule(99, r), std::logic_error);

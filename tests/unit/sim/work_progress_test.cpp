@@ -10,14 +10,14 @@
 namespace pp5 {
 namespace {
 
-struct Recorder final : WorkListener {
+struct WorkRecorder final : WorkListener {
     std::vector<std::pair<std::string, std::size_t>> heard;
     void on_work(std::string_view stage, std::size_t done, std::size_t) override { heard.emplace_back(std::string(stage), done); }
 };
 
 TEST(WorkProgress, ReachesTheListenerOfTheCallingThreadWhileItIsInstalled) {
-    Recorder outer;
-    Recorder inner;
+    WorkRecorder outer;
+    WorkRecorder inner;
     report_work("before", 1, 3);  // nobody listening: nothing happens
     {
         const ScopedWorkListener listening(outer);

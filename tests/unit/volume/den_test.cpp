@@ -12,10 +12,10 @@ namespace {
 using namespace pp5::test;
 using ::testing::HasSubstr;
 
-const glm::ivec3 kDims{6, 4, 3};
+const glm::ivec3 kDenDims{6, 4, 3};
 
 std::vector<float> values() {
-    return pattern(kDims, [](int x, int y, int z) { return static_cast<float>(x * 3 + y * 20 + z * 80); });
+    return pattern(kDenDims, [](int x, int y, int z) { return static_cast<float>(x * 3 + y * 20 + z * 80); });
 }
 
 class DenTest : public ::testing::Test {
@@ -39,9 +39,9 @@ protected:
 TEST_F(DenTest, RoundTripsInBothByteOrders) {
     const auto expected = values();
     for (const auto order : {std::endian::little, std::endian::big}) {
-        const auto path = write("small.den", den_bytes(kDims, sample_bytes(cast_all<std::uint8_t>(expected)), order));
+        const auto path = write("small.den", den_bytes(kDenDims, sample_bytes(cast_all<std::uint8_t>(expected)), order));
         const Volume v = load_den(path);
-        EXPECT_EQ(v.dims(), kDims);
+        EXPECT_EQ(v.dims(), kDenDims);
         EXPECT_EQ(v.source_type(), ScalarType::UInt8);
         EXPECT_EQ(v.spacing(), glm::vec3(1.0f));
         EXPECT_EQ(samples_of(v), expected);
@@ -51,18 +51,18 @@ TEST_F(DenTest, RoundTripsInBothByteOrders) {
 
 TEST_F(DenTest, ReadsGzippedFiles) {
     const auto path = dir / "small.den.gz";
-    write_gz(path, den_bytes(kDims, sample_bytes(cast_all<std::uint8_t>(values()))));
+    write_gz(path, den_bytes(kDenDims, sample_bytes(cast_all<std::uint8_t>(values()))));
     EXPECT_EQ(samples_of(load_den(path)), values());
 }
 
 TEST_F(DenTest, WrongVersion) {
-    const InputError e = error_for(den_bytes(kDims, Bytes(72), std::endian::little, 7));
+    const InputError e = error_for(den_bytes(kDenDims, Bytes(72), std::endian::little, 7));
     EXPECT_EQ(e.field(), "header.map_version");
     EXPECT_THAT(e.reason(), HasSubstr("0x0007"));
 }
 
 TEST_F(DenTest, TruncatedHeader) {
-    Bytes bytes = den_bytes(kDims, {});
+    Bytes bytes = den_bytes(kDenDims, {});
     bytes.resize(40);
     const InputError e = error_for(bytes);
     EXPECT_EQ(e.field(), "header");
@@ -70,7 +70,7 @@ TEST_F(DenTest, TruncatedHeader) {
 }
 
 TEST_F(DenTest, InconsistentMapLength) {
-    Bytes bytes = den_bytes(kDims, Bytes(72));
+    Bytes bytes = den_bytes(kDenDims, Bytes(72));
     bytes[58] = std::byte{71};  // map_length, little-endian low byte
     const InputError e = error_for(bytes);
     EXPECT_EQ(e.field(), "header.map_length");
@@ -82,7 +82,7 @@ TEST_F(DenTest, ZeroDimension) {
 }
 
 TEST_F(DenTest, TruncatedData) {
-    const InputError e = error_for(den_bytes(kDims, Bytes(50)));
+    const InputError e = error_for(den_bytes(kDenDims, Bytes(50)));
     EXPECT_EQ(e.field(), "voxel data");
     EXPECT_EQ(e.reason(), "file holds 50 bytes of voxel data but dims 6x4x3 of uint8 need 72");
 }

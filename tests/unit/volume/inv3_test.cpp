@@ -22,10 +22,10 @@
 namespace pp5::test {
 namespace {
 
-const glm::ivec3 kDims{5, 4, 3};  // x, y, z: shape (3, 4, 5) in the plist
+const glm::ivec3 kInv3Dims{5, 4, 3};  // x, y, z: shape (3, 4, 5) in the plist
 
 std::vector<float> hu_values() {
-    return pattern(kDims, [](int x, int y, int z) { return static_cast<float>(-1000 + x * 7 + y * 50 + z * 400); });
+    return pattern(kInv3Dims, [](int x, int y, int z) { return static_cast<float>(-1000 + x * 7 + y * 50 + z * 400); });
 }
 
 Bytes matrix_bytes() { return sample_bytes(cast_all<std::int16_t>(hu_values())); }
@@ -61,7 +61,7 @@ protected:
 TEST_F(Inv3Test, ReadsShapeSpacingAndSamples) {
     const auto path = write_archive(tar(project()));
     const Volume v = load_volume(path);  // chosen by the .inv3 name
-    EXPECT_EQ(v.dims(), kDims);
+    EXPECT_EQ(v.dims(), kInv3Dims);
     EXPECT_EQ(v.spacing(), glm::vec3(0.5f, 0.75f, 2.0f));  // (x, y, z), unlike the shape
     EXPECT_EQ(v.source_type(), ScalarType::Int16);
     EXPECT_EQ(samples_of(v), hu_values());

@@ -13,13 +13,13 @@ namespace {
 using namespace pp5::test;
 using ::testing::HasSubstr;
 
-const glm::ivec3 kDims{3, 2, 2};
+const glm::ivec3 kSmallDims{3, 2, 2};
 
 Bytes u8_samples() { return sample_bytes(std::vector<std::uint8_t>{1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12}); }
 
 Bytes small_nifti() {
     NiftiSpec spec;
-    spec.set_dims(kDims.x, kDims.y, kDims.z);
+    spec.set_dims(kSmallDims.x, kSmallDims.y, kSmallDims.z);
     return nifti_bytes(spec, u8_samples());
 }
 
@@ -28,11 +28,11 @@ TEST(LoadVolume, ChoosesTheLoaderByExtension) {
     write_file(dir / "a.nii", small_nifti());
     write_gz(dir / "b.nii.gz", small_nifti());
     write_file(dir / "C.NII", small_nifti());
-    write_file(dir / "d.den", den_bytes(kDims, u8_samples()));
-    write_gz(dir / "e.den.gz", den_bytes(kDims, u8_samples()));
+    write_file(dir / "d.den", den_bytes(kSmallDims, u8_samples()));
+    write_gz(dir / "e.den.gz", den_bytes(kSmallDims, u8_samples()));
     for (const char* name : {"a.nii", "b.nii.gz", "C.NII", "d.den", "e.den.gz"}) {
         const Volume v = load_volume(dir / name);
-        EXPECT_EQ(v.dims(), kDims) << name;
+        EXPECT_EQ(v.dims(), kSmallDims) << name;
         EXPECT_EQ(v.at(2, 1, 1), 12.0f) << name;
     }
 }

@@ -18,15 +18,15 @@ namespace {
 using namespace pp5::test;
 using ::testing::HasSubstr;
 
-const glm::ivec3 kDims{5, 7, 3};
+const glm::ivec3 kNiftiDims{5, 7, 3};
 
 std::vector<float> small_pattern() {
-    return pattern(kDims, [](int x, int y, int z) { return static_cast<float>(x + 10 * y + 70 * z) * 0.5f; });
+    return pattern(kNiftiDims, [](int x, int y, int z) { return static_cast<float>(x + 10 * y + 70 * z) * 0.5f; });
 }
 
 NiftiSpec spec_for(std::int16_t datatype, std::int16_t bitpix) {
     NiftiSpec s;
-    s.set_dims(kDims.x, kDims.y, kDims.z);
+    s.set_dims(kNiftiDims.x, kNiftiDims.y, kNiftiDims.z);
     s.datatype = datatype;
     s.bitpix = bitpix;
     return s;
@@ -59,11 +59,11 @@ TEST_F(NiftiTest, RoundTripsUInt8WithSpacingAndName) {
     spec.pixdim = {1, 0.5f, 0.75f, 2.0f, 1, 1, 1, 1};
     const auto path = write("small.nii", nifti_bytes(spec, uint8_samples()));
     const Volume v = load_nifti(path);
-    EXPECT_EQ(v.dims(), kDims);
+    EXPECT_EQ(v.dims(), kNiftiDims);
     EXPECT_EQ(v.spacing(), glm::vec3(0.5f, 0.75f, 2.0f));
     EXPECT_EQ(v.source_type(), ScalarType::UInt8);
     EXPECT_EQ(v.name(), "small.nii");
-    const auto expected = pattern(kDims, [](int x, int y, int z) {
+    const auto expected = pattern(kNiftiDims, [](int x, int y, int z) {
         return static_cast<float>(static_cast<std::uint8_t>(static_cast<float>(x + 10 * y + 70 * z) * 0.5f));
     });
     EXPECT_EQ(samples_of(v), expected);
@@ -71,7 +71,7 @@ TEST_F(NiftiTest, RoundTripsUInt8WithSpacingAndName) {
 }
 
 TEST_F(NiftiTest, RoundTripsGzippedInt16WithNegativeValues) {
-    const auto values = pattern(kDims, [](int x, int y, int z) { return static_cast<float>(x * 300 - y * 900 + z * 7); });
+    const auto values = pattern(kNiftiDims, [](int x, int y, int z) { return static_cast<float>(x * 300 - y * 900 + z * 7); });
     const auto path = dir / "signed.nii.gz";
     write_gz(path, nifti_bytes(spec_for(4, 16), sample_bytes(cast_all<std::int16_t>(values))));
     const Volume v = load_nifti(path);
@@ -113,7 +113,7 @@ TEST_P(NiftiTypeTest, RoundTripsEveryDatatypeInBothByteOrders) {
     const TypeCase c = GetParam();
     const bool is_signed = c.type == ScalarType::Int8 || c.type == ScalarType::Int16 || c.type == ScalarType::Int32 ||
                            c.type == ScalarType::Float32 || c.type == ScalarType::Float64;
-    const auto values = pattern(kDims, [&](int x, int y, int z) {
+    const auto values = pattern(kNiftiDims, [&](int x, int y, int z) {
         const float v = static_cast<float>((x * 7 + y * 13 + z * 29) % 120);
         return is_signed && (x + y) % 2 == 1 ? -v : v;
     });
@@ -188,7 +188,7 @@ TEST_F(NiftiTest, AcceptsAFourthDimensionOfOne) {
     NiftiSpec spec = uint8_spec();
     spec.dim[0] = 4;
     spec.dim[4] = 1;
-    EXPECT_EQ(load_nifti(write("4d.nii", nifti_bytes(spec, uint8_samples()))).dims(), kDims);
+    EXPECT_EQ(load_nifti(write("4d.nii", nifti_bytes(spec, uint8_samples()))).dims(), kNiftiDims);
 }
 
 TEST_F(NiftiTest, ReadsAnOddSizedVolume) {

@@ -14,10 +14,10 @@ namespace {
 using namespace pp5::test;
 using ::testing::HasSubstr;
 
-const glm::ivec3 kDims{5, 7, 3};  // odd on purpose: no axis may be mistaken for another
+const glm::ivec3 kRawDims{5, 7, 3};  // odd on purpose: no axis may be mistaken for another
 
 std::vector<float> values(bool negative) {
-    return pattern(kDims, [&](int x, int y, int z) {
+    return pattern(kRawDims, [&](int x, int y, int z) {
         const float v = static_cast<float>(x + 5 * y + 35 * z);
         return negative && (x + z) % 2 == 1 ? -v * 100.0f : v;
     });
@@ -44,8 +44,8 @@ protected:
 TEST_F(RawTest, RoundTripsUInt8) {
     const auto expected = values(false);
     const auto path = write("u8.raw", sample_bytes(cast_all<std::uint8_t>(expected)));
-    const Volume v = load_raw(path, RawLayout{kDims, ScalarType::UInt8, false, 0, glm::vec3(1.0f)});
-    EXPECT_EQ(v.dims(), kDims);
+    const Volume v = load_raw(path, RawLayout{kRawDims, ScalarType::UInt8, false, 0, glm::vec3(1.0f)});
+    EXPECT_EQ(v.dims(), kRawDims);
     EXPECT_EQ(v.source_type(), ScalarType::UInt8);
     EXPECT_EQ(samples_of(v), expected);
     EXPECT_EQ(v.at(4, 6, 2), 4.0f + 30.0f + 70.0f);
@@ -57,7 +57,7 @@ TEST_F(RawTest, RoundTripsInt16InBothByteOrders) {
     for (const bool big : {false, true}) {
         const auto order = big ? std::endian::big : std::endian::little;
         const auto path = write("i16.raw", sample_bytes(cast_all<std::int16_t>(expected), order));
-        const Volume v = load_raw(path, RawLayout{kDims, ScalarType::Int16, big, 0, glm::vec3(1.0f)});
+        const Volume v = load_raw(path, RawLayout{kRawDims, ScalarType::Int16, big, 0, glm::vec3(1.0f)});
         EXPECT_EQ(v.source_type(), ScalarType::Int16);
         EXPECT_EQ(samples_of(v), expected) << (big ? "big-endian" : "little-endian");
     }
@@ -71,13 +71,13 @@ TEST_F(RawTest, ByteOrderMatters) {
 }
 
 TEST_F(RawTest, RoundTripsFloat32WithHeaderBytesAndSpacing) {
-    const auto expected = pattern(kDims, [](int x, int y, int z) { return 0.25f * static_cast<float>(x) - 3.5f * static_cast<float>(y * z); });
+    const auto expected = pattern(kRawDims, [](int x, int y, int z) { return 0.25f * static_cast<float>(x) - 3.5f * static_cast<float>(y * z); });
     for (const bool big : {false, true}) {
         Bytes bytes(17, std::byte{0x5a});
         const Bytes samples = sample_bytes(expected, big ? std::endian::big : std::endian::little);
         bytes.insert(bytes.end(), samples.begin(), samples.end());
         const auto path = write("f32.raw", bytes);
-        const Volume v = load_raw(path, RawLayout{kDims, ScalarType::Float32, big, 17, {0.5f, 1.0f, 3.0f}});
+        const Volume v = load_raw(path, RawLayout{kRawDims, ScalarType::Float32, big, 17, {0.5f, 1.0f, 3.0f}});
         EXPECT_EQ(samples_of(v), expected);
         EXPECT_EQ(v.spacing(), glm::vec3(0.5f, 1.0f, 3.0f));
         EXPECT_EQ(v.physical_extent(), glm::vec3(2.5f, 7.0f, 9.0f));
@@ -101,14 +101,14 @@ TEST_F(RawTest, TooShort) {
 }
 
 TEST_F(RawTest, TooLong) {
-    const InputError e = error_for(Bytes(106), RawLayout{kDims, ScalarType::UInt8, false, 0, glm::vec3(1.0f)});
+    const InputError e = error_for(Bytes(106), RawLayout{kRawDims, ScalarType::UInt8, false, 0, glm::vec3(1.0f)});
     EXPECT_EQ(e.field(), "voxel data");
     EXPECT_THAT(e.reason(), HasSubstr("holds 106 bytes"));
     EXPECT_THAT(e.reason(), HasSubstr("need 105"));
 }
 
 TEST_F(RawTest, HeaderBytesBeyondTheFile) {
-    const InputError e = error_for(Bytes(50), RawLayout{kDims, ScalarType::UInt8, false, 64, glm::vec3(1.0f)});
+    const InputError e = error_for(Bytes(50), RawLayout{kRawDims, ScalarType::UInt8, false, 64, glm::vec3(1.0f)});
     EXPECT_EQ(e.field(), "header_bytes");
 }
 
@@ -119,25 +119,25 @@ TEST_F(RawTest, BadDims) {
 }
 
 TEST_F(RawTest, BadSpacing) {
-    EXPECT_EQ(error_for(Bytes(105), RawLayout{kDims, ScalarType::UInt8, false, 0, {1.0f, 1.0f, 0.0f}}).field(), "spacing.z");
-    EXPECT_EQ(error_for(Bytes(105), RawLayout{kDims, ScalarType::UInt8, false, 0, {-1.0f, 1.0f, 1.0f}}).field(), "spacing.x");
-    EXPECT_EQ(error_for(Bytes(105), RawLayout{kDims, ScalarType::UInt8, false, 0,
+    EXPECT_EQ(error_for(Bytes(105), RawLayout{kRawDims, ScalarType::UInt8, false, 0, {1.0f, 1.0f, 0.0f}}).field(), "spacing.z");
+    EXPECT_EQ(error_for(Bytes(105), RawLayout{kRawDims, ScalarType::UInt8, false, 0, {-1.0f, 1.0f, 1.0f}}).field(), "spacing.x");
+    EXPECT_EQ(error_for(Bytes(105), RawLayout{kRawDims, ScalarType::UInt8, false, 0,
                                               {1.0f, std::numeric_limits<float>::quiet_NaN(), 1.0f}})
                   .field(),
               "spacing.y");
 }
 
 TEST_F(RawTest, NaNInFloatData) {
-    auto v = pattern(kDims, [](int x, int, int) { return static_cast<float>(x); });
+    auto v = pattern(kRawDims, [](int x, int, int) { return static_cast<float>(x); });
     v[2 + 5 * 3 + 35 * 1] = std::numeric_limits<float>::quiet_NaN();  // (2, 3, 1)
-    const InputError e = error_for(sample_bytes(v), RawLayout{kDims, ScalarType::Float32, false, 0, glm::vec3(1.0f)});
+    const InputError e = error_for(sample_bytes(v), RawLayout{kRawDims, ScalarType::Float32, false, 0, glm::vec3(1.0f)});
     EXPECT_EQ(e.field(), "voxel data");
     EXPECT_THAT(e.reason(), HasSubstr("(2, 3, 1) is NaN"));
 }
 
 TEST_F(RawTest, MissingFile) {
     const auto path = dir / "nothing.raw";
-    const InputError e = input_error_from([&] { load_raw(path, RawLayout{kDims, ScalarType::UInt8, false, 0, glm::vec3(1.0f)}); });
+    const InputError e = input_error_from([&] { load_raw(path, RawLayout{kRawDims, ScalarType::UInt8, false, 0, glm::vec3(1.0f)}); });
     EXPECT_EQ(e.file(), path.string());
     EXPECT_EQ(e.field(), "file");
 }
