@@ -159,11 +159,9 @@ void LevoyRenderer::set_polygons(const std::vector<PolygonSpec>& polygons) {
 }
 
 // The host broadcasts each polygon's QEE coefficients; each renderer runs the polygons in the order
-// they arrive. A sequential scan-converter visits the voxels within one voxel of the polygon's plane
-// over its area (about twice the area) and tests each of its J sample points against the plane and
-// every edge.
+// they arrive. A sequential scan-converter visits levoy.scan_voxels_per_area voxels per unit of the
+// polygon's area and tests each of its J sample points against the plane and every edge.
 Phase LevoyRenderer::scan_convert() {
-    constexpr double kSequentialVoxelsPerUnitArea = 2.0;
     const std::vector<glm::dvec3> offsets = subvoxel_offsets(settings_.jitter_samples);
     const PpProgramInputs inputs = pixel_processors_.program_inputs();
     const VoxelPlacement& placement = pixel_processors_.placement();
@@ -178,7 +176,7 @@ Phase LevoyRenderer::scan_convert() {
                                program, [&](const SlotFrame& frame) { return polygon_reaches_slot(polygon, frame, dims_, placement.shape()); },
                                [&](const SlotFrame& frame) { return polygon_expressions(polygon, offsets, frame, settings_.store.layout); }),
                            bits, {}};
-        const auto visited = static_cast<std::uint64_t>(std::llround(kSequentialVoxelsPerUnitArea * polygon_areas_[k]));
+        const auto visited = static_cast<std::uint64_t>(std::llround(settings_.scan_voxels_per_area * polygon_areas_[k]));
         const auto tests = static_cast<std::uint64_t>(settings_.jitter_samples) * (polygon.edge_normals.size() + 1);
         add_op(pass.on_one_processor, kPolygonPointTest, visited * tests);
         add_op(pass.on_one_processor, kVoxelMatte, visited);
@@ -448,7 +446,8 @@ LevoyFrameReport LevoyRenderer::record(const LevoyFrameInputs& frame) {
         }
     }
     report.pyramid_cells_occupied = pyramid_.occupied_cells(0);
-    report.depth_buffer_used = settings_.depth_buffer && depth_for_ == frame.camera;
+    // Depths are recorded only where the pyramid finds them: without skipping the buffer stays empty.
+    report.depth_buffer_used = settings_.depth_buffer && settings_.pyramid_skipping && depth_for_ == frame.camera;
     if (!report.depth_buffer_used) std::fill(depth_.begin(), depth_.end(), 0);
     depth_for_ = frame.camera;
     // Each GP holds the whole pyramid of binary volumes, a bit a cell, beside its cache.

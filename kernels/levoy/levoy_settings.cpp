@@ -25,7 +25,8 @@ const ParamGroup& LevoySettings::params() {
                      "Levoy 1989 and 1990: hierarchical spatial enumeration")
             .boolean("depth_buffer", true,
                      "While the observer and the set of non-empty voxels stay, start rays at the first non-empty sample "
-                     "found in an earlier frame",
+                     "found in an earlier frame. The depth is the one the pyramid's skipping finds, so without "
+                     "pyramid_skipping it has nothing to record and is reported off",
                      Provenance::Paper, "Levoy 1989: record the depth of the first non-empty voxel along each ray")
             .text("after_reshade", "drop", {"drop", "refresh"},
                   "What the GPs do with their cached voxels when the PPs recompute colours or opacities: drop them and fetch "
@@ -38,6 +39,12 @@ const ParamGroup& LevoySettings::params() {
                      "With after_reshade = refresh: blocks one refresh message asks a renderer for (renderers answer in the "
                      "order requests come, so smaller messages bring every GP's first blocks back sooner)",
                      Provenance::Default, "pp5sim")
+            .real("scan_voxels_per_area", 2.0, "voxels", 1.0, 8.0,
+                  "On one processor (the Sun 4/280), voxels a sequential 3D scan-converter visits per unit of a polygon's "
+                  "area inside the volume, testing each against the plane and every edge at every jitter sample",
+                  Provenance::Default,
+                  "pp5sim: the voxels within one voxel of the polygon's plane, a slab two voxels thick; Levoy 1989 says only that "
+                  "his Sun took time 'in proportion to its area'")
             .integer("jitter_samples", 16, "count", 1, 1024,
                      "Subvoxel translations of each polygon in 3D scan-conversion (1: binary voxelisation)", Provenance::Default,
                      "Levoy 1989: 'moved through a set of subvoxel-sized translations', count not given")
@@ -67,6 +74,7 @@ LevoySettings LevoySettings::from(const MachineConfig& config) {
     s.pyramid_skipping = config.boolean("levoy.pyramid_skipping");
     s.depth_buffer = config.boolean("levoy.depth_buffer");
     s.jitter_samples = static_cast<int>(config.integer("levoy.jitter_samples"));
+    s.scan_voxels_per_area = config.real("levoy.scan_voxels_per_area");
     s.refresh_caches = config.text("levoy.after_reshade") == "refresh";
     s.refresh_blocks_per_message = static_cast<int>(config.integer("levoy.refresh_blocks_per_message"));
     s.stationary_light_bits = static_cast<int>(config.integer("levoy.stationary_light_bits"));

@@ -23,6 +23,7 @@ struct LevoySettings {
     bool refresh_caches = false;  // after a reshade, GPs ask again for the blocks they used (false: they drop them)
     int refresh_blocks_per_message = 16;
     int jitter_samples = 16;
+    double scan_voxels_per_area = 2.0;  // a sequential scan-converter's voxels visited per unit area (one processor)
     // Bits a voxel's record keeps for the stationary lights' precomputed sum (0: recompute them at every
     // reshade). for_scenario() adds the field to the layout only when some frame has stationary lights.
     int stationary_light_bits = 10;

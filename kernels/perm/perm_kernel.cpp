@@ -72,7 +72,7 @@ public:
         PermCastSettings cs{image_.width, image_.height, image_.sample_step, image_.termination_opacity, image_.background};
         PermFrame cast = caster_->cast(frame.classification, frame.colors, frame.lighting, camera, cs);
         work.phases.push_back(Phase{"ray_casting", std::move(cast.work)});
-        work.gp_resident_bits = settings_.residence == PermResidence::GpMemory ? structure_->memory().total_bytes() * 8 : 0;
+        work.gp_resident_bits = gp_resident_bytes() * 8;
         // Records the GPs may hold in their caches changed: a new structure, or fresh PP results.
         work.invalidate_gp_caches = !first_frame_ && (out->rebuilt || out->pp_classified || out->pp_shaded);
         first_frame_ = false;
@@ -96,7 +96,8 @@ public:
                               {"empty_samples", c.empty_samples},
                               {"leaped_samples", c.leaped_samples},
                               {"cell_fetches", c.cell_fetches},
-                              {"carried_lookups", c.carried_lookups}};
+                              {"carried_lookups", c.carried_lookups},
+                              {"gp_resident_bytes", frame.work.gp_resident_bits / 8}};
         if (shading_) {
             nlohmann::json pp = {{"classified", frame.pp_classified},
                                  {"shaded", frame.pp_shaded},
@@ -257,6 +258,14 @@ private:
                                          "perm.gradient_positions), add renderers (renderer.count) or backing store",
                                          busiest_renderer_bytes_, m.candidates, m.record_bytes(), static_cast<double>(m.total_bytes()) / 1e6,
                                          renderer_bytes_));
+    }
+
+    // What each GP keeps besides its cache: the distance map and the index volume that finds a sample's
+    // record (with its per-slice summed table), and the records too when they live in GP memory.
+    std::uint64_t gp_resident_bytes() const {
+        const PermMemory& m = structure_->memory();
+        const std::uint64_t records = settings_.residence == PermResidence::GpMemory ? m.candidates * m.record_bytes() : 0;
+        return caster_->distance_map_bytes() + m.index_volume_bytes() + m.summed_table_bytes() + records;
     }
 
     Machine& machine_;

@@ -59,6 +59,9 @@ public:
                   std::function<std::uint32_t(glm::ivec3)> renderer_of_cell, const PermRecordShading* shaded = nullptr);
     PermFrame cast(const Classification& classification, const ColorMap& colors, const PhongLighting& lighting, const Camera& camera,
                    const PermCastSettings& settings) const;
+    // What every GP holds to cast, wherever the records live: the occupancy distance map it leaps
+    // empty space with, a byte a block (distances reach OccupancyGrid::kMaxDistance).
+    std::uint64_t distance_map_bytes() const { return occupancy_.block_count(); }
 
 private:
     const PermStructure* structure_;

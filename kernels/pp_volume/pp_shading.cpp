@@ -50,7 +50,9 @@ const ParamGroup& VoxelStoreSettings::params() {
                "Which renderer, PP and slot holds each voxel: solid bricks per renderer, or z-slices dealt round-robin",
                Provenance::Default, "pp5sim: Levoy gives each PP 64 voxels but not their arrangement")
             .integer("value_bits", 8, "bits", 1, 16, "Bits of each voxel's scalar value in the backing store",
-                     Provenance::Paper, "Levoy 1989: 8 bytes per voxel for value, gradient, colour and opacity")
+                     Provenance::Default,
+                     "pp5sim: one byte, as the 8-bit volumes are; Levoy 1989 gives 8 bytes a voxel for value, gradient, colour and "
+                     "opacity together, not how they divide")
             .integer("gradient_bits", 8, "bits", 2, 16, "Bits of each signed gradient component",
                      Provenance::Default, "pp5sim: one byte each fills Levoy's 8-byte budget")
             .integer("color_bits", 8, "bits", 1, 16, "Bits of each shaded colour channel", Provenance::Default,

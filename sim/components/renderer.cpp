@@ -20,7 +20,8 @@ const ParamGroup& Renderer::params() {
                      Provenance::Paper, "Levoy 1989 and Fuchs et al. 1989: 4K bits per PP")
             .integer("backing_store_block_bits", 32, "bits", 1, 4096,
                      "Size of one backing-store transfer between local memory and the backing store",
-                     Provenance::Hardware, "Fuchs et al. 1989: moved in 32-bit blocks")
+                     Provenance::Default,
+                     "machine.md's summary of Fuchs et al. 1989 (not among the papers here to check): moved in 32-bit blocks")
             .real("clock_mhz", 40.0, "MHz", 1, 1000, "Pixel-processor clock", Provenance::Hardware,
                   "Fuchs et al. 1989: chips designed for 40 MHz")
             .integer("fetch_setup_cycles", 64, "cycles", 0, 1 << 24,

@@ -151,8 +151,8 @@ ShadedVolume scan_converted(const std::vector<PolygonSpec>& polygons, int sample
 
 // Levoy: on a sequential machine the cost of scan-converting a polygon is proportional to its area.
 TEST(ScanConversion, OnOneProcessorItsCostGrowsInProportionToArea) {
-    const auto seconds_for = [](float side) {
-        const MachineConfig config = scan_conversion_machine({"levoy.jitter_samples=16", "gp.sustained_mflops=1.1"});
+    const auto seconds_for = [](float side, const char* voxels_per_area = "levoy.scan_voxels_per_area=2") {
+        const MachineConfig config = scan_conversion_machine({"levoy.jitter_samples=16", "gp.sustained_mflops=1.1", voxels_per_area});
         Machine machine(config);
         const Volume volume = make_constant_volume(glm::ivec3(32), 50.0f);
         LevoyRenderer renderer(machine, volume, LevoySettings::from(config), LevoyImageSettings{16, 16, 1.0f, 0.95f, glm::vec3(0.0f)});
@@ -174,6 +174,8 @@ TEST(ScanConversion, OnOneProcessorItsCostGrowsInProportionToArea) {
     EXPECT_NEAR(seconds_for(16.0f) / small, 16.0, 1e-9);
     // The closed form: 2 voxels per unit area, J x (edges + 1) tests of 2 flops and a 12-flop matte each.
     EXPECT_NEAR(small, 16.0 * 2.0 * (16.0 * 5.0 * 2.0 + 12.0) / 1.1e6, small * 1e-6);
+    // and the voxels visited per unit area scale it.
+    EXPECT_NEAR(seconds_for(4.0f, "levoy.scan_voxels_per_area=3") / small, 1.5, 1e-9);
 }
 
 TEST(ScanConversion, PixelProcessorsCountWhatTheHostCounts) {

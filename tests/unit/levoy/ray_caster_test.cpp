@@ -300,6 +300,24 @@ TEST(LevoyRenderer, CachesStayWarmWhileVoxelsStayAndAreDroppedWhenTheyChange) {
     EXPECT_FALSE(rebuilt.depth_buffer_used);
 }
 
+// The depth buffer records where the pyramid's skipping finds the first non-empty sample; without
+// skipping it has nothing to start rays from, so the frame says it was not used.
+TEST(LevoyRenderer, TheDepthBufferIsReportedOffWithoutPyramidSkipping) {
+    Scene s;
+    s.inputs.lighting.light_follows_camera = false;
+    s.inputs.lighting.specular = 0.0f;
+    s.config.set("levoy.pyramid_skipping", false, "test");
+    Machine machine(s.config);
+    LevoyRenderer renderer(machine, s.volume, LevoySettings::from(s.config), s.image);
+    const LevoyFrameReport first = renderer.render(s.inputs);
+    LevoyFrameInputs still = s.inputs;
+    still.classification_changed = false;
+    still.lighting_changed = false;
+    const LevoyFrameReport again = renderer.render(still);
+    EXPECT_FALSE(again.depth_buffer_used);
+    EXPECT_EQ(again.final_image.pixels, first.final_image.pixels);
+}
+
 // levoy.after_reshade = refresh: on a light change with the observer still, each GP asks again, a few
 // blocks a message, for the blocks it used in the frame before, so it sends fewer fetch requests than
 // when it drops them, and the picture is the same. (Against an observer move on Levoy's MR head

@@ -265,6 +265,9 @@ TEST(PermFit, AStructureThatDoesNotFitIsRefusedSayingWhatItNeeds) {
     };
     expect_refused({"renderer.backing_store_bits=64"}, "renderer.backing_store_bits");
     expect_refused({"perm.residence=gp_memory", "gp.memory_bytes=100000"}, "gp.memory_bytes");
+    // With the records on the renderers every GP still holds the index volume (40^3 entries of 2 bytes)
+    // and the distance map beside its 2 MiB cache: room for the cache alone is not enough.
+    expect_refused({"gp.memory_bytes=" + std::to_string(2 * 1024 * 1024 + 4096)}, "gp.memory_bytes");
 }
 
 }  // namespace
