@@ -125,6 +125,11 @@ public:
 
     const std::vector<const Target*>& targets() const { return targets_; }
     const std::vector<int>& free() const { return free_; }
+    const std::string& machine() const { return machine_; }
+    // The same fit (machine, start, free scales, bounds) over other rows, on `model`.
+    MachineFit on(const CalibrationModel& model, std::vector<const Target*> targets) const {
+        return MachineFit(model, machine_, std::move(targets), start_, free_, bounds_);
+    }
     int simulations() const { return simulations_.load(); }
 
 private:
@@ -266,44 +271,167 @@ void evaluate_all(const CalibrationModel& model, FitReport& report) {
         r.relative_error = (r.simulated - t.reported) / t.reported;
         report.results.push_back(r);
     }
-    report.fitted = summarize(report.results, true, false);
-    report.held_out = summarize(report.results, false, true);
-    report.all = summarize(report.results, true, true);
+}
+
+
+bool ratio_uses(const WorkloadSpec& spec, const std::string& id) { return spec.numerator == id || spec.denominator == id; }
+
+// The workload parameters the model's recording was made with that came from `machine`'s rows.
+int workload_parameters_from(const CalibrationModel& model, const std::string& machine) {
+    int count = 0;
+    for (const WorkloadSpec& spec : model.targets().workload) {
+        const bool identified = std::any_of(model.workload().begin(), model.workload().end(), [&](const WorkloadSetting& w) { return w.key == spec.key; });
+        const Target* row = model.targets().find(spec.numerator);
+        count += identified && row != nullptr && row->machine == machine;
+    }
+    return count;
+}
+
+// A fitted row predicted by a fit that never saw it. When the workload step used the row, the step runs
+// again without it: parameters identified from its ratio keep the machine file's value, the others are
+// identified afresh, and the machine's rows are recorded anew with what that gives.
+TargetResult predict_left_out(const CalibrationModel& model, const MachineFit& full, std::size_t k, const FitOptions& options,
+                              const std::function<void(const std::string&)>& say) {
+    const std::vector<const Target*>& targets = full.targets();
+    const Target& left = *targets[k];
+    TargetResult result;
+    result.target = left;
+    std::vector<const Target*> rest;
+    for (std::size_t i = 0; i < targets.size(); ++i)
+        if (i != k) rest.push_back(targets[i]);
+    if (rest.size() < full.free().size()) {
+        result.leave_one_out_note = fmt::format("not possible: {} targets left for {} scales", rest.size(), full.free().size());
+        return result;
+    }
+    say(fmt::format("{}: leave-one-out: refitting without {}", full.machine(), left.id));
+
+    const bool workload_row = !model.workload().empty() &&
+                              std::any_of(model.targets().workload.begin(), model.targets().workload.end(),
+                                          [&](const WorkloadSpec& spec) { return ratio_uses(spec, left.id); });
+    std::unique_ptr<CalibrationModel> rerecorded;
+    const CalibrationModel* basis = &model;
+    if (workload_row) {
+        TargetSet without = model.targets();
+        std::erase_if(without.targets, [&](const Target& t) { return t.id == left.id; });
+        std::vector<std::string> fallen;
+        for (const WorkloadSpec& spec : without.workload)
+            if (ratio_uses(spec, left.id)) fallen.push_back(spec.key);
+        std::erase_if(without.workload, [&](const WorkloadSpec& spec) { return ratio_uses(spec, left.id); });
+        WorkloadOptions identify;
+        identify.progress = say;
+        const std::vector<IdentifiedWorkload> again = identify_workload(without, identify);
+        // The machine's rows only (the left-out one included, to predict it), recorded as the full
+        // model's are, with the workload the rest gives.
+        TargetSet rows;
+        rows.file = model.targets().file;
+        rows.name = model.targets().name;
+        for (const Target* t : targets) rows.targets.push_back(*t);
+        rerecorded = std::make_unique<CalibrationModel>(rows, recording_machine(model.targets()), workload_settings(again));
+        basis = rerecorded.get();
+        std::string note = "workload step rerun without it:";
+        for (const IdentifiedWorkload& w : again) note += fmt::format(" {} = {:.4g};", w.spec.key, w.value);
+        for (const std::string& key : fallen) note += fmt::format(" {} at the machine file's value (its ratio needs this row);", key);
+        note.pop_back();
+        result.leave_one_out_note = note;
+        // The rows as the re-recorded model holds them (the same rows, its own copies).
+        rest.clear();
+        for (const Target& t : basis->targets().targets)
+            if (t.id != left.id) rest.push_back(&t);
+    }
+    const MachineFit partial = full.on(*basis, rest);
+    std::vector<double> y = partial.log_start();
+    const ceres::Solver::Summary refit = partial.solve(y, options.max_iterations);
+    say(fmt::format("{}: leave-one-out without {}: {} iterations, {} simulations; {}", full.machine(), left.id, refit.iterations.size(),
+                    partial.simulations(), refit.termination_type == ceres::CONVERGENCE ? "converged" : "not converged: " + refit.message));
+    const Target* predicted_row = basis->targets().find(left.id);
+    const double predicted = basis->simulate(full.machine(), partial.scales(y.data()), {predicted_row}).front();
+    result.leave_one_out = predicted;
+    result.leave_one_out_error = (predicted - left.reported) / left.reported;
+    if (rest.size() == full.free().size())
+        result.leave_one_out_note += (result.leave_one_out_note.empty() ? "" : "; ") + std::string("the rest determine the scales exactly");
+    return result;
 }
 
 }  // namespace
 
-ErrorSummary summarize(const std::vector<TargetResult>& results, bool fitted, bool held_out) {
+ErrorSummary summarize(const std::vector<const TargetResult*>& results) {
     ErrorSummary s;
     std::vector<double> log_simulated, log_reported;
-    for (const TargetResult& r : results) {
-        if ((r.target.fitted && !fitted) || (!r.target.fitted && !held_out)) continue;
+    for (const TargetResult* r : results) {
         ++s.count;
-        const double e = std::abs(r.relative_error);
+        const double e = std::abs(r->relative_error);
         s.mean_absolute_error += e;
         s.max_absolute_error = std::max(s.max_absolute_error, e);
         s.within_10 += e <= 0.10;
         s.within_25 += e <= 0.25;
-        log_simulated.push_back(std::log(r.simulated));
-        log_reported.push_back(std::log(r.target.reported));
+        log_simulated.push_back(std::log(r->simulated));
+        log_reported.push_back(std::log(r->target.reported));
     }
     if (s.count > 0) s.mean_absolute_error /= s.count;
     s.log_correlation = pearson(log_simulated, log_reported);
     return s;
 }
 
+std::string_view to_string(RowGroup group) {
+    switch (group) {
+        case RowGroup::Fitted: return "fitted";
+        case RowGroup::Workload: return "workload";
+        case RowGroup::Predicted: return "predicted";
+        case RowGroup::Check: return "check";
+        case RowGroup::ByConstruction: return "by_construction";
+        case RowGroup::Comparison: return "comparison";
+    }
+    return "?";
+}
+
+std::string_view describe(RowGroup group) {
+    switch (group) {
+        case RowGroup::Fitted: return "fitted";
+        case RowGroup::Workload: return "workload step (matched in ratio, then fitted)";
+        case RowGroup::Predicted: return "predicted (held out)";
+        case RowGroup::Check: return "arithmetic checks";
+        case RowGroup::ByConstruction: return "matched by construction";
+        case RowGroup::Comparison: return "comparisons (another machine)";
+    }
+    return "?";
+}
+
+bool FitReport::used_by_workload(const Target& target) const {
+    return std::any_of(workload.begin(), workload.end(),
+                       [&](const IdentifiedWorkload& w) { return w.spec.numerator == target.id || w.spec.denominator == target.id; });
+}
+
+RowGroup FitReport::group_of(const Target& target) const {
+    if (used_by_workload(target)) return RowGroup::Workload;
+    switch (target.use) {
+        case TargetUse::Fit: return RowGroup::Fitted;
+        case TargetUse::Predict: return RowGroup::Predicted;
+        case TargetUse::Check: return RowGroup::Check;
+        case TargetUse::ByConstruction: return RowGroup::ByConstruction;
+        case TargetUse::Comparison: return RowGroup::Comparison;
+    }
+    return RowGroup::Predicted;
+}
+
+ErrorSummary FitReport::summary(RowGroup group) const {
+    std::vector<const TargetResult*> rows;
+    for (const TargetResult& r : results)
+        if (group_of(r.target) == group) rows.push_back(&r);
+    return summarize(rows);
+}
+
 std::vector<std::pair<std::string, ErrorSummary>> FitReport::by_unit() const {
-    std::vector<std::pair<std::string, ErrorSummary>> units;
+    std::vector<std::pair<std::string, std::vector<const TargetResult*>>> units;
     for (const TargetResult& r : results) {
-        if (std::none_of(units.begin(), units.end(), [&](const auto& u) { return u.first == r.target.unit; })) units.emplace_back(r.target.unit, ErrorSummary{});
+        const RowGroup group = group_of(r.target);
+        if (group != RowGroup::Fitted && group != RowGroup::Workload && group != RowGroup::Predicted) continue;
+        auto it = std::find_if(units.begin(), units.end(), [&](const auto& u) { return u.first == r.target.unit; });
+        if (it == units.end()) it = units.insert(units.end(), {r.target.unit, {}});
+        it->second.push_back(&r);
     }
-    for (auto& [unit, summary] : units) {
-        std::vector<TargetResult> rows;
-        for (const TargetResult& r : results)
-            if (r.target.unit == unit) rows.push_back(r);
-        summary = summarize(rows, true, true);
-    }
-    return units;
+    std::vector<std::pair<std::string, ErrorSummary>> summaries;
+    for (const auto& [unit, rows] : units) summaries.emplace_back(unit, summarize(rows));
+    return summaries;
 }
 
 CalibrationScales FitReport::scales(const std::string& machine) const {
@@ -340,7 +468,7 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
     for (const Target& t : model.targets().targets) {
         if (t.is_formula()) continue;  // nothing to fit
         machines.insert(t.machine);
-        if (t.fitted) fitted_by_machine[t.machine].push_back(&t);
+        if (t.fitted()) fitted_by_machine[t.machine].push_back(&t);
     }
     std::map<std::string, TargetResult> loo;
     for (const std::string& machine : machines) {
@@ -462,11 +590,16 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
                                            summary.initial_cost, summary.message));
 
         // Standard errors: Ceres' covariance at the solution, widened when the residuals spread more than
-        // their sources' stated uncertainty (reduced chi-square above 1).
+        // their sources' stated uncertainty (reduced chi-square above 1). The rows the workload step
+        // matched have spent degrees of freedom on its parameters as well as on the scales.
         const std::vector<double> r = fit.residuals(fit.scales(x.data()));
         double chi2 = 0;
         for (double v : r) chi2 += v * v;
-        const double spread = chi2 / static_cast<double>(targets.size() - free.size());
+        MachineFreedom freedom{machine, static_cast<int>(targets.size()), static_cast<int>(free.size()), workload_parameters_from(model, machine),
+                               std::numeric_limits<double>::quiet_NaN()};
+        if (freedom.degrees_of_freedom() > 0) freedom.reduced_chi_square = chi2 / freedom.degrees_of_freedom();
+        const double spread = std::isfinite(freedom.reduced_chi_square) ? freedom.reduced_chi_square : 1.0;
+        report.freedom.push_back(freedom);
         ceres::Covariance::Options cov_options;
         cov_options.algorithm_type = ceres::DENSE_SVD;
         cov_options.null_space_rank = -1;
@@ -492,8 +625,16 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
                 p.note = fmt::format("poorly determined: the standard error is {:.0f}% of the value", 100.0 * p.standard_error / p.value);
             if (!have_cov) p.note += (p.note.empty() ? "" : "; ") + std::string("covariance not computable (rank-deficient Jacobian)");
         }
-        report.notes.push_back(fmt::format("{}: residual spread (reduced chi-square) {:.3g} on {} degrees of freedom", machine, spread,
-                                           targets.size() - free.size()));
+        report.notes.push_back(
+            freedom.degrees_of_freedom() > 0
+                ? fmt::format("{}: residual spread (reduced chi-square) {:.3g} on {} degrees of freedom ({} rows, {} free scales, {} workload "
+                              "parameters)",
+                              machine, freedom.reduced_chi_square, freedom.degrees_of_freedom(), freedom.rows, freedom.free_scales,
+                              freedom.workload_parameters)
+                : fmt::format("{}: no degrees of freedom ({} rows, {} free scales, {} workload parameters): the rows determine the "
+                              "parameters exactly, so they test nothing, and the standard errors come from the rows' stated "
+                              "uncertainties alone",
+                              machine, freedom.rows, freedom.free_scales, freedom.workload_parameters));
 
         // Leave one out: refit without each fitted target, from the same start as the full fit (not from
         // its answer, which has seen the target), and predict it. The refits are independent: they run
@@ -501,33 +642,12 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
         if (options.leave_one_out) {
             std::vector<TargetResult> left_out(targets.size());
             std::mutex progress;
+            const auto say_locked = [&](const std::string& line) {
+                const std::lock_guard<std::mutex> lock(progress);
+                say(line);
+            };
             pp5::parallel_for(std::size_t{0}, targets.size(), [&](std::size_t k) {
-                TargetResult& result = left_out[k];
-                result.target = *targets[k];
-                std::vector<const Target*> rest;
-                for (std::size_t i = 0; i < targets.size(); ++i)
-                    if (i != k) rest.push_back(targets[i]);
-                if (rest.size() < free.size()) {
-                    result.leave_one_out_note = fmt::format("not possible: {} targets left for {} scales", rest.size(), free.size());
-                    return;
-                }
-                {
-                    const std::lock_guard<std::mutex> lock(progress);
-                    say(fmt::format("{}: leave-one-out: refitting without {}", machine, targets[k]->id));
-                }
-                const MachineFit partial(model, machine, rest, start, free, bounds);
-                std::vector<double> y = partial.log_start();
-                const ceres::Solver::Summary refit = partial.solve(y, options.max_iterations);
-                {
-                    const std::lock_guard<std::mutex> lock(progress);
-                    say(fmt::format("{}: leave-one-out without {}: {} iterations, {} simulations; {}", machine, targets[k]->id,
-                                    refit.iterations.size(), partial.simulations(),
-                                    refit.termination_type == ceres::CONVERGENCE ? "converged" : "not converged: " + refit.message));
-                }
-                const double predicted = model.simulate(machine, partial.scales(y.data()), {targets[k]}).front();
-                result.leave_one_out = predicted;
-                result.leave_one_out_error = (predicted - targets[k]->reported) / targets[k]->reported;
-                if (rest.size() == free.size()) result.leave_one_out_note = "the rest determine the scales exactly";
+                left_out[k] = predict_left_out(model, fit, k, options, say_locked);
             });
             for (std::size_t k = 0; k < targets.size(); ++k) loo.emplace(targets[k]->id, std::move(left_out[k]));
         }
@@ -540,13 +660,6 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
     for (std::size_t i = 0; i < report.results.size() && i < given.results.size(); ++i) report.results[i].uncalibrated = given.results[i].simulated;
     report.host_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     return report;
-}
-
-std::string FitReport::use_of(const Target& target) const {
-    std::string use = target.fitted ? "fitted" : "held out";
-    for (const IdentifiedWorkload& w : workload)
-        if (w.spec.numerator == target.id || w.spec.denominator == target.id) return use + "; workload";
-    return use;
 }
 
 nlohmann::json FitReport::to_json() const {
@@ -572,8 +685,9 @@ nlohmann::json FitReport::to_json() const {
                            {"exactness", std::string(to_string(r.target.exactness))},
                            {"simulated", r.simulated},
                            {"relative_error", r.relative_error},
-                           {"use", r.target.fitted ? "fitted" : "held-out"},
-                           {"used_by_workload_step", use_of(r.target).ends_with("workload")}};
+                           {"use", std::string(to_string(r.target.use))},
+                           {"group", std::string(to_string(group_of(r.target)))},
+                           {"used_by_workload_step", used_by_workload(r.target)}};
         if (r.target.is_formula()) {
             row["kernel"] = r.target.kernel;
             row["formula"] = r.target.formula;
@@ -586,7 +700,7 @@ nlohmann::json FitReport::to_json() const {
         if (!r.leave_one_out_note.empty()) row["leave_one_out_note"] = r.leave_one_out_note;
         rows.push_back(row);
     }
-    const auto summary = [&](const ErrorSummary& s) {
+    const auto summary_json = [&](const ErrorSummary& s) {
         return nlohmann::json{{"count", s.count},
                               {"mean_absolute_relative_error", s.mean_absolute_error},
                               {"max_absolute_relative_error", s.max_absolute_error},
@@ -602,11 +716,23 @@ nlohmann::json FitReport::to_json() const {
                               {"at_bound", w.at_bound}, {"why", w.spec.why}, {"note", w.note}});
     }
     return {{"targets", targets_name}, {"workload", identified}, {"parameters", params}, {"rows", rows},
-            {"summary", {{"fitted", summary(fitted)}, {"held_out", summary(held_out)}, {"all", summary(all)}, {"by_unit", [&] {
-                             nlohmann::json units = nlohmann::json::object();
-                             for (const auto& [unit, s] : by_unit()) units[unit] = summary(s);
-                             return units;
-                         }()}}},
+            {"summary", [&] {
+                 // Each group apart: only "predicted" holds predictions (see RowGroup).
+                 nlohmann::json groups = nlohmann::json::object();
+                 for (const RowGroup g : kRowGroups) groups[std::string(to_string(g))] = summary_json(summary(g));
+                 nlohmann::json units = nlohmann::json::object();
+                 for (const auto& [unit, s] : by_unit()) units[unit] = summary_json(s);
+                 groups["by_unit"] = units;
+                 return groups;
+             }()},
+            {"degrees_of_freedom", [&] {
+                 nlohmann::json machines = nlohmann::json::array();
+                 for (const MachineFreedom& f : freedom)
+                     machines.push_back({{"machine", f.machine}, {"fitted_rows", f.rows}, {"free_scales", f.free_scales},
+                                         {"workload_parameters", f.workload_parameters}, {"degrees_of_freedom", f.degrees_of_freedom()},
+                                         {"reduced_chi_square", nan_to_null(f.reduced_chi_square)}});
+                 return machines;
+             }()},
             {"notes", notes}, {"host_seconds", host_seconds}};
 }
 
@@ -650,17 +776,28 @@ std::string FitReport::to_markdown() const {
                               : " | ";
         md << fmt::format("| {} | {} | {} ({}) | {} | {}{} | {} | {} | {} |\n", r.target.id, formula ? "(formula: " + r.target.kernel + ")" : r.target.machine,
                           formula ? r.target.formula : r.target.metric, unit, number(r.target.reported), uncalibrated, number(r.simulated),
-                          percent(r.relative_error), use_of(r.target), loo);
+                          percent(r.relative_error), describe(group_of(r.target)), loo);
     }
-    md << "\n## Fit quality\n\n| targets | count | mean abs. error | max abs. error | within 10% | within 25% | r (log) |\n"
+    md << "\n## Fit quality\n\nEach kind of row apart: only the predicted rows test the model on figures it never saw. Rows the "
+          "workload step matched have spent their freedom on its parameters; arithmetic checks, rows matched by construction and "
+          "comparisons with another machine test something else.\n\n"
+       << "| rows | count | mean abs. error | max abs. error | within 10% | within 25% | r (log) |\n"
        << "|---|---|---|---|---|---|---|\n";
-    for (const auto& [name, s] : {std::pair{"fitted", fitted}, std::pair{"held out", held_out}, std::pair{"all", all}}) {
-        md << fmt::format("| {} | {} | {:.1f}% | {:.1f}% | {} | {} | {} |\n", name, s.count, 100.0 * s.mean_absolute_error,
+    for (const RowGroup group : kRowGroups) {
+        const ErrorSummary s = summary(group);
+        if (s.count == 0) continue;
+        md << fmt::format("| {} | {} | {:.1f}% | {:.1f}% | {} | {} | {} |\n", describe(group), s.count, 100.0 * s.mean_absolute_error,
                           100.0 * s.max_absolute_error, s.within_10, s.within_25, number(s.log_correlation));
+    }
+    if (!freedom.empty()) {
+        md << "\n| machine | fitted rows | free scales | workload parameters | degrees of freedom | reduced chi-square |\n|---|---|---|---|---|---|\n";
+        for (const MachineFreedom& f : freedom)
+            md << fmt::format("| {} | {} | {} | {} | {} | {} |\n", f.machine, f.rows, f.free_scales, f.workload_parameters, f.degrees_of_freedom(),
+                              number(f.reduced_chi_square));
     }
     const auto units = by_unit();
     if (units.size() > 1) {
-        md << "\nBy the metric's unit (fitted and held out together):\n\n| unit | count | mean abs. error | max abs. error | within 10% | within 25% |\n"
+        md << "\nBy the metric's unit (fitted, workload and predicted rows together):\n\n| unit | count | mean abs. error | max abs. error | within 10% | within 25% |\n"
            << "|---|---|---|---|---|---|\n";
         for (const auto& [unit, s] : units)
             md << fmt::format("| {} | {} | {:.1f}% | {:.1f}% | {} | {} |\n", unit, s.count, 100.0 * s.mean_absolute_error, 100.0 * s.max_absolute_error,
@@ -671,7 +808,7 @@ std::string FitReport::to_markdown() const {
     for (const TargetResult& r : results) {
         if (std::abs(r.relative_error) <= 0.25) continue;
         any = true;
-        md << fmt::format("- `{}` ({}): reported {} {}, simulated {} ({})\n", r.target.id, r.target.fitted ? "fitted" : "held out",
+        md << fmt::format("- `{}` ({}): reported {} {}, simulated {} ({})\n", r.target.id, describe(group_of(r.target)),
                           number(r.target.reported), r.target.unit, number(r.simulated), percent(r.relative_error));
     }
     if (!any) md << "None.\n";
@@ -697,9 +834,13 @@ std::string fitted_machine_file(const CalibrationModel& model, const FitReport& 
     const std::string stem = std::filesystem::path(machine).stem().string();
     out << fmt::format("# {}-fitted: the {} machine with its calibration.* scales fitted by `pp5sim fit` to the targets of {}\n",
                        stem, stem, model.targets().file.string());
-    out << fmt::format("# ({}). Targets within 10%: {} of {} fitted, {} of {} held out; mean error {:.1f}% fitted, {:.1f}% held out.\n",
-                       model.targets().name, report.fitted.within_10, report.fitted.count, report.held_out.within_10,
-                       report.held_out.count, 100.0 * report.fitted.mean_absolute_error, 100.0 * report.held_out.mean_absolute_error);
+    const ErrorSummary fitted = report.summary(RowGroup::Fitted);
+    const ErrorSummary workload_rows = report.summary(RowGroup::Workload);
+    const ErrorSummary predicted = report.summary(RowGroup::Predicted);
+    out << fmt::format("# ({}). Targets within 10%: {} of {} fitted, {} of {} workload rows, {} of {} predicted; mean error {:.1f}% fitted, "
+                       "{:.1f}% predicted.\n",
+                       model.targets().name, fitted.within_10, fitted.count, workload_rows.within_10, workload_rows.count, predicted.within_10,
+                       predicted.count, 100.0 * fitted.mean_absolute_error, 100.0 * predicted.mean_absolute_error);
     out << "# The fit's report (fit.md, fit.json) is beside this file; below are the preset as it was and the fitted\n"
            "# [calibration] table. Use it with: pp5sim render --machine <this file>\n\n";
     // The workload step's values go into their tables ("levoy.refinement_threshold": [levoy]), replacing

@@ -9,7 +9,13 @@
 // reported as not identifiable and held at 1. A machine frees fewer scales than half its fitted targets:
 // beyond that, the scale that moves them least is held too.
 // After the fit: standard errors from Ceres' covariance (scaled up by the residuals' spread when it
-// exceeds their stated uncertainty), and the leave-one-out prediction of every fitted target.
+// exceeds their stated uncertainty), and the leave-one-out prediction of every fitted target. A row the
+// workload step used is left out of that step too: its parameters are identified again without it (or
+// fall back to the machine file's value when they came from it), so no prediction has seen its row.
+//
+// Rows are counted apart by what they are for (RowGroup): only predictions make the predicted totals.
+// A machine's degrees of freedom are its fitted rows less its free scales and the workload parameters
+// identified from its rows.
 
 #include "calibration/targets.h"
 #include "calibration/timing_model.h"
@@ -47,6 +53,24 @@ struct TargetResult {
     std::string leave_one_out_note;
 };
 
+// Where a row's error is counted: fitted rows, rows the workload step matched (whatever their use),
+// predictions, and the rows that test something other than the model (TargetUse).
+enum class RowGroup { Fitted, Workload, Predicted, Check, ByConstruction, Comparison };
+inline constexpr RowGroup kRowGroups[] = {RowGroup::Fitted, RowGroup::Workload, RowGroup::Predicted,
+                                          RowGroup::Check, RowGroup::ByConstruction, RowGroup::Comparison};
+std::string_view to_string(RowGroup group);  // "fitted", "workload", "predicted", "check", ...
+std::string_view describe(RowGroup group);   // a heading for the report
+
+// How freely one machine's fit is determined.
+struct MachineFreedom {
+    std::string machine;
+    int rows = 0;                 // its fitted rows, the workload step's among them
+    int free_scales = 0;
+    int workload_parameters = 0;  // identified from its rows' ratios
+    double reduced_chi_square = 0.0;  // NaN without degrees of freedom
+    int degrees_of_freedom() const { return rows - free_scales - workload_parameters; }
+};
+
 struct ErrorSummary {
     int count = 0;
     double mean_absolute_error = 0.0;  // of relative errors
@@ -61,18 +85,18 @@ struct FitReport {
     std::vector<IdentifiedWorkload> workload;  // the workload step's results, before the fit (workload.h)
     std::vector<FittedParameter> parameters;
     std::vector<TargetResult> results;
-    ErrorSummary fitted;
-    ErrorSummary held_out;
-    ErrorSummary all;
-    // Every row's errors by the metric's unit (s, 1/s, ratio...): figures in different units are
-    // judged apart, as their plots are drawn apart.
+    std::vector<MachineFreedom> freedom;  // machines with free scales
+
+    RowGroup group_of(const Target& target) const;
+    ErrorSummary summary(RowGroup group) const;
+    // The model's rows (fitted, workload and predicted) by the metric's unit (s, 1/s, ratio...):
+    // figures in different units are judged apart, as their plots are drawn apart.
     std::vector<std::pair<std::string, ErrorSummary>> by_unit() const;
     std::vector<std::string> notes;  // per machine: iterations, cost, termination
     double host_seconds = 0.0;
 
     CalibrationScales scales(const std::string& machine) const;
-    // "fitted", "held out", with "; workload" when the workload step used the row.
-    std::string use_of(const Target& target) const;
+    bool used_by_workload(const Target& target) const;
     nlohmann::json to_json() const;
     std::string to_markdown() const;
 };
@@ -92,6 +116,6 @@ FitReport evaluate_targets(const CalibrationModel& model, const std::map<std::st
 // standard errors as comments), named "<name>-fitted".
 std::string fitted_machine_file(const CalibrationModel& model, const FitReport& report, const std::string& machine);
 
-ErrorSummary summarize(const std::vector<TargetResult>& results, bool fitted, bool held_out);
+ErrorSummary summarize(const std::vector<const TargetResult*>& results);
 
 }  // namespace pp5

@@ -158,6 +158,28 @@ std::string_view to_string(Exactness exactness) {
     return "?";
 }
 
+std::string_view to_string(TargetUse use) {
+    switch (use) {
+        case TargetUse::Fit: return "fit";
+        case TargetUse::Predict: return "held-out";
+        case TargetUse::Check: return "check";
+        case TargetUse::ByConstruction: return "by-construction";
+        case TargetUse::Comparison: return "comparison";
+    }
+    return "?";
+}
+
+std::string_view describe(TargetUse use) {
+    switch (use) {
+        case TargetUse::Fit: return "fitted";
+        case TargetUse::Predict: return "predicted";
+        case TargetUse::Check: return "arithmetic check";
+        case TargetUse::ByConstruction: return "matched by construction";
+        case TargetUse::Comparison: return "comparison (another machine)";
+    }
+    return "?";
+}
+
 double relative_uncertainty(Exactness exactness) {
     switch (exactness) {
         case Exactness::Measured: return 0.10;
@@ -193,8 +215,11 @@ void read_value_fields(const toml::table& row, const std::string& file, const st
     else throw InputError(file, prefix + "exactness", "must be measured, estimate or order-of-magnitude, not \"" + exactness + "\"");
 
     const std::string use = text_field(row, file, prefix, "use", true);
-    if (use != "fit" && use != "held-out") throw InputError(file, prefix + "use", "must be fit or held-out, not \"" + use + "\"");
-    t.fitted = use == "fit";
+    constexpr TargetUse kUses[] = {TargetUse::Fit, TargetUse::Predict, TargetUse::Check, TargetUse::ByConstruction, TargetUse::Comparison};
+    const auto* known = std::find_if(std::begin(kUses), std::end(kUses), [&](TargetUse u) { return to_string(u) == use; });
+    if (known == std::end(kUses))
+        throw InputError(file, prefix + "use", "must be fit, held-out, check, by-construction or comparison, not \"" + use + "\"");
+    t.use = *known;
 }
 
 // kernel, formula and inputs: a figure the kernel computes from a description; nothing to fit.
@@ -202,7 +227,10 @@ void read_formula_row(const toml::table& row, const std::string& file, const std
     t.kernel = text_field(row, file, prefix, "kernel", true);
     t.formula = text_field(row, file, prefix, "formula", true);
     read_value_fields(row, file, prefix, t);
-    if (t.fitted) throw InputError(file, prefix + "use", "a formula row depends on no timing parameter, so it cannot be fitted: use held-out");
+    if (t.use != TargetUse::Check)
+        throw InputError(file, prefix + "use",
+                         "a formula row recomputes a paper's own equation: it predicts nothing and depends on no timing "
+                         "parameter, so its use is \"check\"");
     const Kernel* kernel = find_kernel(t.kernel);
     if (kernel == nullptr) throw InputError(file, prefix + "kernel", "unknown kernel \"" + t.kernel + "\"");
     const std::vector<KernelFormula> formulas = kernel->formulas();
@@ -273,7 +301,7 @@ TargetSet load_targets(const std::filesystem::path& path) {
         if (!row) throw InputError(file, prefix.substr(0, prefix.size() - 1), "must be a table");
         const bool formula_row = row->contains("formula");
         static const std::set<std::string> known{"id", "source", "quote", "scenario", "frame", "machine", "metric",
-                                                 "reported", "exactness", "use", "divided_by_frame"};
+                                                 "reported", "exactness", "use", "divided_by_frame", "assumes"};
         static const std::set<std::string> known_formula{"id", "source", "quote", "kernel", "formula", "inputs", "reported", "exactness", "use"};
         for (const auto& [k, v] : *row) {
             if (!(formula_row ? known_formula : known).count(std::string(k.str())))
@@ -281,7 +309,7 @@ TargetSet load_targets(const std::filesystem::path& path) {
                                  formula_row ? "unknown field for a formula row; it has id, source, quote, kernel, formula, inputs, "
                                                "reported, exactness and use"
                                              : "unknown field; a target has id, source, quote, scenario, frame, machine, metric, "
-                                               "divided_by_frame, reported, exactness and use (or kernel, formula and inputs)");
+                                               "divided_by_frame, reported, exactness, use and assumes (or kernel, formula and inputs)");
         }
         Target t;
         t.id = text_field(*row, file, prefix, "id", true);
@@ -293,12 +321,17 @@ TargetSet load_targets(const std::filesystem::path& path) {
             set.targets.push_back(std::move(t));
             continue;
         }
+        t.assumes = text_field(*row, file, prefix, "assumes", false);
         t.scenario = text_field(*row, file, prefix, "scenario", true);
         t.machine = text_field(*row, file, prefix, "machine", true);
 
         t.metric = text_field(*row, file, prefix, "metric", true);
 
         read_value_fields(*row, file, prefix, t);
+        if (t.use == TargetUse::Check)
+            throw InputError(file, prefix + "use",
+                             "\"check\" is for formula rows (a paper's equation recomputed); a simulated row is fit, held-out, "
+                             "by-construction or comparison");
 
         // The scenario and machine must exist, and the frame be one of the scenario's.
         const Scenario scenario = scenario_named(t.scenario, file, prefix);

@@ -22,10 +22,23 @@ enum class Exactness {
 std::string_view to_string(Exactness exactness);
 double relative_uncertainty(Exactness exactness);
 
+// What a row is for, which decides where its error is counted: only predictions test the model on
+// figures it never saw, so only they make the predicted (held-out) totals.
+enum class TargetUse {
+    Fit,             // "fit": the scales are chosen to match it
+    Predict,         // "held-out": never fitted, predicted by the fitted model
+    Check,           // "check": a paper's own equation recomputed (formula rows); tests arithmetic, not the model
+    ByConstruction,  // "by-construction": an input of its scenario was chosen to match it (a view distance)
+    Comparison,      // "comparison": the paper's figure for another machine, beside the simulated machine's
+};
+std::string_view to_string(TargetUse use);  // the file's word
+std::string_view describe(TargetUse use);   // the report's: "fitted", "predicted", "arithmetic check"...
+
 struct Target {
     std::string id;
     std::string source;    // paper and section
     std::string quote;     // the words the figure comes from, or a paraphrase
+    std::string assumes;   // optional: the paper's reasoning behind the figure, shown when the row misses it
     std::string scenario;  // a scenario name or file
     int frame = 0;         // index into the scenario's frames
     std::string machine;   // preset name or machine file
@@ -34,9 +47,10 @@ struct Target {
     int divided_by_frame = -1;  // >= 0: the metric at `frame` over its value at this frame (a ratio)
     double reported = 0.0;
     Exactness exactness = Exactness::Estimate;
-    bool fitted = true;  // false: held out, predicted only
+    TargetUse use = TargetUse::Fit;
+    bool fitted() const { return use == TargetUse::Fit; }
     // A formula row instead (no scenario, frame or machine): a kernel's figure computed from a
-    // description (Kernel::formulas), always held out.
+    // description (Kernel::formulas), always an arithmetic check.
     std::string kernel;
     std::string formula;
     std::map<std::string, std::vector<double>> inputs;

@@ -140,7 +140,10 @@ const RecordedScenario& CalibrationModel::recording(const std::string& scenario)
 
 std::vector<double> CalibrationModel::simulate(const std::string& machine, const CalibrationScales& scales,
                                                const std::vector<const Target*>& targets) const {
-    const MachineConfig config = machine_config(machine, scales);
+    return simulate_on(machine_config(machine, scales), targets);
+}
+
+std::vector<double> CalibrationModel::simulate_on(const MachineConfig& config, const std::vector<const Target*>& targets) const {
     // Each scenario timed once per call, up to the last frame these targets read.
     std::map<std::string, std::size_t> frames_read;
     for (const Target* t : targets)

@@ -87,6 +87,8 @@ public:
     // The targets' simulated values, on their machine with `scales` applied.
     std::vector<double> simulate(const std::string& machine, const CalibrationScales& scales,
                                  const std::vector<const Target*>& targets) const;
+    // The same on a configuration of one of the targets' machines, changed in timing only.
+    std::vector<double> simulate_on(const MachineConfig& config, const std::vector<const Target*>& targets) const;
     // A formula row's value (Target::is_formula), from its kernel.
     double formula_value(const Target& target) const;
     // The machine's configuration (its preset or file) with `scales` applied.

@@ -7,6 +7,7 @@
 //            against the number of GPs for a crude and a refined frame.
 
 #include "calibration/fit.h"
+#include "calibration/residuals.h"
 #include "calibration/host_check.h"
 #include "calibration/targets.h"
 #include "calibration/timing_model.h"
@@ -106,8 +107,10 @@ void print_summary(const FitReport& report) {
         if (!p.free) continue;
         fmt::print("  {} {} = {:.4g} +/- {:.2g}{}\n", p.machine, p.key, p.value, p.standard_error, p.at_bound ? " (at bound)" : "");
     }
-    for (const auto& [name, s] : {std::pair{"fitted", report.fitted}, std::pair{"held out", report.held_out}}) {
-        fmt::print("  {}: {} targets, mean abs. error {:.1f}%, max {:.1f}%, {} within 10%, {} within 25%\n", name, s.count,
+    for (const RowGroup group : kRowGroups) {
+        const ErrorSummary s = report.summary(group);
+        if (s.count == 0) continue;
+        fmt::print("  {}: {} targets, mean abs. error {:.1f}%, max {:.1f}%, {} within 10%, {} within 25%\n", describe(group), s.count,
                    100.0 * s.mean_absolute_error, 100.0 * s.max_absolute_error, s.within_10, s.within_25);
     }
 }
@@ -120,7 +123,7 @@ std::filesystem::path output_folder(const CalibrateOptions& o, const char* comma
 }
 
 bool has_fitted_rows(const TargetSet& targets) {
-    return std::any_of(targets.targets.begin(), targets.targets.end(), [](const Target& t) { return t.fitted && !t.is_formula(); });
+    return std::any_of(targets.targets.begin(), targets.targets.end(), [](const Target& t) { return t.fitted() && !t.is_formula(); });
 }
 
 int run_fit(const CalibrateOptions& o) {
@@ -129,7 +132,7 @@ int run_fit(const CalibrateOptions& o) {
     const std::filesystem::path targets_file = resolve_targets_file(o.targets);
     if (!has_fitted_rows(load_targets(targets_file)))
         throw InputError(targets_file.string(), "targets",
-                         "no row is to be fitted (every one is held out or a formula): nothing to fit; set use = \"fit\" on "
+                         "no row is to be fitted (every one is held out, a check, by construction or a comparison): nothing to fit; set use = \"fit\" on "
                          "some, or compare them with `pp5sim reproduce --uncalibrated`");
     std::optional<tbb::global_control> parallelism;
     const Prepared prepared = prepare(o, parallelism);
@@ -162,12 +165,13 @@ std::vector<std::pair<std::string, PlotSpec>> reported_vs_simulated(const FitRep
         spec.x_label = "reported (" + unit + ")";
         spec.y_label = "simulated (" + unit + ")";
         spec.log_x = spec.log_y = true;
-        PlotSeries fitted{"fitted targets", {}, {}, "points pt 7 ps 1.4 lc rgb '#1f77b4'"};
-        PlotSeries held{"held-out targets", {}, {}, "points pt 5 ps 1.4 lc rgb '#d62728'"};
+        PlotSeries fitted{"fitted targets (and the workload step's)", {}, {}, "points pt 7 ps 1.4 lc rgb '#1f77b4'"};
+        PlotSeries held{"predicted targets", {}, {}, "points pt 5 ps 1.4 lc rgb '#d62728'"};
         PlotSeries uncalibrated{"uncalibrated (documented costs)", {}, {}, "points pt 6 ps 1.2 lc rgb 'gray'"};
         for (const TargetResult& r : report.results) {
-            if (r.target.unit != unit) continue;
-            PlotSeries& s = r.target.fitted ? fitted : held;
+            const RowGroup group = report.group_of(r.target);
+            if (r.target.unit != unit || (group != RowGroup::Fitted && group != RowGroup::Workload && group != RowGroup::Predicted)) continue;
+            PlotSeries& s = group == RowGroup::Predicted ? held : fitted;
             s.x.push_back(r.target.reported);
             s.y.push_back(r.simulated);
             if (r.uncalibrated) {
@@ -245,11 +249,15 @@ int run_reproduce(const CalibrateOptions& o) {
         stage_fit(output, *model, report);
     }
 
-    // The table: every target with the (fitted) machines.
+    // The table: every target with the (fitted) machines, and why each row that misses does.
+    say("explaining the rows more than 10% off (re-timing each machine with every timing parameter moved)");
+    const std::vector<ResidualAccount> residuals = explain_residuals(*model, report);
     const nlohmann::json table = report.to_json();
     output.add_text("reproduction.json", nlohmann::json{{"targets", report.targets_name}, {"calibrated", !uncalibrated},
-                                                        {"rows", table["rows"]}, {"summary", table["summary"]}}.dump(2) + "\n");
-    std::string markdown = report.to_markdown();
+                                                        {"rows", table["rows"]}, {"summary", table["summary"]},
+                                                        {"degrees_of_freedom", table["degrees_of_freedom"]},
+                                                        {"residuals", residuals_json(residuals)}}.dump(2) + "\n");
+    std::string markdown = report.to_markdown() + residuals_markdown(residuals);
 
     // Figure-like images from the recorded frames (what is computed does not depend on the machine's timing).
     // The target file's [[figures]].

@@ -461,7 +461,8 @@ TEST(Cli, ReproduceWritesTheTableImagesAndPlots) {
         EXPECT_GT(row["simulated"].get<double>(), 0.0) << row;
         EXPECT_NEAR(row["relative_error"].get<double>(),
                     (row["simulated"].get<double>() - row["reported"].get<double>()) / row["reported"].get<double>(), 1e-12);
-        EXPECT_TRUE(row["use"] == "fitted" || row["use"] == "held-out") << row;
+        EXPECT_TRUE(row["use"] == "fit" || row["use"] == "held-out") << row;
+        EXPECT_TRUE(row["group"] == "fitted" || row["group"] == "predicted") << row;
         EXPECT_GT(row["uncalibrated"].get<double>(), 0.0) << row;  // the documented costs' value beside the fit's
     }
     // Errors judged by unit: every row here is in seconds.

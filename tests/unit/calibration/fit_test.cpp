@@ -49,7 +49,7 @@ TargetSet synthetic_targets(const test::CalibrationFiles& files, const Calibrati
                    make_target(files, "light-pp", 2, "pp_seconds"),
                    make_target(files, "light-refined", 2, "refined_seconds"),
                    make_target(files, "light-crude", 2, "crude_seconds")};
-    set.targets.back().fitted = false;  // one held out, predicted only
+    set.targets.back().use = TargetUse::Predict;  // one held out, predicted only
     const CalibrationModel generator(set, load_run_config(files.machine.string(), {}));
     std::vector<const Target*> all;
     for (const Target& t : generator.targets().targets) all.push_back(&t);
@@ -85,14 +85,17 @@ TEST(Fit, RecoversTheScalesItsTargetsWereMadeWith) {
     ASSERT_EQ(report.results.size(), set.targets.size());
     for (const TargetResult& r : report.results) {
         EXPECT_LT(std::abs(r.relative_error), 0.01) << r.target.id;
-        if (r.target.fitted) {
+        if (r.target.fitted()) {
             ASSERT_TRUE(r.leave_one_out_error.has_value()) << r.target.id;
             EXPECT_LT(std::abs(*r.leave_one_out_error), 0.05) << r.target.id;
         }
     }
-    EXPECT_EQ(report.fitted.count, 7);
-    EXPECT_EQ(report.held_out.count, 1);
-    EXPECT_EQ(report.all.within_10, 8);
+    EXPECT_EQ(report.summary(RowGroup::Fitted).count, 7);
+    EXPECT_EQ(report.summary(RowGroup::Predicted).count, 1);
+    EXPECT_EQ(report.summary(RowGroup::Fitted).within_10 + report.summary(RowGroup::Predicted).within_10, 8);
+    // Seven rows, three free scales, no workload parameters.
+    ASSERT_EQ(report.freedom.size(), 1u);
+    EXPECT_EQ(report.freedom[0].degrees_of_freedom(), 4);
 
     // The fitted machine file carries the values and loads as a machine, under a header of its own
     // that says what it was fitted to and how well.
@@ -100,7 +103,7 @@ TEST(Fit, RecoversTheScalesItsTargetsWereMadeWith) {
     const std::string stem = files.machine.stem().string();
     EXPECT_EQ(text.rfind("# " + stem + "-fitted: the " + stem + " machine with its calibration.* scales fitted", 0), 0u) << text;
     EXPECT_NE(text.find(set.file.string()), std::string::npos) << text;
-    EXPECT_NE(text.find("Targets within 10%: 7 of 7 fitted, 1 of 1 held out"), std::string::npos) << text;
+    EXPECT_NE(text.find("Targets within 10%: 7 of 7 fitted, 0 of 0 workload rows, 1 of 1 predicted"), std::string::npos) << text;
     const std::filesystem::path fitted_file = files.dir / "tiny-fitted.toml";
     std::ofstream(fitted_file) << text;
     const MachineConfig reloaded = load_run_config(fitted_file.string(), {});
@@ -131,7 +134,7 @@ TEST(Fit, FreesFewerScalesThanHalfItsTargets) {
     const test::CalibrationFiles files = test::write_calibration_files("parsimony");
     TargetSet set = synthetic_targets(files, CalibrationScales{1.8, 0.6, 1.3});
     set.targets.resize(5);  // four fitted rows and the held-out one: room for one free scale
-    set.targets.back().fitted = false;
+    set.targets.back().use = TargetUse::Predict;
     const CalibrationModel model(set, load_run_config(files.machine.string(), {}));
     FitOptions options;
     options.leave_one_out = false;
@@ -242,7 +245,8 @@ TEST(Targets, BadRowsNameTheFieldAndTheReason) {
     expect_error("machine", "\"no-such-machine\"", "no-such-machine");
     expect_error("reported", "-1.0", "positive");
     expect_error("exactness", "\"roughly\"", "measured, estimate or order-of-magnitude");
-    expect_error("use", "\"maybe\"", "fit or held-out");
+    expect_error("use", "\"maybe\"", "fit, held-out, check, by-construction or comparison");
+    expect_error("use", "\"check\"", "for formula rows");
     expect_error("id", "", "is missing");
     expect_error("divided_by_frame", "9", "0 to 2");
     expect_error("divided_by_frame", "1", "must differ");
@@ -299,18 +303,27 @@ TEST(Targets, FiguresShowFramesTheTargetsRecord) {
     expect_error("name = \"x\"\nscenario = \"" + files.scenario.string() + "\"\ncolour = 1\n", "figures[0].colour");
 }
 
+// The ids of a shipped file's rows with one use, in file order.
+std::vector<std::string> rows_with_use(const TargetSet& set, TargetUse use) {
+    std::vector<std::string> ids;
+    for (const Target& t : set.targets)
+        if (t.use == use) ids.push_back(t.id);
+    return ids;
+}
+
 TEST(Targets, TheShippedLevoyFileLoads) {
     const TargetSet set = load_targets(resolve_targets_file(kDefaultTargets));
     EXPECT_GE(set.targets.size(), 14u);
     EXPECT_EQ(set.figures.size(), 5u);
-    int fitted = 0, sun = 0;
-    for (const Target& t : set.targets) {
-        fitted += t.fitted;
-        sun += t.machine == "sun4-280";
-    }
-    EXPECT_GT(fitted, 0);
-    EXPECT_LT(fitted, static_cast<int>(set.targets.size()));  // some held out
-    EXPECT_EQ(sun, 3);                                        // Levoy's three Sun 4/280 measurements
+    int sun = 0;
+    for (const Target& t : set.targets) sun += t.machine == "sun4-280";
+    EXPECT_EQ(sun, 3);  // Levoy's three Sun 4/280 measurements
+    // Which rows the predicted totals count: the Pixel-planes 5 estimates the fit never sees.
+    EXPECT_EQ(rows_with_use(set, TargetUse::Predict),
+              (std::vector<std::string>{"region-crude", "region-refined", "classification-crude", "classification-refined", "set-change-crude"}));
+    // The Sun rows are fitted, after the workload step has matched their ratios.
+    for (const WorkloadSpec& w : set.workload)
+        for (const std::string& id : {w.numerator, w.denominator}) EXPECT_EQ(set.find(id)->machine, "sun4-280") << w.key;
 }
 
 TEST(Targets, FormulaRowsAreAKernelsFigureFromItsInputs) {
@@ -323,7 +336,7 @@ TEST(Targets, FormulaRowsAreAKernelsFigureFromItsInputs) {
     };
     const std::string good = "kernel = \"wilson\"\nformula = \"storage_megabytes\"\n"
                              "inputs = { low_resolution = [256, 256, 256], points = 361000, error_grid = [512, 512, 512] }\n"
-                             "reported = 37.0\nexactness = \"estimate\"\nuse = \"held-out\"\n";
+                             "reported = 37.0\nexactness = \"estimate\"\nuse = \"check\"\n";
     const TargetSet set = load_targets(file_with(good));
     ASSERT_TRUE(set.targets.at(0).is_formula());
     EXPECT_EQ(set.targets[0].unit, "MB");
@@ -344,7 +357,8 @@ TEST(Targets, FormulaRowsAreAKernelsFigureFromItsInputs) {
     const auto replace = [&](std::string text, const std::string& from, const std::string& to) {
         return text.replace(text.find(from), from.size(), to);
     };
-    expect_error(replace(good, "held-out", "fit"), "targets[0].use");
+    expect_error(replace(good, "\"check\"", "\"fit\""), "targets[0].use");
+    expect_error(replace(good, "\"check\"", "\"held-out\""), "targets[0].use");
     expect_error(replace(good, "storage_megabytes", "volume"), "targets[0].formula");
     expect_error(replace(good, "kernel = \"wilson\"", "kernel = \"nobody\""), "targets[0].kernel");
     expect_error(replace(good, "points = 361000", "points = -5"), "targets[0].inputs");
@@ -358,11 +372,10 @@ TEST(Targets, FormulaRowsAreAKernelsFigureFromItsInputs) {
 TEST(Targets, TheShippedWilsonFileLoads) {
     const TargetSet set = load_targets(resolve_targets_file("wilson02"));
     int formulas = 0;
-    for (const Target& t : set.targets) {
-        EXPECT_FALSE(t.fitted) << t.id;
-        formulas += t.is_formula();
-    }
+    for (const Target& t : set.targets) formulas += t.is_formula();
     EXPECT_EQ(formulas, 12);
+    EXPECT_EQ(rows_with_use(set, TargetUse::Check).size(), 12u);  // the paper's equations recomputed
+    EXPECT_EQ(rows_with_use(set, TargetUse::Predict), (std::vector<std::string>{"threshold-trend-mr-head"}));
     EXPECT_EQ(set.figures.size(), 2u);
 }
 
@@ -379,9 +392,15 @@ TEST(Targets, TheShippedYuanFileLoads) {
     const TargetSet set = load_targets(resolve_targets_file("yuan03"));
     int ratios = 0;
     for (const Target& t : set.targets) {
-        EXPECT_FALSE(t.fitted) << t.id;  // a different machine: every row is a comparison
+        EXPECT_FALSE(t.fitted()) << t.id;  // nothing here calibrates the machines
         ratios += t.divided_by_frame >= 0;
     }
+    // The view distance of the mixed view was chosen to give the paper's splat fraction; the Pixel-planes 5
+    // rows are the paper's P4 ratios beside another machine's. Neither is a prediction.
+    EXPECT_EQ(rows_with_use(set, TargetUse::ByConstruction), (std::vector<std::string>{"checker-mixed-splat-fraction"}));
+    EXPECT_EQ(rows_with_use(set, TargetUse::Comparison),
+              (std::vector<std::string>{"checker-splat-point-ratio-pxpl5", "checker-mixed-point-ratio-pxpl5", "skull-splat-point-ratio-pxpl5"}));
+    EXPECT_EQ(rows_with_use(set, TargetUse::Predict).size(), 9u);
     EXPECT_GE(ratios, 4);
     EXPECT_EQ(set.figures.size(), 3u);
 }

@@ -91,6 +91,45 @@ TEST(Workload, TheFittedMachineFileCarriesTheIdentifiedValues) {
     EXPECT_NEAR(config.real("levoy.refinement_threshold"), report.workload[0].value, 1e-5);
 }
 
+// Leaving out a row the workload step used runs the step again without it: its parameter falls back to
+// the machine file's value, so the prediction never saw the row. The machine's degrees of freedom count
+// the workload parameter beside the scale.
+TEST(Workload, LeaveOneOutIdentifiesTheWorkloadAgainWithoutTheRow) {
+    const test::CalibrationFiles files = test::write_calibration_files("workload_loo");
+    TargetSet set = refinement_rows(files, 0.03);
+    Target third = row(files, "still", "crude_seconds");  // a third fitted row, so that one scale may be free
+    third.frame = 2;
+    {
+        const CalibrationModel generator(TargetSet{set.file, set.name, {}, {third}, {}, {}}, std::nullopt,
+                                         {{"levoy.refinement_threshold", 0.03, false}});
+        third.reported = generator.simulate(files.machine.string(), CalibrationScales{}, {&generator.targets().targets[0]}).front();
+    }
+    set.targets.push_back(third);
+    const std::vector<IdentifiedWorkload> found = identify_workload(set, {});
+    const CalibrationModel model(set, std::nullopt, workload_settings(found));
+    FitReport report = fit_targets(model, {});
+    report.workload = found;
+
+    ASSERT_EQ(report.freedom.size(), 1u);
+    EXPECT_EQ(report.freedom[0].rows, 3);
+    EXPECT_EQ(report.freedom[0].workload_parameters, 1);
+    EXPECT_EQ(report.freedom[0].degrees_of_freedom(), 3 - report.freedom[0].free_scales - 1);
+    for (const TargetResult& r : report.results) {
+        EXPECT_EQ(report.group_of(r.target), r.target.id == "still" ? RowGroup::Fitted : RowGroup::Workload) << r.target.id;
+        ASSERT_TRUE(r.leave_one_out.has_value()) << r.target.id << ": " << r.leave_one_out_note;
+        if (r.target.id == "still") {
+            EXPECT_EQ(r.leave_one_out_note.find("workload"), std::string::npos) << r.leave_one_out_note;
+            continue;
+        }
+        EXPECT_NE(r.leave_one_out_note.find("levoy.refinement_threshold at the machine file's value"), std::string::npos)
+            << r.target.id << ": " << r.leave_one_out_note;
+    }
+    // Without its ratio the threshold is the file's 0.1, which refines far less than the 0.03 the rows
+    // were made with: the refinement row's honest prediction misses it.
+    const auto refinement = std::find_if(report.results.begin(), report.results.end(), [](const TargetResult& r) { return r.target.id == "refinement"; });
+    EXPECT_LT(*refinement->leave_one_out_error, -0.1) << *refinement->leave_one_out;
+}
+
 std::filesystem::path workload_file(const test::CalibrationFiles& files, const std::string& workload) {
     const std::filesystem::path path = files.dir / "targets-workload.toml";
     std::ofstream out(path);
