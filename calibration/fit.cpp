@@ -352,6 +352,41 @@ TargetResult predict_left_out(const CalibrationModel& model, const MachineFit& f
     return result;
 }
 
+
+// Each simulated row's 95% interval from the fitted scales' covariance: var(ln y) = J C J^T, with J the
+// row's elasticities to the free scales (central differences of 5% in the logarithm, as the fit's own
+// Jacobian), the re-timings of each machine run side by side.
+void add_fit_intervals(const CalibrationModel& model, FitReport& report) {
+    constexpr double kLogStep = 0.05;
+    constexpr double kTwoSided95 = 1.959964;
+    for (const MachineFreedom& f : report.freedom) {
+        if (f.log_covariance.empty()) continue;
+        std::vector<TargetResult*> rows;
+        std::vector<const Target*> targets;
+        for (TargetResult& r : report.results)
+            if (!r.target.is_formula() && r.target.machine == f.machine) rows.push_back(&r), targets.push_back(&r.target);
+        const CalibrationScales at = report.scales(f.machine);
+        const std::size_t n = f.free_keys.size();
+        std::vector<std::vector<double>> runs(2 * n);
+        pp5::parallel_for(std::size_t{0}, runs.size(), [&](std::size_t run) {
+            CalibrationScales moved = at;
+            const auto spec = std::find_if(std::begin(kScales), std::end(kScales), [&](const ScaleSpec& s) { return key_of(s) == f.free_keys[run / 2]; });
+            moved.*spec->member *= std::exp(run % 2 == 0 ? kLogStep : -kLogStep);
+            runs[run] = model.simulate(f.machine, moved, targets);
+        });
+        for (std::size_t r = 0; r < rows.size(); ++r) {
+            std::vector<double> j(n);
+            for (std::size_t i = 0; i < n; ++i) j[i] = std::log(runs[2 * i][r] / runs[2 * i + 1][r]) / (2.0 * kLogStep);
+            double variance = 0.0;
+            for (std::size_t a = 0; a < n; ++a)
+                for (std::size_t b = 0; b < n; ++b) variance += j[a] * f.log_covariance[a * n + b] * j[b];
+            const double half = kTwoSided95 * std::sqrt(std::max(0.0, variance));
+            rows[r]->low = rows[r]->simulated * std::exp(-half);
+            rows[r]->high = rows[r]->simulated * std::exp(half);
+        }
+    }
+}
+
 }  // namespace
 
 ErrorSummary summarize(const std::vector<const TargetResult*>& results) {
@@ -599,7 +634,6 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
                                std::numeric_limits<double>::quiet_NaN()};
         if (freedom.degrees_of_freedom() > 0) freedom.reduced_chi_square = chi2 / freedom.degrees_of_freedom();
         const double spread = std::isfinite(freedom.reduced_chi_square) ? freedom.reduced_chi_square : 1.0;
-        report.freedom.push_back(freedom);
         ceres::Covariance::Options cov_options;
         cov_options.algorithm_type = ceres::DENSE_SVD;
         cov_options.null_space_rank = -1;
@@ -607,6 +641,11 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
         std::vector<double> cov(x.size() * x.size(), std::numeric_limits<double>::quiet_NaN());
         const std::vector<std::pair<const double*, const double*>> blocks{{x.data(), x.data()}};
         const bool have_cov = covariance.Compute(blocks, plain.get()) && covariance.GetCovarianceBlock(x.data(), x.data(), cov.data());
+        if (have_cov) {
+            for (const int j : free) freedom.free_keys.push_back(key_of(kScales[j]));
+            for (const double c : cov) freedom.log_covariance.push_back(c * std::max(1.0, spread));
+        }
+        report.freedom.push_back(freedom);
         for (std::size_t i = 0; i < free.size(); ++i) {
             FittedParameter& p = params[static_cast<std::size_t>(free[i])];
             // The covariance is of the logarithm; to first order the scale's error is the value times it.
@@ -655,6 +694,7 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
     }
     for (const auto& [id, r] : loo) report.results.push_back(r);
     evaluate_all(model, report);
+    add_fit_intervals(model, report);
     // The uncalibrated value beside each fitted one: what the documented costs alone give.
     const FitReport given = evaluate_targets(model, {});
     for (std::size_t i = 0; i < report.results.size() && i < given.results.size(); ++i) report.results[i].uncalibrated = given.results[i].simulated;
@@ -695,6 +735,8 @@ nlohmann::json FitReport::to_json() const {
             for (const char* unused : {"scenario", "frame", "machine", "metric", "divided_by_frame"}) row.erase(unused);
         }
         row["uncalibrated"] = r.uncalibrated ? nlohmann::json(*r.uncalibrated) : nlohmann::json(nullptr);
+        row["simulated_low"] = r.low ? nlohmann::json(*r.low) : nlohmann::json(nullptr);
+        row["simulated_high"] = r.high ? nlohmann::json(*r.high) : nlohmann::json(nullptr);
         row["leave_one_out"] = r.leave_one_out ? nlohmann::json(*r.leave_one_out) : nlohmann::json(nullptr);
         row["leave_one_out_error"] = r.leave_one_out_error ? nlohmann::json(*r.leave_one_out_error) : nlohmann::json(nullptr);
         if (!r.leave_one_out_note.empty()) row["leave_one_out_note"] = r.leave_one_out_note;
@@ -760,8 +802,12 @@ std::string FitReport::to_markdown() const {
     for (const FittedParameter& p : parameters)
         if (p.free) md << fmt::format("- {} `{}` [{:g}, {:g}]: {}\n", p.machine, p.key, p.lower, p.upper, p.provenance);
     const bool any_uncalibrated = std::any_of(results.begin(), results.end(), [](const TargetResult& r) { return r.uncalibrated.has_value(); });
-    md << "\n## Targets\n\n| id | machine | metric | reported | " << (any_uncalibrated ? "uncalibrated | " : "")
-       << "simulated | error | use | leave-one-out prediction |\n"
+    md << "\n## Targets\n\n";
+    if (std::any_of(results.begin(), results.end(), [](const TargetResult& r) { return r.low.has_value(); }))
+        md << "Intervals cover the fitted scales' uncertainty (their covariance, linearised by re-timing); the documented costs' own "
+              "ranges are not propagated here.\n\n";
+    md << "| id | machine | metric | reported | " << (any_uncalibrated ? "uncalibrated | " : "")
+       << "simulated [95% interval from the fit] | error | use | leave-one-out prediction |\n"
        << (any_uncalibrated ? "|---|---|---|---|---|---|---|---|---|\n" : "|---|---|---|---|---|---|---|---|\n");
     for (const TargetResult& r : results) {
         std::string loo = r.leave_one_out ? fmt::format("{} ({})", number(*r.leave_one_out), percent(*r.leave_one_out_error)) : "";
@@ -775,7 +821,8 @@ std::string FitReport::to_markdown() const {
             : r.uncalibrated  ? fmt::format("{} ({}) | ", number(*r.uncalibrated), percent((*r.uncalibrated - r.target.reported) / r.target.reported))
                               : " | ";
         md << fmt::format("| {} | {} | {} ({}) | {} | {}{} | {} | {} | {} |\n", r.target.id, formula ? "(formula: " + r.target.kernel + ")" : r.target.machine,
-                          formula ? r.target.formula : r.target.metric, unit, number(r.target.reported), uncalibrated, number(r.simulated),
+                          formula ? r.target.formula : r.target.metric, unit, number(r.target.reported), uncalibrated,
+                          r.low && r.high ? fmt::format("{} [{}, {}]", number(r.simulated), number(*r.low), number(*r.high)) : number(r.simulated),
                           percent(r.relative_error), describe(group_of(r.target)), loo);
     }
     md << "\n## Fit quality\n\nEach kind of row apart: only the predicted rows test the model on figures it never saw. Rows the "

@@ -48,6 +48,9 @@ struct TargetResult {
     double simulated = 0.0;
     double relative_error = 0.0;                   // (simulated - reported) / reported
     std::optional<double> uncalibrated;            // at the machine file's own scales, beside the fit
+    // The 95% interval the fitted scales' covariance gives the simulated value (linearised: the row's
+    // elasticities to the free scales, measured by re-timing); absent when no scale of its machine is fitted.
+    std::optional<double> low, high;
     std::optional<double> leave_one_out;           // predicted without this target (fitted targets only)
     std::optional<double> leave_one_out_error;
     std::string leave_one_out_note;
@@ -68,6 +71,10 @@ struct MachineFreedom {
     int free_scales = 0;
     int workload_parameters = 0;  // identified from its rows' ratios
     double reduced_chi_square = 0.0;  // NaN without degrees of freedom
+    // The free scales' keys and the covariance of their logarithms (row-major), widened by the spread
+    // as the standard errors are; empty when Ceres could not compute it.
+    std::vector<std::string> free_keys;
+    std::vector<double> log_covariance;
     int degrees_of_freedom() const { return rows - free_scales - workload_parameters; }
 };
 

@@ -15,8 +15,11 @@
 #include <tbb/global_control.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
+#include <random>
 
 namespace pp5 {
 namespace {
@@ -96,6 +99,46 @@ TEST(Fit, RecoversTheScalesItsTargetsWereMadeWith) {
     // Seven rows, three free scales, no workload parameters.
     ASSERT_EQ(report.freedom.size(), 1u);
     EXPECT_EQ(report.freedom[0].degrees_of_freedom(), 4);
+
+    // Every row carries the fit's 95% interval, checked against scales drawn from the covariance: the
+    // linearised half-width matches the spread of the re-timed values.
+    const MachineFreedom& f = report.freedom[0];
+    ASSERT_EQ(f.free_keys.size(), 3u);
+    ASSERT_EQ(f.log_covariance.size(), 9u);
+    std::array<double, 9> c{};
+    std::copy(f.log_covariance.begin(), f.log_covariance.end(), c.begin());
+    // Cholesky factor of the 3x3 covariance.
+    std::array<double, 9> l{};
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j <= i; ++j) {
+            double sum = c[static_cast<std::size_t>(3 * i + j)];
+            for (int k = 0; k < j; ++k) sum -= l[static_cast<std::size_t>(3 * i + k)] * l[static_cast<std::size_t>(3 * j + k)];
+            l[static_cast<std::size_t>(3 * i + j)] = i == j ? std::sqrt(sum) : sum / l[static_cast<std::size_t>(3 * j + j)];
+        }
+    std::mt19937 random(7);
+    std::normal_distribution<double> normal;
+    const TargetResult& row = report.results.front();
+    ASSERT_TRUE(row.low && row.high);
+    EXPECT_LT(*row.low, row.simulated);
+    EXPECT_GT(*row.high, row.simulated);
+    const Target* target = &model.targets().targets.front();
+    std::vector<double> logs;
+    for (int draw = 0; draw < 60; ++draw) {
+        const std::array<double, 3> z{normal(random), normal(random), normal(random)};
+        CalibrationScales s = fitted;
+        double* const members[] = {&s.gp_flops, &s.gp_cycles, &s.pp_cycles};
+        for (int i = 0; i < 3; ++i) {
+            double shift = 0;
+            for (int k = 0; k <= i; ++k) shift += l[static_cast<std::size_t>(3 * i + k)] * z[static_cast<std::size_t>(k)];
+            *members[i] *= std::exp(shift);
+        }
+        logs.push_back(std::log(model.simulate(files.machine.string(), s, {target}).front()));
+    }
+    double mean = 0, square = 0;
+    for (const double v : logs) mean += v / static_cast<double>(logs.size());
+    for (const double v : logs) square += (v - mean) * (v - mean) / static_cast<double>(logs.size() - 1);
+    const double linearised = std::log(*row.high / row.simulated) / 1.959964;
+    EXPECT_NEAR(std::sqrt(square) / linearised, 1.0, 0.3);
 
     // The fitted machine file carries the values and loads as a machine, under a header of its own
     // that says what it was fitted to and how well.
