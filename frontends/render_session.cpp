@@ -23,7 +23,7 @@ nlohmann::json psnr_json(double psnr_db) { return std::isfinite(psnr_db) ? nlohm
 // picture is from the reference renderer's.
 nlohmann::json frame_record(std::size_t index, const FrameSpec& frame, const std::string& image_name, const FrameTiming& timing,
                             nlohmann::json kernel_stats, const std::optional<ImageDifference>& fidelity, double host_seconds,
-                            bool polygons) {
+                            const std::string& against) {
     nlohmann::json record = {
         {"index", index},
         {"label", frame.label},
@@ -34,8 +34,7 @@ nlohmann::json frame_record(std::size_t index, const FrameSpec& frame, const std
         {"host_seconds", host_seconds}};
     for (auto& [key, value] : kernel_stats.items()) record[key] = std::move(value);
     if (fidelity) {
-        record["fidelity"] = {{"against", polygons ? "reference renderer, which has no polygons: the difference includes them"
-                                                   : "reference renderer"},
+        record["fidelity"] = {{"against", against},
                               {"psnr_db", psnr_json(fidelity->psnr_db)},
                               {"rms_error", fidelity->rms_error},
                               {"max_error", fidelity->max_error}};
@@ -139,7 +138,30 @@ RenderSession::RenderSession(const Scenario& scenario, const MachineConfig& conf
     // The kernel sets the scenario up on the machine first: a volume that does not fit stops here.
     run_ = kernel_.start(machine_, config_, scenario_, volume_);
     // The oracle every machine kernel's pictures are compared with.
-    if (kernel_.runs_on_machine() && compare_with_reference_) reference_.emplace(volume_);
+    if (kernel_.runs_on_machine() && compare_with_reference_) {
+        reference_.emplace(volume_);
+        reference_->set_polygons(scenario_.polygons);
+    }
+}
+
+// What the oracle's picture holds of the frame, for stats.json: the difference includes whatever it leaves out.
+std::string RenderSession::reference_includes(const FrameSpec& frame) const {
+    std::string against = "reference renderer (floating point): the volume, classified and shaded";
+    if (!frame.lighting.stationary_lights.empty()) against += ", with its stationary lights";
+    std::vector<std::string> missing;
+    const bool voxel_order = ReferenceRenderer::renders_region(reference_render_settings(scenario_.image));
+    if (frame.region) {
+        if (!voxel_order) missing.push_back("the region of interest");
+        else against += frame.region->cap ? ", the region of interest's opacity scaling and capping" : ", the region of interest's opacity scaling";
+    }
+    if (!scenario_.polygons.empty()) {
+        if (!voxel_order) missing.push_back("the polygons");
+        else against += fmt::format(", its polygons scan-converted with {} subvoxel samples", PolygonMattes::kOracleSamples);
+    }
+    for (std::size_t i = 0; i < missing.size(); ++i)
+        against += (i == 0 ? "; without " : i + 1 == missing.size() ? " and " : ", ") + missing[i];
+    if (!missing.empty()) against += ", so the difference includes them";
+    return against;
 }
 
 SessionFrame RenderSession::render(FrameSpec frame) {
@@ -151,6 +173,7 @@ SessionFrame RenderSession::render(FrameSpec frame) {
     if (reference_) {
         if (frame.classification_changed) reference_->set_classification(frame.classification, frame.colors);
         if (frame.lighting_changed) reference_->set_lighting(frame.lighting);
+        reference_->set_region(frame.region);
         reference_image = reference_->render(frame_camera(frame, volume_), reference_render_settings(scenario_.image), &reference_counts);
     }
 
@@ -193,7 +216,7 @@ SessionFrame RenderSession::render(FrameSpec frame) {
     const std::string image_name = fmt::format("frame_{:04}.{}", index, extension_);
     out.images.push_back({FrameImage::Kind::Frame, 0, image_name, std::move(image)});
     const double host = Seconds(std::chrono::steady_clock::now() - frame_start).count();
-    out.record = frame_record(index, frame, image_name, out.timing, std::move(kernel_stats), fidelity, host, !scenario_.polygons.empty());
+    out.record = frame_record(index, frame, image_name, out.timing, std::move(kernel_stats), fidelity, host, reference_includes(frame));
     out.recorded = std::move(recorded);
     ++frames_rendered_;
     return out;

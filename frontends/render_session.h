@@ -84,6 +84,7 @@ public:
     std::size_t frames_rendered() const { return frames_rendered_; }
 
 private:
+    std::string reference_includes(const FrameSpec& frame) const;
     Volume load_checked_volume(TraceRecorder* trace);
 
     Scenario scenario_;

@@ -55,6 +55,24 @@ void ReferenceRenderer::set_classification(Classification classification, ColorM
     }
 }
 
+void ReferenceRenderer::set_region(std::optional<RegionOfInterest> region) {
+    if (region == region_) return;
+    region_ = std::move(region);
+    opacities_.reset();
+    occupancy_.reset();
+    on_demand_.reset();
+    shaded_view_.reset();
+}
+
+void ReferenceRenderer::set_polygons(const std::vector<PolygonSpec>& polygons) {
+    if (polygons.empty()) mattes_.reset();
+    else mattes_.emplace(volume_.dims(), polygons);
+    opacities_.reset();
+    occupancy_.reset();
+    on_demand_.reset();
+    shaded_view_.reset();
+}
+
 void ReferenceRenderer::set_lighting(PhongLighting lighting) {
     validate_lighting(lighting);
     if (lighting != lighting_) {
@@ -89,7 +107,23 @@ void ReferenceRenderer::ensure_opacities(RenderStats& stats) {
     if (opacities_) return;
     const Stopwatch watch;
     opacities_ = classify_voxels(volume_, *gradients_, classification_);
-    occupancy_ = occupancy_from_opacity(volume_.dims(), *opacities_);
+    capped_gradients_.reset();
+    capped_bricks_.reset();
+    if (region_) {
+        scale_by_region(*opacities_, volume_.dims(), *region_);
+        if (region_->cap) {
+            capped_gradients_ = cap_gradients(volume_, *gradients_, *region_);
+            capped_bricks_.emplace(volume_, *capped_gradients_);
+        }
+    }
+    if (mattes_) {
+        // Voxels only a polygon fills are not empty space.
+        std::vector<float> non_empty = *opacities_;
+        mattes_->mark_non_empty(non_empty);
+        occupancy_ = occupancy_from_opacity(volume_.dims(), non_empty);
+    } else {
+        occupancy_ = occupancy_from_opacity(volume_.dims(), *opacities_);
+    }
     brick_opacities_ = bricks_->gather(*opacities_);
     // Fresh zeros: outside occupied blocks nothing is ever shaded, and zero opacity is right there.
     on_demand_.reset();
@@ -130,8 +164,9 @@ Image ReferenceRenderer::render(const Camera& camera, const RenderSettings& sett
         ensure_colour_view(make_shading_view(camera, volume_.dims(), volume_.spacing()),
                            settings.hold_colours_when_camera_moves, local);
         // Blocks shaded later in a held-colour animation must match the earlier ones: the held view.
-        const BlockShader shader(volume_, *gradients_, *opacities_, *occupancy_, color_map_, lighting_, *shaded_view_,
-                                 &*bricks_, brick_opacities_);
+        const BlockShader shader(volume_, capped_gradients_ ? *capped_gradients_ : *gradients_, *opacities_, *occupancy_, color_map_,
+                                 lighting_, *shaded_view_, capped_bricks_ ? &*capped_bricks_ : &*bricks_, brick_opacities_,
+                                 mattes_ ? &*mattes_ : nullptr);
         const Stopwatch watch;
         image = detail::composite_loop(shaded_, *occupancy_, camera, composite_settings, &local.composite,
                                        [&](glm::ivec3 corner) { on_demand_->ensure_cell(corner, shader); });

@@ -22,11 +22,13 @@
 #include "kernels/reference/gradient_field.h"
 #include "kernels/reference/occupancy_grid.h"
 #include "kernels/reference/on_demand_shading.h"
+#include "kernels/reference/polygon_matte.h"
 #include "kernels/reference/shaded_volume.h"
 #include "kernels/reference/shading_view.h"
 #include "kernels/render/camera.h"
 #include "kernels/render/classification.h"
 #include "kernels/render/image.h"
+#include "kernels/render/region_of_interest.h"
 #include "kernels/render/resampling_order.h"
 #include "kernels/render/shading.h"
 #include "kernels/volume/volume.h"
@@ -91,6 +93,13 @@ public:
     // Throw pp5::InputError for an invalid classification, colour map or lighting.
     void set_classification(Classification classification, ColorMap color_map);
     void set_lighting(PhongLighting lighting);
+    // Levoy's volume-of-interest tool, scaling voxel opacities after classification (none: no region).
+    // The region and the polygons below act on voxels, so they are rendered when shading before
+    // interpolating (the voxels' order); renders_region() says whether `settings` does.
+    void set_region(std::optional<RegionOfInterest> region);
+    // Polygons scan-converted into the volume and matted over its shaded voxels (polygon_matte.h).
+    void set_polygons(const std::vector<PolygonSpec>& polygons);
+    static bool renders_region(const RenderSettings& settings) { return settings.resampling == ResamplingOrder::ShadeThenInterpolate; }
 
     const Classification& classification() const { return classification_; }
     const ColorMap& color_map() const { return color_map_; }
@@ -113,9 +122,15 @@ private:
     Classification classification_;
     ColorMap color_map_;
     PhongLighting lighting_;
+    std::optional<RegionOfInterest> region_;
+    std::optional<PolygonMattes> mattes_;
 
     std::optional<GradientField> gradients_;
     std::optional<VoxelBricks> bricks_;            // gradients and values block by block, for shading
+    // With a capping region: the gradients shading uses (capped in the region's transition zone), and
+    // their bricks; classification keeps the volume's own.
+    std::optional<GradientField> capped_gradients_;
+    std::optional<VoxelBricks> capped_bricks_;
     std::optional<BlockValueRanges> value_ranges_;
     // Valid while their inputs are unchanged; cleared by the setters.
     std::optional<std::vector<float>> opacities_;

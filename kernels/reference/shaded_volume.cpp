@@ -1,4 +1,6 @@
 #include "kernels/reference/shaded_volume.h"
+
+#include "kernels/reference/polygon_matte.h"
 #include "sim/core/parallel.h"
 
 #include <tbb/blocked_range.h>
@@ -20,14 +22,15 @@ void check_inputs(const Volume& volume, const GradientField& gradients, std::spa
 BlockShader::BlockShader(const Volume& volume, const GradientField& gradients, std::span<const float> opacities,
                          const OccupancyGrid& occupancy, const ColorMap& color_map, const PhongLighting& lighting,
                          const ShadingView& view, const VoxelBricks* bricks,
-                         std::span<const float> brick_opacities)
+                         std::span<const float> brick_opacities, const PolygonMattes* mattes)
     : volume_(volume),
       gradients_(gradients),
       opacities_(opacities),
       occupancy_(occupancy),
       shader_(color_map, lighting, view, volume.spacing()),
       bricks_(bricks),
-      brick_opacities_(brick_opacities) {
+      brick_opacities_(brick_opacities),
+      mattes_(mattes) {
     check_inputs(volume, gradients, opacities);
     if (occupancy.volume_dims() != volume.dims()) throw std::invalid_argument("BlockShader: occupancy of another volume");
     if (bricks != nullptr && (bricks->volume_dims() != volume.dims() || brick_opacities.size() != opacities.size())) {
@@ -64,6 +67,7 @@ std::uint64_t BlockShader::shade(glm::ivec3 block, ShadedVolume& out) const {
             }
         }
     }
+    if (mattes_ != nullptr) mattes_->apply(occupancy_.block_index(block), out);
     const glm::ivec3 size = hi - lo + 1;
     return static_cast<std::uint64_t>(size.x) * static_cast<std::uint64_t>(size.y) * static_cast<std::uint64_t>(size.z);
 }

@@ -27,6 +27,8 @@
 
 namespace pp5 {
 
+class PolygonMattes;
+
 struct ShadedVolume {
     glm::ivec3 dims{0};
     glm::vec3 spacing{1.0f};
@@ -42,9 +44,10 @@ public:
     BlockShader(const Volume& volume, const GradientField& gradients, std::span<const float> opacities,
                 const OccupancyGrid& occupancy, const ColorMap& color_map, const PhongLighting& lighting,
                 const ShadingView& view, const VoxelBricks* bricks = nullptr,
-                std::span<const float> brick_opacities = {});
+                std::span<const float> brick_opacities = {}, const PolygonMattes* mattes = nullptr);
 
-    // Writes colour and opacity of the block's voxels into `out`; returns how many.
+    // Writes colour and opacity of the block's voxels into `out`, with the polygons matted over them
+    // when given; returns how many voxels.
     std::uint64_t shade(glm::ivec3 block, ShadedVolume& out) const;
 
     const OccupancyGrid& occupancy() const { return occupancy_; }
@@ -57,6 +60,7 @@ private:
     SampleShader shader_;
     const VoxelBricks* bricks_;
     std::span<const float> brick_opacities_;
+    const PolygonMattes* mattes_;  // matted over each block once it is shaded (polygon_matte.h); may be null
 };
 
 // Shades the volume for one view. `opacities` from classify_voxels; `occupancy` from

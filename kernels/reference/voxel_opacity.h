@@ -4,6 +4,7 @@
 
 #include "kernels/reference/gradient_field.h"
 #include "kernels/render/classification.h"
+#include "kernels/render/region_of_interest.h"
 #include "kernels/volume/volume.h"
 
 #include <vector>
@@ -13,5 +14,13 @@ namespace pp5 {
 // The opacity of every voxel, Classification::opacity(value, |gradient|), in Volume::index order.
 std::vector<float> classify_voxels(const Volume& volume, const GradientField& gradients,
                                    const Classification& classification);
+
+// Levoy's volume-of-interest tool at the voxels, after classification: each voxel's opacity times the
+// region's factor at its position (voxel coordinates), kept within [0, 1].
+void scale_by_region(std::vector<float>& opacity, glm::ivec3 dims, const RegionOfInterest& region);
+
+// The gradients a capping region has the voxels shaded with (RegionOfInterest::capped_gradient), air
+// being the volume's lowest value.
+GradientField cap_gradients(const Volume& volume, const GradientField& gradients, const RegionOfInterest& region);
 
 }  // namespace pp5

@@ -17,11 +17,14 @@ struct ReferenceFrame final : KernelFrame {
 class ReferenceRun final : public KernelRun {
 public:
     ReferenceRun(const Scenario& scenario, const Volume& volume)
-        : volume_(volume), renderer_(volume), settings_(reference_render_settings(scenario.image)) {}
+        : volume_(volume), renderer_(volume), settings_(reference_render_settings(scenario.image)) {
+        renderer_.set_polygons(scenario.polygons);
+    }
 
     std::unique_ptr<KernelFrame> record_frame(const FrameSpec& frame) override {
         if (frame.classification_changed) renderer_.set_classification(frame.classification, frame.colors);
         if (frame.lighting_changed) renderer_.set_lighting(frame.lighting);
+        renderer_.set_region(frame.region);
         auto out = std::make_unique<ReferenceFrame>();
         out->pass_images.push_back(renderer_.render(frame_camera(frame, volume_), settings_, &out->stats));
         return out;

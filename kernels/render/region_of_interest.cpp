@@ -46,6 +46,22 @@ float RegionOfInterest::factor(glm::vec3 p) const {
     return scale_inside + (scale_outside - scale_inside) * w;
 }
 
+glm::vec3 RegionOfInterest::capped_gradient(glm::vec3 p, float value, glm::vec3 g, float air) const {
+    if (!cap || shape != Shape::Box || !(transition > 0.0f)) return g;
+    const glm::vec3 q = local(p);
+    const float half_band = 0.5f * transition;
+    glm::vec3 face;
+    for (int i = 0; i < 3; ++i) face[i] = std::abs(q[i]) - half_size[i];
+    if (std::max({face.x, face.y, face.z}) >= half_band) return g;  // beyond the band outside
+    for (int i = 0; i < 3; ++i) {
+        if (!(face[i] > -half_band)) continue;
+        const glm::vec3 a = axis(i);
+        const float side = q[i] < 0.0f ? -1.0f : 1.0f;
+        g += a * (0.5f * (side * (value - air) - glm::dot(g, a)));
+    }
+    return g;
+}
+
 void validate_region(const RegionOfInterest& region, const std::string& file, const std::string& field) {
     for (int i = 0; i < 3; ++i) {
         if (!(region.half_size[i] > 0.0f) || !std::isfinite(region.half_size[i]))

@@ -33,6 +33,12 @@ struct RegionOfInterest {
     float distance(glm::vec3 p) const;
     // The opacity factor at p: scale_inside inside, scale_outside outside, linear across the transition.
     float factor(glm::vec3 p) const;
+    // Capping (boxes with `cap`): the gradient a voxel at p with value `value` and gradient g is shaded
+    // with, as if the region held air of value `air`. For each face whose transition band holds p (and
+    // p not beyond the band outside), the neighbour across that face towards the region counts as air:
+    // along the face's outward normal n the central difference becomes (f(p + n) - air) / 2, to first
+    // order g.n + (value - air - g.n) / 2, faces taken in axis order. Elsewhere g itself.
+    glm::vec3 capped_gradient(glm::vec3 p, float value, glm::vec3 g, float air) const;
 };
 
 // Throws InputError(file, field, reason) for a non-positive size, scales outside [0, 16], or a

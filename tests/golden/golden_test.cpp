@@ -108,6 +108,27 @@ TEST_P(Golden, StatisticsAndImagesMatchTheRecordedRun) {
     else fs::remove_all(out);
 }
 
+// The recorded runs hold Levoy's kernel to its oracle: every frame of every shipped scenario it renders
+// (regions, capping and polygons included) within 35 dB of the floating-point reference, which leaves
+// nothing of the frame out. A refresh cannot lower that unnoticed.
+TEST(GoldenFidelity, EveryLevoyFrameIsWithin35DecibelsOfAnOracleThatOmitsNothing) {
+    int frames = 0;
+    for (const std::string& name : shipped_scenarios()) {
+        const fs::path file = kGolden / name / "stats.json";
+        if (!fs::exists(file)) continue;
+        const nlohmann::json stats = nlohmann::json::parse(read_file(file));
+        if (stats["summary"]["kernel"] != "levoy") continue;
+        for (const nlohmann::json& frame : stats["frames"]) {
+            ASSERT_TRUE(frame.contains("fidelity")) << name;
+            const nlohmann::json& fidelity = frame["fidelity"];
+            EXPECT_EQ(fidelity["against"].get<std::string>().find("without"), std::string::npos) << name << ": " << fidelity["against"];
+            if (fidelity["psnr_db"].is_number()) EXPECT_GE(fidelity["psnr_db"].get<double>(), 35.0) << name << " frame " << frame["index"];
+            ++frames;
+        }
+    }
+    EXPECT_GE(frames, 20);
+}
+
 INSTANTIATE_TEST_SUITE_P(ShippedScenarios, Golden, ::testing::ValuesIn(shipped_scenarios()),
                          [](const ::testing::TestParamInfo<std::string>& scenario) {
                              std::string id = scenario.param;
