@@ -432,8 +432,7 @@ std::string_view describe(RowGroup group) {
 }
 
 bool FitReport::used_by_workload(const Target& target) const {
-    return std::any_of(workload.begin(), workload.end(),
-                       [&](const IdentifiedWorkload& w) { return w.spec.numerator == target.id || w.spec.denominator == target.id; });
+    return std::any_of(workload.begin(), workload.end(), [&](const IdentifiedWorkload& w) { return ratio_uses(w.spec, target.id); });
 }
 
 RowGroup FitReport::group_of(const Target& target) const {

@@ -102,6 +102,14 @@ std::vector<ResidualAccount> explain_residuals(const CalibrationModel& model, co
         const CalibrationScales scales = report.scales(machine);
         const MachineSensitivity sensitivity = measure_sensitivity(model, machine, scales, rows);
         const MachineConfig config = model.machine_config(machine, scales);
+        // Each scenario timed once on the machine, up to the last frame any of its rows reads.
+        std::map<std::string, std::size_t> frames_read;
+        for (const TargetResult* r : results) {
+            std::size_t& frames = frames_read[r->target.scenario];
+            frames = std::max(frames, static_cast<std::size_t>(std::max(r->target.frame, r->target.divided_by_frame)) + 1);
+        }
+        std::map<std::string, std::vector<FrameTiming>> timed;
+        for (const auto& [scenario, frames] : frames_read) timed[scenario] = model.recording(scenario).time_on(config, frames);
         for (std::size_t i = 0; i < results.size(); ++i) {
             const TargetResult& r = *results[i];
             if (std::abs(r.relative_error) <= threshold) continue;
@@ -111,8 +119,7 @@ std::vector<ResidualAccount> explain_residuals(const CalibrationModel& model, co
             a.needed_factor = r.target.reported / r.simulated;
             a.assumption = r.target.assumes;
             const RecordedScenario& recording = model.recording(r.target.scenario);
-            const auto frames = static_cast<std::size_t>(std::max(r.target.frame, r.target.divided_by_frame)) + 1;
-            const std::vector<FrameTiming> timings = recording.time_on(config, frames);
+            const std::vector<FrameTiming>& timings = timed.at(r.target.scenario);
             const auto frame = static_cast<std::size_t>(r.target.frame);
             if (r.target.divided_by_frame < 0) {
                 a.phases = accounts_of(recording.frames()[frame].frame->work, timings[frame]);
@@ -125,9 +132,8 @@ std::vector<ResidualAccount> explain_residuals(const CalibrationModel& model, co
                 if (o == &r || o->target.scenario != r.target.scenario || o->target.metric != r.target.metric ||
                     o->target.divided_by_frame >= 0 || r.target.divided_by_frame >= 0 || o->target.frame == r.target.frame)
                     continue;
-                const std::vector<FrameTiming> both = recording.time_on(config, std::max(frame, static_cast<std::size_t>(o->target.frame)) + 1);
                 a.against.push_back({o->target.id, r.target.reported / o->target.reported, r.simulated / o->simulated,
-                                     phase_pairs(both[frame], both[static_cast<std::size_t>(o->target.frame)])});
+                                     phase_pairs(timings[frame], timings[static_cast<std::size_t>(o->target.frame)])});
             }
             a.what_if = reconcile(model, sensitivity, i);
             a.reported = r.target.reported;

@@ -12,14 +12,11 @@ namespace pp5 {
 
 PolygonMattes::PolygonMattes(glm::ivec3 dims, const std::vector<PolygonSpec>& polygons, int samples) {
     const std::vector<glm::dvec3> offsets = subvoxel_offsets(samples);
-    const glm::ivec3 blocks = OccupancyGrid::block_dims_for(dims);
+    const OccupancyGrid blocks(dims);  // for its block numbering, the one BlockShader::shade applies by
     const auto index = [&](glm::ivec3 v) {
         return static_cast<std::size_t>(v.x) + static_cast<std::size_t>(dims.x) * (static_cast<std::size_t>(v.y) + static_cast<std::size_t>(dims.y) * static_cast<std::size_t>(v.z));
     };
-    const auto block_of = [&](glm::ivec3 v) {
-        const glm::ivec3 b = v / OccupancyGrid::kBlockSize;
-        return static_cast<std::size_t>(b.x) + static_cast<std::size_t>(blocks.x) * (static_cast<std::size_t>(b.y) + static_cast<std::size_t>(blocks.y) * static_cast<std::size_t>(b.z));
-    };
+    const auto block_of = [&](glm::ivec3 v) { return blocks.block_index(v / OccupancyGrid::kBlockSize); };
     // A sample point reaches at most half a voxel's diagonal from the centre; the sheet is half a voxel thick.
     const double reach = 0.5 + std::sqrt(3.0) / 2.0;
     for (const PolygonSpec& spec : polygons) {

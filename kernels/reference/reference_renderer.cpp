@@ -43,11 +43,8 @@ void ReferenceRenderer::set_classification(Classification classification, ColorM
     validate_color_map(color_map);
     if (classification != classification_) {
         classification_ = std::move(classification);
-        opacities_.reset();
-        occupancy_.reset();
         post_occupancy_.reset();
-        on_demand_.reset();
-        shaded_view_.reset();
+        invalidate_opacities();
     }
     if (color_map != color_map_) {
         color_map_ = std::move(color_map);
@@ -58,15 +55,16 @@ void ReferenceRenderer::set_classification(Classification classification, ColorM
 void ReferenceRenderer::set_region(std::optional<RegionOfInterest> region) {
     if (region == region_) return;
     region_ = std::move(region);
-    opacities_.reset();
-    occupancy_.reset();
-    on_demand_.reset();
-    shaded_view_.reset();
+    invalidate_opacities();
 }
 
 void ReferenceRenderer::set_polygons(const std::vector<PolygonSpec>& polygons) {
     if (polygons.empty()) mattes_.reset();
     else mattes_.emplace(volume_.dims(), polygons);
+    invalidate_opacities();
+}
+
+void ReferenceRenderer::invalidate_opacities() {
     opacities_.reset();
     occupancy_.reset();
     on_demand_.reset();

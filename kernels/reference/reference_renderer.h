@@ -113,6 +113,9 @@ public:
     std::span<const float> opacities();
 
 private:
+    // The voxels' opacities (classification, region, polygons) must be made again, and with them the
+    // occupancy and every shaded block.
+    void invalidate_opacities();
     void ensure_gradients(RenderStats& stats);
     void ensure_opacities(RenderStats& stats);
     void ensure_post_classified_occupancy(RenderStats& stats);

@@ -2,6 +2,8 @@
 // A small machine and scenario for calibration tests: a 48^3 sphere on four 32x32 renderers and four
 // GPs, 64x64 images, three frames (first, observer moved, light moved).
 
+#include "calibration/targets.h"
+
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -63,6 +65,22 @@ label = "light moved"
 shading = { light_direction = [-0.5, 1.0, 0.2] }
 )";
     return files;
+}
+
+// A measured row of the calibration scenario on the calibration machine, in seconds, reported as 1 until
+// a test sets it.
+inline Target make_target(const CalibrationFiles& files, const std::string& id, int frame, const std::string& metric) {
+    Target t;
+    t.id = id;
+    t.source = "synthetic";
+    t.scenario = files.scenario.string();
+    t.frame = frame;
+    t.machine = files.machine.string();
+    t.metric = metric;
+    t.unit = "s";  // every metric these tests use is in seconds
+    t.reported = 1.0;
+    t.exactness = Exactness::Measured;
+    return t;
 }
 
 }  // namespace pp5::test

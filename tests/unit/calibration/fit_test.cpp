@@ -24,19 +24,7 @@
 namespace pp5 {
 namespace {
 
-Target make_target(const test::CalibrationFiles& files, const std::string& id, int frame, const std::string& metric) {
-    Target t;
-    t.id = id;
-    t.source = "synthetic";
-    t.scenario = files.scenario.string();
-    t.frame = frame;
-    t.machine = files.machine.string();
-    t.metric = metric;
-    t.unit = "s";  // every metric these tests use is in seconds
-    t.reported = 1.0;
-    t.exactness = Exactness::Measured;
-    return t;
-}
+using test::make_target;
 
 // Eight targets made by the model itself at `truth`, one of them held out: seven fitted rows free all
 // three scales (fewer than half).

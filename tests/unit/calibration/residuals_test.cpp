@@ -17,16 +17,8 @@ namespace pp5 {
 namespace {
 
 Target crude_row(const test::CalibrationFiles& files, const std::string& id, int frame) {
-    Target t;
-    t.id = id;
-    t.source = "synthetic";
-    t.scenario = files.scenario.string();
-    t.frame = frame;
-    t.machine = files.machine.string();
-    t.metric = "crude_seconds";
-    t.unit = "s";
+    Target t = test::make_target(files, id, frame, "crude_seconds");
     t.use = TargetUse::Predict;
-    t.reported = 1.0;
     return t;
 }
 

@@ -19,17 +19,9 @@
 namespace pp5 {
 namespace {
 
+// The observer moved (frame 1): a crude pass, then refinement.
 Target row(const test::CalibrationFiles& files, const std::string& id, const std::string& metric) {
-    Target t;
-    t.id = id;
-    t.source = "synthetic";
-    t.scenario = files.scenario.string();
-    t.frame = 1;  // the observer moved: a crude pass, then refinement
-    t.machine = files.machine.string();
-    t.metric = metric;
-    t.unit = "s";
-    t.exactness = Exactness::Measured;
-    return t;
+    return test::make_target(files, id, 1, metric);
 }
 
 // Refinement over crude time on the tiny machine, with the refinement threshold at `threshold`.

@@ -63,9 +63,7 @@ PolygonSpec square(float z, float side, glm::vec3 color, float opacity) {
 // Voxel `v` of a volume of `dims`, of a uniform blue at opacity 0.5, after the mattes of its block.
 glm::vec4 matted_voxel(const PolygonMattes& mattes, glm::ivec3 dims, glm::ivec3 v) {
     ShadedVolume shaded{dims, glm::vec3(1.0f), std::vector<glm::vec4>(static_cast<std::size_t>(dims.x * dims.y * dims.z), glm::vec4(0.0f, 0.0f, 1.0f, 0.5f))};
-    const glm::ivec3 block = v / OccupancyGrid::kBlockSize;
-    const glm::ivec3 blocks = OccupancyGrid::block_dims_for(dims);
-    mattes.apply(static_cast<std::size_t>(block.x + blocks.x * (block.y + blocks.y * block.z)), shaded);
+    mattes.apply(OccupancyGrid(dims).block_index(v / OccupancyGrid::kBlockSize), shaded);
     return shaded.rgba[static_cast<std::size_t>(v.x + dims.x * (v.y + dims.y * v.z))];
 }
 
