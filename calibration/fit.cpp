@@ -630,7 +630,7 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
         double chi2 = 0;
         for (double v : r) chi2 += v * v;
         MachineFreedom freedom{machine, static_cast<int>(targets.size()), static_cast<int>(free.size()), workload_parameters_from(model, machine),
-                               std::numeric_limits<double>::quiet_NaN()};
+                               std::numeric_limits<double>::quiet_NaN(), {}, {}};
         if (freedom.degrees_of_freedom() > 0) freedom.reduced_chi_square = chi2 / freedom.degrees_of_freedom();
         const double spread = std::isfinite(freedom.reduced_chi_square) ? freedom.reduced_chi_square : 1.0;
         ceres::Covariance::Options cov_options;

@@ -10,14 +10,20 @@ const ParamGroup& RingNetwork::params() {
         ParamGroup g("ring", "The ring network joining every processor");
         g.integer("channels", 8, "count", 1, 256, "Independent channels (tokens) on the ring", Provenance::Default,
                   "machine.md: 8 x 32 bits x 20 MHz fits both Levoy's 640 Mb/s and Fuchs' 5 Gbit/s")
+            .plausible(8, 8, "fixed by the sources: Fuchs' 5.12 Gbit/s over Levoy's 640 Mbit/s a channel")
             .integer("channel_width_bits", 32, "bits", 1, 1024, "Width of one channel", Provenance::Default,
                      "machine.md: 8 x 32 bits x 20 MHz, see ring.channels")
+            .plausible(32, 32, "with the clock, fixed by Levoy's 640 Mbit/s a channel; another split of that rate "
+                               "changes only what ring.header_words and ring.hop_latency_cycles cover")
             .real("clock_mhz", 20.0, "MHz", 0.1, 10000, "Ring clock: one word per channel per cycle",
                   Provenance::Default, "machine.md: 8 x 32 bits x 20 MHz, see ring.channels")
+            .plausible(20, 20, "with the width, fixed by Levoy's 640 Mbit/s a channel")
             .integer("hop_latency_cycles", 1, "cycles", 0, 1000, "Ring cycles for a word to pass one station",
                      Provenance::Default, "not published; machine.md guesses 1-2 ring clocks")
+            .plausible(1, 4, "machine.md's 1-2 clocks, doubled for a station that buffers a word")
             .integer("header_words", 2, "words", 0, 64, "Header words that precede every message's payload",
                      Provenance::Default, "not published; machine.md guesses a few words")
+            .plausible(1, 4, "a destination and a length at least; 'a few' at most")
             .text("station_order", "grouped", {"grouped", "interleaved"},
                   "Order of stations on the ring: grouped = host, all GPs, all renderers, frame buffer; "
                   "interleaved = GPs spread evenly between the renderers",

@@ -46,7 +46,11 @@ int run_params(const ParamsOptions& options) {
                                {"min", spec.min ? nlohmann::json(*spec.min) : nlohmann::json(nullptr)},
                                {"max", spec.max ? nlohmann::json(*spec.max) : nlohmann::json(nullptr)},
                                {"choices", spec.choices}, {"doc", spec.doc},
-                               {"provenance", to_string(spec.provenance)}, {"source", spec.source}});
+                               {"provenance", to_string(spec.provenance)}, {"source", spec.source},
+                               {"plausible", spec.plausible ? nlohmann::json{{"low", spec.plausible->low},
+                                                                             {"high", spec.plausible->high},
+                                                                             {"why", spec.plausible->why}}
+                                                            : nlohmann::json(nullptr)}});
             }
         fmt::print("{}\n", out.dump(2));
         return 0;
@@ -67,6 +71,8 @@ int run_params(const ParamsOptions& options) {
             fmt::print("  {:<34} = {:<10} {:<7} {:<16} ({})\n", key, value, spec.unit, format_range(spec),
                        origin == "default" ? "default" : "from " + origin);
             fmt::print("      {}\n      provenance: {}: {}\n", spec.doc, to_string(spec.provenance), spec.source);
+            if (spec.plausible)
+                fmt::print("      plausible: [{}, {}]: {}\n", spec.plausible->low, spec.plausible->high, spec.plausible->why);
         }
         fmt::print("\n");
     }

@@ -6,10 +6,10 @@ const ParamGroup& levoy_cost_params() {
     static const ParamGroup group = [] {
         ParamGroup g("gp_cost.levoy", "What each of Levoy's GP operations costs on an i860; none is published");
         const auto flops = [&g](const char* name, double def, const char* doc, const char* count) {
-            g.real(name, def, "flops", 0, 1e6, doc, Provenance::Default, count);
+            g.real(name, def, "flops", 0, 1e6, doc, Provenance::Default, count).hand_counted();
         };
         const auto cycles = [&g](const char* name, double def, const char* doc, const char* count) {
-            g.real(name, def, "cycles", 0, 1e7, doc, Provenance::Default, count);
+            g.real(name, def, "cycles", 0, 1e7, doc, Provenance::Default, count).hand_counted();
         };
         flops("ray_setup_flops", 60, "Set up a ray: origin, direction, entry into and exit from the volume",
               "a pixel's ray (about 15 flops) and a slab test against the box (about 45)");

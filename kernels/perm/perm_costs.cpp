@@ -6,10 +6,10 @@ const ParamGroup& perm_cost_params() {
     static const ParamGroup group = [] {
         ParamGroup g("gp_cost.perm", "What each of PERM's ray-casting operations costs on an i860; none is published");
         const auto flops = [&g](const char* name, double def, const char* doc, const char* count) {
-            g.real(name, def, "flops", 0, 1e6, doc, Provenance::Default, count);
+            g.real(name, def, "flops", 0, 1e6, doc, Provenance::Default, count).hand_counted();
         };
         const auto cycles = [&g](const char* name, double def, const char* doc, const char* count) {
-            g.real(name, def, "cycles", 0, 1e7, doc, Provenance::Default, count);
+            g.real(name, def, "cycles", 0, 1e7, doc, Provenance::Default, count).hand_counted();
         };
         flops("ray_setup_flops", 60, "Set one ray up: its direction, where it enters the volume, its first sample",
               "as Levoy's ray setup");

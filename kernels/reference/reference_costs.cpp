@@ -8,9 +8,13 @@ const ParamGroup& reference_cost_params() {
         const char* same = "the operation count of the same work in Levoy's ray caster (gp_cost.levoy)";
         g.real("ray_setup_flops", 60, "flops", 0, 1e6, "Set up a ray: origin, direction, entry into and exit from the volume",
                Provenance::Default, same)
+            .hand_counted()
             .real("sample_step_flops", 6, "flops", 0, 1e6, "Advance a ray to its next sample", Provenance::Default, same)
+            .hand_counted()
             .real("interpolation_flops", 56, "flops", 0, 1e6, "Trilinear interpolation at a sample", Provenance::Default, same)
-            .real("compositing_flops", 10, "flops", 0, 1e6, "Composite a sample front to back", Provenance::Default, same);
+            .hand_counted()
+            .real("compositing_flops", 10, "flops", 0, 1e6, "Composite a sample front to back", Provenance::Default, same)
+            .hand_counted();
         return g;
     }();
     return group;

@@ -6,10 +6,10 @@ const ParamGroup& wilson_cost_params() {
     static const ParamGroup group = [] {
         ParamGroup g("gp_cost.wilson", "What each of Wilson's hybrid-rendering operations costs on an i860; none is published");
         const auto flops = [&g](const char* name, double def, const char* doc, const char* count) {
-            g.real(name, def, "flops", 0, 1e6, doc, Provenance::Default, count);
+            g.real(name, def, "flops", 0, 1e6, doc, Provenance::Default, count).hand_counted();
         };
         const auto cycles = [&g](const char* name, double def, const char* doc, const char* count) {
-            g.real(name, def, "cycles", 0, 1e7, doc, Provenance::Default, count);
+            g.real(name, def, "cycles", 0, 1e7, doc, Provenance::Default, count).hand_counted();
         };
         flops("texel_correction_flops", 20, "Correct one texel's opacity for the distance a ray travels between slices",
               "the path length (3), a logarithm and an exponential by table and polynomial (15), the store (2)");

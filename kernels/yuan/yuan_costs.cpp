@@ -6,10 +6,10 @@ const ParamGroup& yuan_cost_params() {
     static const ParamGroup group = [] {
         ParamGroup g("gp_cost.yuan", "What each of Yuan's splatting operations costs on an i860; none is published");
         const auto flops = [&g](const char* name, double def, const char* doc, const char* count) {
-            g.real(name, def, "flops", 0, 1e6, doc, Provenance::Default, count);
+            g.real(name, def, "flops", 0, 1e6, doc, Provenance::Default, count).hand_counted();
         };
         const auto cycles = [&g](const char* name, double def, const char* doc, const char* count) {
-            g.real(name, def, "cycles", 0, 1e7, doc, Provenance::Default, count);
+            g.real(name, def, "cycles", 0, 1e7, doc, Provenance::Default, count).hand_counted();
         };
         flops("voxel_transform_flops", 18, "Transform one voxel's centre into eye space",
               "a 3x3 matrix and a translation");

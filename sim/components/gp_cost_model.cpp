@@ -11,7 +11,7 @@ const ParamGroup& GpCostModel::params() {
     static const ParamGroup group = [] {
         ParamGroup g("gp_cost", "Graphics-processor (i860) cost of the machine's own operations; none is published");
         const auto cycles = [&g](const char* name, double def, const char* doc, const char* count) {
-            g.real(name, def, "cycles", 0, 1e7, doc, Provenance::Default, count);
+            g.real(name, def, "cycles", 0, 1e7, doc, Provenance::Default, count).hand_counted();
         };
         cycles("cache_lookup_cycles", 10, "Look a block up in the GP's cache", "a hash, a set index and up to 8 tag compares");
         cycles("message_send_cycles", 50, "Compose a message and hand it to the ring interface",

@@ -22,11 +22,15 @@ const ParamGroup& GraphicsProcessor::params() {
                      "Levoy 1989: voxels retained in a 16Mb local cache")
             .integer("memory_bytes", 8 * 1024 * 1024, "bytes", 1024, 1LL << 40, "Memory per GP board: holds the block cache and what a kernel keeps on every GP (Levoy's pyramid)",
                      Provenance::Default, "machine.md: about 8 MB per GP board, not confirmed")
+            .plausible(4 << 20, 16 << 20, "a board of the time held 4-16 MB; only what fits changes")
             .integer("ray_contexts", 8, "count", 1, 4096,
                      "Items (rays) a GP keeps in flight, switching between them while fetches are outstanding",
                      Provenance::Default, "Levoy 1989 says 'several rays' without a number")
+            .plausible(2, 16, "'several' is more than one; the i860's 32 registers and a context's state of about 16 "
+                              "words make more than 16 unlikely")
             .integer("cache_associativity", 8, "ways", 1, 1 << 20, "Ways per set of the block cache (LRU within a set)",
-                     Provenance::Default, "not published: the cache is software on the i860, any organisation is possible");
+                     Provenance::Default, "not published: the cache is software on the i860, any organisation is possible")
+            .plausible(1, 16, "a software cache could be direct-mapped (cheapest look-up) or search up to a few dozen tags");
         return g;
     }();
     return group;

@@ -81,28 +81,63 @@ ParamGroup& ParamGroup::add(ParamSpec spec) {
     return *this;
 }
 
+ParamGroup& ParamGroup::plausible(double low, double high, std::string why) {
+    if (specs_.empty()) throw std::logic_error("plausible range before any parameter of " + prefix_);
+    ParamSpec& spec = specs_.back();
+    const std::string key = prefix_ + "." + spec.name;
+    if (spec.type != ParamType::Integer && spec.type != ParamType::Real)
+        throw std::logic_error("plausible range of " + key + ", which is not a number");
+    const double def = spec.type == ParamType::Integer ? static_cast<double>(std::get<std::int64_t>(spec.default_value))
+                                                       : std::get<double>(spec.default_value);
+    if (!(low <= def && def <= high)) throw std::logic_error(fmt::format("plausible range of {} [{}, {}] leaves out its default {}", key, low, high, def));
+    const auto as_value = [&](double x) {
+        return spec.type == ParamType::Integer ? ParamValue(static_cast<std::int64_t>(std::llround(x))) : ParamValue(x);
+    };
+    if (!spec.check(as_value(low)).empty() || !spec.check(as_value(high)).empty())
+        throw std::logic_error(fmt::format("plausible range of {} [{}, {}] leaves the allowed range", key, low, high));
+    if (why.empty()) throw std::logic_error("plausible range of " + key + " without a reason");
+    spec.plausible = PlausibleRange{low, high, std::move(why)};
+    return *this;
+}
+
+ParamGroup& ParamGroup::plausible_factor(double low_factor, double high_factor, std::string why) {
+    if (specs_.empty()) throw std::logic_error("plausible range before any parameter of " + prefix_);
+    const ParamSpec& spec = specs_.back();
+    const double def = spec.type == ParamType::Integer ? static_cast<double>(std::get<std::int64_t>(spec.default_value))
+                                                       : std::get<double>(spec.default_value);
+    double low = def * low_factor, high = def * high_factor;
+    if (spec.type == ParamType::Integer) low = std::floor(low), high = std::ceil(high);
+    return plausible(low, high, std::move(why));
+}
+
+ParamGroup& ParamGroup::hand_counted() {
+    return plausible_factor(0.5, 2,
+                            "counted by hand from the arithmetic: compiled code could need half (fused or paired "
+                            "instructions) or twice as many (the loads, conversions and loop control a count leaves out)");
+}
+
 ParamGroup& ParamGroup::integer(std::string name, std::int64_t def, std::string unit, double min, double max,
                                 std::string doc, Provenance provenance, std::string source) {
     return add(ParamSpec{std::move(name), ParamType::Integer, std::move(unit), def, min, max, {}, std::move(doc),
-                         provenance, std::move(source)});
+                         provenance, std::move(source), std::nullopt});
 }
 
 ParamGroup& ParamGroup::real(std::string name, double def, std::string unit, double min, double max,
                              std::string doc, Provenance provenance, std::string source) {
     return add(ParamSpec{std::move(name), ParamType::Real, std::move(unit), def, min, max, {}, std::move(doc),
-                         provenance, std::move(source)});
+                         provenance, std::move(source), std::nullopt});
 }
 
 ParamGroup& ParamGroup::boolean(std::string name, bool def, std::string doc, Provenance provenance,
                                 std::string source) {
     return add(ParamSpec{std::move(name), ParamType::Boolean, "", def, std::nullopt, std::nullopt, {},
-                         std::move(doc), provenance, std::move(source)});
+                         std::move(doc), provenance, std::move(source), std::nullopt});
 }
 
 ParamGroup& ParamGroup::text(std::string name, std::string def, std::vector<std::string> choices, std::string doc,
                              Provenance provenance, std::string source) {
     return add(ParamSpec{std::move(name), ParamType::Text, "", std::move(def), std::nullopt, std::nullopt,
-                         std::move(choices), std::move(doc), provenance, std::move(source)});
+                         std::move(choices), std::move(doc), provenance, std::move(source), std::nullopt});
 }
 
 }  // namespace pp5

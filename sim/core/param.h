@@ -22,6 +22,14 @@ std::string format_param_value(const ParamValue& value);
 enum class Provenance { Paper, Hardware, Default };
 std::string to_string(Provenance provenance);
 
+// Where a documented guess could plausibly lie, and why: the range the uncertainty of a simulated figure
+// is propagated over (calibration/uncertainty.h). Not the allowed range, which only keeps values sane.
+struct PlausibleRange {
+    double low = 0.0;
+    double high = 0.0;
+    std::string why;
+};
+
 struct ParamSpec {
     std::string name;        // local to its group: "clock_mhz"
     ParamType type = ParamType::Integer;
@@ -33,6 +41,7 @@ struct ParamSpec {
     std::string doc;
     Provenance provenance = Provenance::Default;
     std::string source;      // e.g. "Levoy 1989, Implementation on Pixel-planes 5"
+    std::optional<PlausibleRange> plausible;  // numbers only; every timing guess has one (tests/unit/sim)
 
     // Empty when `value` is acceptable, else the reason it is not.
     std::string check(const ParamValue& value) const;
@@ -50,6 +59,13 @@ public:
     ParamGroup& boolean(std::string name, bool def, std::string doc, Provenance provenance, std::string source);
     ParamGroup& text(std::string name, std::string def, std::vector<std::string> choices, std::string doc,
                      Provenance provenance, std::string source);
+    // The plausible range of the parameter declared last; it must hold the default and lie in the
+    // allowed range.
+    ParamGroup& plausible(double low, double high, std::string why);
+    // The same range as factors of the default (a hand count that could be half or twice, say).
+    ParamGroup& plausible_factor(double low_factor, double high_factor, std::string why);
+    // An operation's cost counted by hand from its arithmetic: half to twice the count.
+    ParamGroup& hand_counted();
 
     const std::string& prefix() const { return prefix_; }
     const std::string& description() const { return description_; }

@@ -35,29 +35,37 @@ const ParamGroup& PpCostModel::params() {
         g.real("cycles_per_bit", 1.0, "cycles", 0.01, 100,
                "Cycles per result bit of a bit-serial add, subtract, compare or move", Provenance::Default,
                "machine.md: about one cycle per operand bit for add/compare/move ([D])")
+            .plausible(1, 2, "a bit-serial ALU does at most a bit a cycle; a separate carry or load cycle would double it")
             .real("multiply_cycles_per_bit_product", 1.0, "cycles", 0.01, 100,
                   "Cycles per pair of operand bits of a multiply (an n x m multiply takes about n*m)", Provenance::Default,
                   "machine.md: about n^2 cycles for an n x n multiply ([D])")
+            .plausible(0.5, 2, "shift-and-add is one add per multiplier bit; skipping zero bits halves it, "
+                               "a load of each partial product doubles it")
             .real("divide_cycles_per_bit_product", 1.0, "cycles", 0.01, 100,
                   "Cycles per result bit times trial-subtraction width of a restoring divide or square root",
                   Provenance::Default,
                   "machine.md: about one cycle per operand bit for add/compare ([D]); a restoring divide or square "
                   "root does one trial subtraction per result bit")
+            .plausible(0.5, 2, "as the multiply: a trial subtraction a result bit, with or without a restore")
             .integer("qee_latency_cycles", 4, "cycles", 0, 1000,
                      "Pipeline latency of the quadratic expression evaluator, on top of one cycle per result bit",
                      Provenance::Default, "machine.md: QEE about (bits + a few) cycles per expression ([D])")
+            .plausible(1, 16, "'a few' cycles of pipeline: one stage to a tree of 16")
             .integer("controller_cycles_per_instruction", 2, "cycles", 0, 1000,
                      "Cycles the renderer's controller adds to each instruction it issues", Provenance::Default,
                      "machine.md: the renderer controller turns ring messages into micro-instructions ([D]); "
                      "its issue cost is not published")
+            .plausible(0, 4, "a controller that overlaps decoding with execution adds nothing; one that does not, a few cycles")
             .integer("backing_store_cycles_per_block", 32, "cycles", 1, 100000,
                      "Cycles to move one block between a PP's local memory and its backing store", Provenance::Default,
                      "machine.md: backing store moved in 32-bit blocks, slower than local memory ([S]); a block "
                      "entering the bit-organised local memory one bit per cycle is our default ([D])")
+            .plausible(16, 128, "two bits a cycle (a wide video RAM port) to four cycles a bit ('slower than local memory')")
             .integer("backing_store_setup_cycles", 4, "cycles", 0, 100000,
                      "Cycles to start a slot's backing-store transfer in either direction", Provenance::Default,
                      "machine.md: transfers asynchronous and overlapping compute ([S]); the start-up cost is not "
-                     "published ([D])");
+                     "published ([D])")
+            .plausible(0, 16, "asynchronous transfers may start for free or after a row access of a video RAM");
         return g;
     }();
     return group;
