@@ -75,13 +75,19 @@ std::vector<FrameTiming> RecordedScenario::time_on(const MachineConfig& machine,
                                          timing[key]["value"].dump(), entry["value"].dump()));
         }
     }
+    std::vector<const FrameWork*> work;
+    for (std::size_t i = 0; i < frames; ++i) work.push_back(&frames_[i].frame->work);
+    return time_recorded_work(machine, work);
+}
+
+std::vector<FrameTiming> time_recorded_work(const MachineConfig& machine, const std::vector<const FrameWork*>& work) {
     std::vector<FrameTiming> times;
     if (machine.machine_kind() == MachineKind::Uniprocessor) {
-        for (std::size_t i = 0; i < frames; ++i) times.push_back(time_frame_on_one_processor(machine, frames_[i].frame->work));
+        for (const FrameWork* w : work) times.push_back(time_frame_on_one_processor(machine, *w));
         return times;
     }
     Machine timed(machine);
-    for (std::size_t i = 0; i < frames; ++i) times.push_back(time_frame(timed, frames_[i].frame->work));
+    for (const FrameWork* w : work) times.push_back(time_frame(timed, *w));
     return times;
 }
 

@@ -22,6 +22,10 @@
 
 namespace pp5 {
 
+// Recorded frames' work timed in order on `machine`: a Pixel-planes 5 machine event by event (its
+// caches carry over from frame to frame), a uniprocessor as one processor's sum.
+std::vector<FrameTiming> time_recorded_work(const MachineConfig& machine, const std::vector<const FrameWork*>& work);
+
 struct RecordedFrame {
     std::string label;
     std::unique_ptr<KernelFrame> frame;  // the kernel's record, with the machine's work

@@ -19,6 +19,7 @@ namespace {
 
 constexpr double kNormal95 = 1.959964;   // the normal distribution's 95% two-sided factor
 constexpr double kRoundingOnly = 1e-9;  // a response this small is rounding, not a guess that matters
+constexpr double kMinorChange = 0.02;   // a guess whose far end moves no figure by more than this fraction is minor
 
 double number_of(const ParamValue& v) {
     if (const auto* i = std::get_if<std::int64_t>(&v)) return static_cast<double>(*i);
@@ -87,7 +88,9 @@ UncertaintyTable measure_uncertainty(const MachineConfig& config, const std::vec
     table.base = figures(config);
     ++table.retimings;
 
-    // Every guess at each end of its range, the ends run side by side.
+    // Every guess at the far end of its range first, the re-timings run side by side; then the near end
+    // of the guesses that moved some figure measurably. A guess that did not has its near end drawn on
+    // the straight line through its value and its far end: it adds little to any band either way.
     struct End {
         std::size_t parameter;
         bool high;
@@ -95,26 +98,54 @@ UncertaintyTable measure_uncertainty(const MachineConfig& config, const std::vec
         std::optional<std::vector<double>> figures;
         std::string refusal;
     };
+    // Re-times the ends not yet known (a drawn end is).
+    const auto run = [&](std::vector<End>& ends) {
+        std::vector<End*> unknown;
+        for (End& end : ends)
+            if (!end.figures) unknown.push_back(&end);
+        pp5::parallel_for(std::size_t{0}, unknown.size(), [&](std::size_t e) {
+            End& end = *unknown[e];
+            const UncertainParameter& p = parameters[end.parameter];
+            MachineConfig moved = config;
+            try {
+                moved.set(p.key, as_param(p, end.value), "plausible range");
+                end.figures = figures(moved);
+            } catch (const InputError& error) {
+                end.refusal = error.what();
+            } catch (const std::runtime_error& error) {
+                end.refusal = error.what();  // a frame the watchdog stopped: not a machine that could be
+            }
+        });
+        table.retimings += unknown.size();
+    };
     std::vector<End> ends;
     for (std::size_t i = 0; i < parameters.size(); ++i) {
         const UncertainParameter& p = parameters[i];
-        if (p.low < p.value) ends.push_back({i, false, p.low, std::nullopt, {}});
-        if (p.high > p.value) ends.push_back({i, true, p.high, std::nullopt, {}});
+        const bool high_is_far = p.high > p.value && scale_of(p, p.high) - scale_of(p, p.value) >= scale_of(p, p.value) - scale_of(p, p.low);
+        ends.push_back({i, high_is_far, high_is_far ? p.high : p.low, std::nullopt, {}});
     }
-    pp5::parallel_for(std::size_t{0}, ends.size(), [&](std::size_t e) {
-        End& end = ends[e];
-        const UncertainParameter& p = parameters[end.parameter];
-        MachineConfig moved = config;
-        try {
-            moved.set(p.key, as_param(p, end.value), "plausible range");
-            end.figures = figures(moved);
-        } catch (const InputError& error) {
-            end.refusal = error.what();
-        } catch (const std::runtime_error& error) {
-            end.refusal = error.what();  // a frame the watchdog stopped: not a machine that could be
+    run(ends);
+    std::vector<End> near;
+    for (const End& far : ends) {
+        const UncertainParameter& p = parameters[far.parameter];
+        const double other = far.high ? p.low : p.high;
+        if (other == p.value) continue;
+        bool measurable = !far.figures;  // a refused far end: the near one must speak for the guess
+        for (std::size_t f = 0; far.figures && f < table.base.size(); ++f)
+            if (std::isfinite(table.base[f]))  // a figure the frame does not have says nothing
+                measurable = measurable || !(std::abs((*far.figures)[f] - table.base[f]) <= kMinorChange * std::abs(table.base[f]));
+        if (measurable) {
+            near.push_back({far.parameter, !far.high, other, std::nullopt, {}});
+            continue;
         }
-    });
-    table.retimings += ends.size();
+        std::vector<double> drawn;
+        const double along = (other - p.value) / (far.value - p.value);
+        for (std::size_t f = 0; f < table.base.size(); ++f) drawn.push_back(table.base[f] + ((*far.figures)[f] - table.base[f]) * along);
+        near.push_back({far.parameter, !far.high, other, std::move(drawn), {}});
+        ++table.drawn_ends;
+    }
+    run(near);
+    ends.insert(ends.end(), near.begin(), near.end());
 
     // A figure is followed in its logarithm when it and every moved value are positive.
     table.logarithmic.assign(table.base.size(), true);

@@ -6,8 +6,9 @@
 // 100:2008, 4.3.7).
 //
 // The figure's response is measured, not assumed: the recorded work is re-timed with each guess at
-// either end of its range (two re-timings a guess, the rest at their values), and the response
-// between its value and each end is taken as straight in the figure's logarithm. That captures a
+// either end of its range (the rest at their values), and the response between its value and each
+// end is taken as straight in the figure's logarithm. A minor guess (its far end moves no figure by
+// 2%) has its near end drawn on the straight line through the far one instead of re-timed. That captures a
 // guess that matters on one side only (fewer ray contexts starve the GPs; more barely help). The
 // responses add; their mean and variance give the 95% band, clipped to the box every guess at its
 // worst end would reach. Calibration scales are not guesses of this kind: the fit measures them, and
@@ -59,6 +60,7 @@ struct UncertaintyTable {
     std::vector<bool> logarithmic;                     // per figure: responses in ln (a positive figure)
     std::vector<std::vector<GuessResponse>> response;  // [parameter][figure]
     std::size_t retimings = 0;                         // how many re-timings the table took
+    std::size_t drawn_ends = 0;                        // near ends of minor guesses drawn, not re-timed
 };
 
 // The figures of a machine configuration: throws InputError (or std::runtime_error from a watchdog)

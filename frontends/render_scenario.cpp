@@ -2,6 +2,9 @@
 
 #include "frontends/render_session.h"
 
+#include "calibration/timing_model.h"
+#include "calibration/uncertainty.h"
+
 #include "frontends/lecture_pictures.h"
 #include "frontends/staged_plot.h"
 
@@ -37,6 +40,41 @@ void add_lecture_pictures(const SessionFrame& frame, const Machine& machine, con
     }
 }
 
+// Each frame's band, in its record, and what was moved, in stats.json's `uncertainty`.
+nlohmann::json add_frame_bands(const MachineConfig& config, const Kernel& kernel, const std::vector<std::unique_ptr<KernelFrame>>& recorded,
+                               nlohmann::json& frames) {
+    std::vector<const FrameWork*> work;
+    for (const auto& frame : recorded) work.push_back(&frame->work);
+    const FigureEvaluator frame_seconds = [&](const MachineConfig& machine) {
+        std::vector<double> seconds;
+        for (const FrameTiming& t : time_recorded_work(machine, work)) seconds.push_back(ticks_to_seconds(t.duration_ps()));
+        return seconds;
+    };
+    const auto started = std::chrono::steady_clock::now();
+    const UncertaintyTable table = measure_uncertainty(config, uncertain_parameters(config, {&kernel}), frame_seconds);
+    for (std::size_t f = 0; f < frames.size(); ++f) {
+        if (!frames[f].contains("simulated_seconds")) continue;  // a frame with no simulated time (the reference kernel's)
+        const double simulated = frames[f]["simulated_seconds"].get<double>();
+        const Band b = band(table, f, simulated), whole = extremes(table, f);
+        nlohmann::json main = nlohmann::json::array();
+        for (const Contribution& c : main_contributors(table, f, 5))
+            if (c.share >= 0.01) main.push_back({{"key", c.key}, {"share_of_variance", c.share}});
+        frames[f]["uncertainty"] = {{"simulated_seconds_low", b.low},
+                                    {"simulated_seconds_high", b.high},
+                                    {"every_guess_at_its_worst", {whole.low, whole.high}},
+                                    {"main_guesses", main}};
+    }
+    nlohmann::json guesses = nlohmann::json::array();
+    for (const UncertainParameter& p : table.parameters)
+        guesses.push_back({{"key", p.key}, {"value", p.value}, {"low", p.low}, {"high", p.high}, {"why", p.why}});
+    return {{"bands", "95%: every guess spread evenly over its plausible range (in its logarithm where the range stays "
+                      "above zero), independently; each frame's response measured by re-timing with the guess at either end"},
+            {"guesses", guesses},
+            {"refused", table.refused},
+            {"retimings", table.retimings},
+            {"host_seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count()}};
+}
+
 }  // namespace
 
 ScenarioRender render_scenario(const Scenario& scenario, const MachineConfig& config, StagedOutput& output,
@@ -52,16 +90,21 @@ ScenarioRender render_scenario(const Scenario& scenario, const MachineConfig& co
     RenderSession session(scenario, config, trace, format == ImageFormat::Png ? "png" : "exr", options.compare_with_reference);
     nlohmann::json frames = nlohmann::json::array();
     std::vector<std::string> warnings;
+    std::vector<std::unique_ptr<KernelFrame>> recorded;  // kept for the bands' re-timing
     for (std::size_t i = 0; i < scenario.frames.size(); ++i) {
         SessionFrame frame = session.render(scenario.frames[i]);
         if (options.lecture_pictures) add_lecture_pictures(frame, session.machine(), *trace, output, warnings);
         for (FrameImage& image : frame.images) output.add_image(image.name, std::move(image.image), format);
         frames.push_back(std::move(frame.record));
+        if (options.uncertainty) recorded.push_back(std::move(frame.recorded));
         if (options.progress) options.progress(i + 1, scenario.frames.size());
     }
+    std::optional<nlohmann::json> uncertainty;
+    if (options.uncertainty) uncertainty = add_frame_bands(config, session.kernel(), recorded, frames);
     const double host_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     ScenarioRender result;
     result.stats = session.stats(frames, host_seconds);
+    if (uncertainty) result.stats["uncertainty"] = std::move(*uncertainty);
     result.lines = session.summary_lines(frames);
     result.warnings = std::move(warnings);
     output.add_text("stats.json", result.stats.dump(2) + "\n");

@@ -30,6 +30,9 @@ struct ScenarioRenderOptions {
     // Compare every frame with the host reference renderer (PSNR, difference images). Off for big
     // volumes, where the reference's own memory would exceed the machine's.
     bool compare_with_reference = true;
+    // Give every frame's simulated time a 95% band over the documented guesses' plausible ranges
+    // (calibration/uncertainty.h), re-timing the recorded work; stats.json says which guesses matter.
+    bool uncertainty = false;
 };
 
 struct ScenarioRender {

@@ -52,6 +52,9 @@ std::string describe_frame(const nlohmann::json& f, const KernelRun& run) {
     // Levoy's figures are rates: the frame's beside its milliseconds.
     if (f.contains("simulated_seconds") && f["simulated_seconds"].is_number() && f["simulated_seconds"].get<double>() > 0)
         line += fmt::format(" ({:.1f} frames a second)", 1.0 / f["simulated_seconds"].get<double>());
+    if (const auto band = f.find("uncertainty"); band != f.end())
+        line += fmt::format(" [95% over the guesses' ranges: {:.4g}-{:.4g} ms]", 1e3 * (*band)["simulated_seconds_low"].get<double>(),
+                            1e3 * (*band)["simulated_seconds_high"].get<double>());
     if (f.contains("fidelity")) {
         const auto& psnr = f["fidelity"]["psnr_db"];
         line += psnr.is_number() ? fmt::format("; PSNR {:.1f} dB against the reference", psnr.get<double>())

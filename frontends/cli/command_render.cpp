@@ -42,6 +42,7 @@ struct RenderOptions {
     std::size_t trace_limit = 500000;   // events
     bool pictures = false;
     bool no_reference = false;
+    bool uncertainty = false;
 };
 
 // "START:END" in simulated milliseconds ("inf" for no end).
@@ -100,6 +101,7 @@ int run_render(const RenderOptions& o) {
     options.trace = trace ? &*trace : nullptr;
     options.lecture_pictures = o.pictures;
     options.compare_with_reference = !o.no_reference;
+    options.uncertainty = o.uncertainty;
     options.progress = [&progress](std::size_t done, std::size_t) { progress.update(done); };
     StageProgress stages("render " + scenario.name);
     const ScopedWorkListener listening(stages);
@@ -144,6 +146,9 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_flag("--no-reference", o->no_reference,
                   "Skip the host reference renderer: no PSNR or difference images, and about 55 bytes a voxel less memory "
                   "(for big volumes)");
+    cmd->add_flag("--uncertainty", o->uncertainty,
+                  "Give each frame's simulated time a 95% band over the documented guesses' plausible ranges (`pp5sim params`), "
+                  "by re-timing the recorded work; stats.json names the guesses that matter most");
     cmd->callback([o, &run] { run = [o] { return run_render(*o); }; });
 }
 

@@ -42,6 +42,7 @@ struct SweepOptions {
     std::vector<std::string> merge;
     std::string plot_x;
     std::string plot_metric;
+    bool uncertainty = false;
 };
 
 SweepSpec spec_of(const SweepOptions& o) {
@@ -61,6 +62,7 @@ SweepSpec spec_of(const SweepOptions& o) {
     if (o.frames >= 0) spec.frames = o.frames;
     if (!o.plot_x.empty()) spec.plot_x = o.plot_x;
     if (!o.plot_metric.empty()) spec.plot_metric = o.plot_metric;
+    if (o.uncertainty) spec.uncertainty = true;
     check_sweep_spec(spec);
     return spec;
 }
@@ -149,6 +151,11 @@ int run_sweep_command(const SweepOptions& o) {
                failed > 0 ? fmt::format(", {} failed (their rows say why)", failed) : std::string(),
                fmt::format("; host time {:.1f} s with {} thread{}", std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(),
                            threads, threads == 1 ? "" : "s"));
+    if (spec.uncertainty) {
+        const double host = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        fmt::print("  bands: {} re-timings, {:.1f} s of the {:.1f} s ({:.0f}%)\n", result.uncertainty_retimings, result.uncertainty_seconds, host,
+                   host > 0 ? 100.0 * result.uncertainty_seconds / host : 0.0);
+    }
     for (const std::string& n : notes) fmt::print("{}\n", n);
     fmt::print("wrote {} files to {}\n", written.size(), output.directory().string());
     return 0;
@@ -171,6 +178,8 @@ void add_sweep_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--merge", o->merge, "Join the shard-K-of-N.json files in these folders into the whole sweep's outputs");
     cmd->add_option("--plot-x", o->plot_x, "The varied parameter the plots put along x (default: the first)");
     cmd->add_option("--plot-metric", o->plot_metric, "The metric the plots show (default: the kernel's first)");
+    cmd->add_flag("--uncertainty", o->uncertainty,
+                  "Add <metric>_low and <metric>_high: each metric's 95% band over the documented guesses' plausible ranges");
     cmd->callback([o, &run] { run = [o] { return run_sweep_command(*o); }; });
 }
 

@@ -1,6 +1,7 @@
 #include "frontends/sweep/sweep_run.h"
 
 #include "calibration/timing_model.h"
+#include "calibration/uncertainty.h"
 #include "kernels/registry/registry.h"
 #include "kernels/registry/run_config.h"
 #include "kernels/scenario/scenario.h"
@@ -10,6 +11,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <map>
 #include <mutex>
@@ -55,6 +58,93 @@ std::vector<double> machine_values(const FrameTiming& timing, const MachineConfi
             lookups > 0 ? static_cast<double>(sum.cache_hits) / static_cast<double>(lookups) : -1.0,
             static_cast<double>(sum.fetch_requests),
             static_cast<double>(sum.events)};
+}
+
+// A frame's value of every metric column: the machine's, then its kernel's; none where the frame has
+// no such figure (no polygons to rate, say).
+std::vector<std::optional<double>> frame_values(const RecordedScenario& recording, std::size_t frame, const FrameTiming& timing,
+                                                const MachineConfig& config, const std::vector<SweepColumn>& columns,
+                                                const std::set<std::string>& kernel_metrics) {
+    const std::vector<double> machine = machine_values(timing, config);
+    std::vector<std::optional<double>> values;
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+        std::optional<double> v;
+        if (c < machine.size()) {
+            if (machine[c] >= 0) v = machine[c];
+        } else if (kernel_metrics.count(columns[c].name)) {
+            try {
+                v = recording.metric(columns[c].name, frame, timing);
+            } catch (const std::domain_error&) {
+            }
+        }
+        values.push_back(v);
+    }
+    return values;
+}
+
+// The point of a group whose varied values sit nearest the middle of each key's values: where its
+// uncertainty is measured, so that every shard measures it at the same point.
+std::size_t middle_point(const std::vector<SweepPoint>& plan, const std::vector<std::size_t>& members) {
+    std::map<std::string, std::vector<std::string>> values;  // key -> distinct values in plan order
+    for (const std::size_t m : members)
+        for (const auto& [key, value] : plan[m].parameters) {
+            std::vector<std::string>& seen = values[key];
+            if (std::find(seen.begin(), seen.end(), value) == seen.end()) seen.push_back(value);
+        }
+    std::size_t best = members.front();
+    double best_distance = INFINITY;
+    for (const std::size_t m : members) {
+        double distance = 0.0;
+        for (const auto& [key, value] : plan[m].parameters) {
+            const std::vector<std::string>& seen = values[key];
+            const auto rank = static_cast<double>(std::find(seen.begin(), seen.end(), value) - seen.begin());
+            distance += std::abs(rank - static_cast<double>(seen.size() - 1) / 2.0);
+        }
+        if (distance < best_distance) best = m, best_distance = distance;
+    }
+    return best;
+}
+
+// Every metric but a count gets a band (a count of events or fetches is not what the guesses move).
+std::vector<std::size_t> banded_columns(const std::vector<SweepColumn>& metrics) {
+    std::vector<std::size_t> banded;
+    for (std::size_t c = 0; c < metrics.size(); ++c)
+        if (metrics[c].unit != "count") banded.push_back(c);
+    return banded;
+}
+
+// One recording group's uncertainty, measured at its middle point (to be carried to the others): its
+// figures are every frame's banded columns, frame by frame.
+UncertaintyTable measure_group_bands(const RecordedScenario& recording, const MachineConfig& reference, const std::vector<SweepColumn>& metrics,
+                                     const std::vector<std::size_t>& banded, const std::set<std::string>& kernel_metrics,
+                                     const std::set<std::string>& varied) {
+    const FigureEvaluator figures = [&](const MachineConfig& config) {
+        std::vector<double> out;
+        const std::vector<FrameTiming> timings = recording.time_on(config);
+        for (std::size_t f = 0; f < timings.size(); ++f) {
+            const std::vector<std::optional<double>> values = frame_values(recording, f, timings[f], config, metrics, kernel_metrics);
+            for (const std::size_t c : banded) out.push_back(values[c].value_or(NAN));
+        }
+        return out;
+    };
+    return measure_uncertainty(reference, uncertain_parameters(reference, {&recording.kernel()}, varied), figures);
+}
+
+// Appends each banded column's low and high ends to a frame's values.
+// Without a table (its middle point refused), the ends are left empty.
+void add_bands(std::vector<std::optional<double>>& values, const std::vector<std::size_t>& banded, const std::optional<UncertaintyTable>& bands,
+               std::size_t frame) {
+    for (std::size_t b = 0; b < banded.size(); ++b) {
+        const std::optional<double> value = values[banded[b]];
+        const std::size_t figure = frame * banded.size() + b;
+        std::optional<double> low, high;
+        if (bands && value && figure < bands->base.size() && std::isfinite(bands->base[figure])) {
+            const Band band = pp5::band(*bands, figure, *value);
+            if (std::isfinite(band.low) && std::isfinite(band.high)) low = band.low, high = band.high;
+        }
+        values.push_back(low);
+        values.push_back(high);
+    }
 }
 
 std::vector<std::string> overrides_of(const SweepSpec& spec, const SweepAssignment& parameters, bool timing_too) {
@@ -161,6 +251,14 @@ SweepResult run_sweep(const SweepSpec& spec, const Shard& shard, const SweepProg
                 result.columns.push_back({m.name, m.unit, m.description});
         scenarios.emplace(name, std::move(s));
     }
+    const std::vector<SweepColumn> metric_columns = result.columns;
+    const std::vector<std::size_t> banded = banded_columns(metric_columns);
+    if (spec.uncertainty)
+        for (const std::size_t c : banded) {
+            const SweepColumn& m = metric_columns[c];
+            result.columns.push_back({m.name + "_low", m.unit, "low end of " + m.name + "'s 95% band over the documented guesses' plausible ranges"});
+            result.columns.push_back({m.name + "_high", m.unit, "high end of " + m.name + "'s 95% band over the documented guesses' plausible ranges"});
+        }
 
     if (!spec.plot_metric.empty() &&
         std::none_of(result.columns.begin(), result.columns.end(), [&](const SweepColumn& c) { return c.name == spec.plot_metric; })) {
@@ -184,10 +282,31 @@ SweepResult run_sweep(const SweepSpec& spec, const Shard& shard, const SweepProg
     for (const auto& [name, kernel] : kernel_of) kernels[name] = kernel->name();
     result.header["kernels"] = kernels;
 
-    // This shard's points, grouped by what they compute: one recording per group.
-    std::map<std::pair<std::string, std::vector<std::string>>, std::vector<std::size_t>> groups;
+    // The points grouped by what they compute: one recording per group. Each group's uncertainty is
+    // measured at its middle point, whichever shard runs it.
+    std::map<std::pair<std::string, std::vector<std::string>>, std::vector<std::size_t>> all_groups, groups;
+    for (const SweepPoint& p : plan) {
+        const auto key = std::make_pair(p.scenario, overrides_of(spec, p.parameters, false));
+        all_groups[key].push_back(p.index);
+        if (shard.takes(p.index)) groups[key].push_back(p.index);
+    }
+    std::map<std::pair<std::string, std::vector<std::string>>, std::size_t> reference_of;
+    std::set<std::string> varied;  // the sweep's own keys: chosen, not guessed
     for (const SweepPoint& p : plan)
-        if (shard.takes(p.index)) groups[{p.scenario, overrides_of(spec, p.parameters, false)}].push_back(p.index);
+        for (const auto& [k, v] : p.parameters) varied.insert(k);
+    if (spec.uncertainty) {
+        nlohmann::json references = nlohmann::json::array();
+        for (const auto& [key, members] : all_groups) {
+            reference_of[key] = middle_point(plan, members);
+            references.push_back(reference_of[key]);
+        }
+        result.header["uncertainty"] = {
+            {"bands", "95%, every documented guess (`pp5sim params`, plausible) spread evenly over its range, independently; the "
+                      "response to each measured by re-timing with it at either end of its range, at the point below of each "
+                      "recording group, and carried to the group's other points as a relative change"},
+            {"measured_at_points", references},
+            {"not_guessed", varied}};
+    }
     std::map<std::size_t, SweepPointResult> done;
     std::size_t finished = 0, total = 0;
     for (const auto& [key, members] : groups) total += members.size();
@@ -210,6 +329,7 @@ SweepResult run_sweep(const SweepSpec& spec, const Shard& shard, const SweepProg
         const int frames = spec.frames > 0 ? std::min<int>(spec.frames, static_cast<int>(scenario.frames.size()))
                                            : static_cast<int>(scenario.frames.size());
         std::unique_ptr<RecordedScenario> recording;
+        std::optional<UncertaintyTable> uncertainty;
         std::string group_error;
         try {
             MachineConfig functional = load_run_config(spec.machine, key.second);
@@ -218,6 +338,18 @@ SweepResult run_sweep(const SweepSpec& spec, const Shard& shard, const SweepProg
             recording = std::make_unique<RecordedScenario>(scenario, functional, frames);
         } catch (const InputError& e) {
             group_error = e.what();
+        }
+        if (recording && spec.uncertainty) {
+            const auto started = std::chrono::steady_clock::now();
+            const SweepPoint& middle = plan[reference_of.at(key)];
+            try {
+                uncertainty = measure_group_bands(*recording, load_run_config(spec.machine, overrides_of(spec, middle.parameters, true)),
+                                                  metric_columns, banded, kernel_metrics, varied);
+                result.uncertainty_retimings += uncertainty->retimings;
+            } catch (const InputError&) {
+                // The middle point is one the machine refuses: its row says why, and the group has no bands.
+            }
+            result.uncertainty_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
         }
         pp5::parallel_for(std::size_t{0}, members.size(), [&](std::size_t m) {
             const SweepPoint& point = plan[members[m]];
@@ -228,21 +360,9 @@ SweepResult run_sweep(const SweepSpec& spec, const Shard& shard, const SweepProg
                 try {
                     const std::vector<FrameTiming> timings = recording->time_on(config);
                     for (std::size_t f = 0; f < timings.size(); ++f) {
-                        SweepFrameResult row{f, recording->frames()[f].label, {}};
-                        const std::vector<double> machine = machine_values(timings[f], config);
-                        for (std::size_t c = 0; c < result.columns.size(); ++c) {
-                            std::optional<double> v;
-                            if (c < machine.size()) {
-                                if (machine[c] >= 0) v = machine[c];
-                            } else if (kernel_metrics.count(result.columns[c].name)) {
-                                try {
-                                    v = recording->metric(result.columns[c].name, f, timings[f]);
-                                } catch (const std::domain_error&) {
-                                    // the frame has no such figure (no polygons to rate, say)
-                                }
-                            }
-                            row.values.push_back(v);
-                        }
+                        SweepFrameResult row{f, recording->frames()[f].label,
+                                             frame_values(*recording, f, timings[f], config, metric_columns, kernel_metrics)};
+                        if (spec.uncertainty) add_bands(row.values, banded, uncertainty, f);
                         r.frames.push_back(std::move(row));
                     }
                 } catch (const InputError& e) {

@@ -63,6 +63,9 @@ struct SweepResult {
     nlohmann::json header;               // the sweep as run: name, scenarios, machine, axes, total points, ...
     std::vector<SweepColumn> columns;
     std::vector<SweepPointResult> points;  // ascending index
+    // What the bands cost this process (not written: it differs between shards).
+    std::size_t uncertainty_retimings = 0;
+    double uncertainty_seconds = 0.0;
 };
 
 using SweepProgress = std::function<void(std::size_t done, std::size_t total)>;

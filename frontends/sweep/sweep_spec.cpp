@@ -104,16 +104,21 @@ SweepSpec load_sweep_file(const std::filesystem::path& path) {
     }
     const toml::table* head = root["sweep"].as_table();
     if (head == nullptr) throw InputError(file, "sweep", "is missing: a sweep file starts with a [sweep] table naming its scenarios");
-    static const std::set<std::string> known{"name", "description", "scenarios", "machine", "set", "frames", "plot_x", "plot_metric"};
+    static const std::set<std::string> known{"name", "description", "scenarios", "machine", "set", "frames", "plot_x", "plot_metric", "uncertainty"};
     for (const auto& [k, v] : *head)
         if (!known.count(std::string(k.str())))
             throw InputError(file, "sweep." + std::string(k.str()),
-                             "unknown field; [sweep] has name, description, scenarios, machine, set, frames, plot_x and plot_metric");
+                             "unknown field; [sweep] has name, description, scenarios, machine, set, frames, plot_x, plot_metric and uncertainty");
     if (const std::string name = text_field(*head, file, "sweep.", "name"); !name.empty()) spec.name = name;
     spec.description = text_field(*head, file, "sweep.", "description");
     spec.scenarios = text_list(*head, file, "sweep.", "scenarios");
     if (const std::string machine = text_field(*head, file, "sweep.", "machine"); !machine.empty()) spec.machine = machine;
     spec.fixed = text_list(*head, file, "sweep.", "set");
+    if (const toml::node* uncertainty = head->get("uncertainty")) {
+        const auto* on = uncertainty->as_boolean();
+        if (on == nullptr) throw InputError(file, "sweep.uncertainty", "must be true or false");
+        spec.uncertainty = on->get();
+    }
     if (const toml::node* frames = head->get("frames")) {
         const auto n = frames->value<std::int64_t>();
         if (!n || *n < 0 || *n > 100000) throw InputError(file, "sweep.frames", "must be a whole number of frames (0: all)");

@@ -30,6 +30,7 @@ struct SweepSpec {
     std::vector<SweepAssignment> points;    // explicit points, after the grid
     std::string plot_x;                     // the axis the plots put along x (default: the first)
     std::string plot_metric;                // the metric they show (default: the kernel's first)
+    bool uncertainty = false;               // add each metric's band over the documented guesses' ranges
 };
 
 // Reads and checks a sweep file: unknown tables or fields, wrong types, unknown parameters, values a

@@ -568,6 +568,53 @@ TEST(Cli, SweepWritesItsTablesAndMpiShardsMergeToTheSameBytes) {
     EXPECT_EQ(read_file(dir / "ranks/sweep.csv"), csv);
 }
 
+// With --uncertainty every metric but a count gets its 95% band, the frame time's around it, measured
+// at the same point whichever shard runs it, so shards still merge to the whole sweep's bytes.
+TEST(Cli, SweepBandsHoldTheirFiguresAndShardsMergeToTheSameBands) {
+    const fs::path dir = scratch("sweep_bands");
+    const RunResult whole = run("sweep phantom-gps --uncertainty --out " + (dir / "whole").string(), dir);
+    ASSERT_EQ(whole.exit_code, 0) << whole.output;
+    EXPECT_NE(whole.output.find("bands: "), std::string::npos) << whole.output;
+    const nlohmann::json sweep = nlohmann::json::parse(read_file(dir / "whole/sweep.json"));
+    ASSERT_TRUE(sweep["sweep"].contains("uncertainty"));
+    EXPECT_EQ(sweep["sweep"]["uncertainty"]["measured_at_points"].size(), 3u);  // one per recording group
+    std::size_t checked = 0;
+    for (const auto& point : sweep["results"])
+        for (const auto& frame : point["frames"]) {
+            const auto& m = frame["metrics"];
+            EXPECT_FALSE(m.contains("events_low")) << "a count has no band";
+            EXPECT_LT(m["simulated_seconds_low"].get<double>(), m["simulated_seconds"].get<double>());
+            EXPECT_GT(m["simulated_seconds_high"].get<double>(), m["simulated_seconds"].get<double>());
+            ++checked;
+        }
+    EXPECT_EQ(checked, 7u * 2u);
+    for (const char* shard : {"0/2", "1/2"}) {
+        const RunResult part = run(std::string("sweep phantom-gps --uncertainty --shard ") + shard + " --out " + (dir / "parts").string(), dir);
+        ASSERT_EQ(part.exit_code, 0) << part.output;
+    }
+    const RunResult merged = run("sweep --merge " + (dir / "parts").string(), dir);
+    ASSERT_EQ(merged.exit_code, 0) << merged.output;
+    EXPECT_EQ(read_file(dir / "parts/sweep.csv"), read_file(dir / "whole/sweep.csv"));
+}
+
+// render --uncertainty: each frame's line and record carry the band, and stats.json names the guesses.
+TEST(Cli, RenderGivesEachFrameItsBandAndTheGuessesThatSetIt) {
+    const fs::path dir = scratch("render_bands");
+    const RunResult r = run("render head-phantom --uncertainty --no-reference --out " + (dir / "out").string(), dir);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("[95% over the guesses' ranges: "), std::string::npos) << r.output;
+    const nlohmann::json stats = nlohmann::json::parse(read_file(dir / "out/stats.json"));
+    ASSERT_TRUE(stats.contains("uncertainty"));
+    EXPECT_GT(stats["uncertainty"]["guesses"].size(), 10u);
+    for (const auto& frame : stats["frames"]) {
+        const auto& band = frame["uncertainty"];
+        EXPECT_LT(band["simulated_seconds_low"].get<double>(), frame["simulated_seconds"].get<double>());
+        EXPECT_GT(band["simulated_seconds_high"].get<double>(), frame["simulated_seconds"].get<double>());
+        EXPECT_LE(band["every_guess_at_its_worst"][0].get<double>(), band["simulated_seconds_low"].get<double>());
+        EXPECT_FALSE(band["main_guesses"].empty());
+    }
+}
+
 // compare on two renders that differ in gp.count: the frame times and per-GP figures change, the exit
 // status says they differ; a run against itself does not; a missing run is bad input.
 TEST(Cli, CompareShowsWhatChangedAndExitsThreeBeyondTheTolerance) {

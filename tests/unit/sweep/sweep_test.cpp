@@ -29,11 +29,12 @@ std::filesystem::path write(const std::string& name, const std::string& text) {
 const char* kHead = "[sweep]\nname = \"t\"\nscenarios = [\"head-phantom\"]\nframes = 1\n";
 
 TEST(SweepFile, AxesKeepTheFilesOrderAndPointsFollowTheGrid) {
-    const auto path = write("good", std::string(kHead) +
+    const auto path = write("good", std::string(kHead) + "uncertainty = true\n" +
                                         "[vary]\n\"ring.clock_mhz\" = [10.0, 20.0]\ngp.count = [4, 8, 16]\n"
                                         "[[points]]\n\"gp.count\" = 64\nlevoy.ray_assignment = \"work_queue\"\n");
     const SweepSpec spec = load_sweep_file(path);
     std::filesystem::remove(path);
+    EXPECT_TRUE(spec.uncertainty);
     ASSERT_EQ(spec.axes.size(), 2u);
     EXPECT_EQ(spec.axes[0].key, "ring.clock_mhz");  // as written, though "gp" sorts first
     EXPECT_EQ(spec.axes[1].key, "gp.count");
@@ -60,6 +61,7 @@ TEST(SweepFile, MalformedFilesAreRefusedNamingTheField) {
         {"[sweep]\nscenarios = [\"no-such-scenario\"]\n[vary]\n\"gp.count\" = [4]\n", "sweep.scenarios[0]"},
         {"[sweep]\nscenarios = [\"head-phantom\"]\nset = [\"gp.count=8\"]\n[vary]\n\"gp.count\" = [4]\n", "vary.gp.count"},
         {std::string(kHead) + "plot_x = \"ring.clock_mhz\"\n[vary]\n\"gp.count\" = [4]\n", "sweep.plot_x"},
+        {std::string(kHead) + "uncertainty = 1\n[vary]\n\"gp.count\" = [4]\n", "sweep.uncertainty"},
         {std::string(kHead) + "[vary]\n\"gp.count\" = [1,2,3,4,5,6,7,8,9,10,11]\n\"gp.ray_contexts\" = [1,2,3,4,5,6,7,8,9,10]\n"
                               "\"gp.clock_mhz\" = [1,2,3,4,5,6,7,8,9,10]\n\"ring.channels\" = [1,2,3,4,5,6,7,8,9,10]\n"
                               "\"ring.clock_mhz\" = [1,2,3,4,5,6,7,8,9,10]\n",
