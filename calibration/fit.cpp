@@ -734,6 +734,8 @@ nlohmann::json FitReport::to_json() const {
             for (const char* unused : {"scenario", "frame", "machine", "metric", "divided_by_frame"}) row.erase(unused);
         }
         row["uncalibrated"] = r.uncalibrated ? nlohmann::json(*r.uncalibrated) : nlohmann::json(nullptr);
+        row["uncalibrated_low"] = r.plausible_low ? nlohmann::json(*r.plausible_low) : nlohmann::json(nullptr);
+        row["uncalibrated_high"] = r.plausible_high ? nlohmann::json(*r.plausible_high) : nlohmann::json(nullptr);
         row["simulated_low"] = r.low ? nlohmann::json(*r.low) : nlohmann::json(nullptr);
         row["simulated_high"] = r.high ? nlohmann::json(*r.high) : nlohmann::json(nullptr);
         row["leave_one_out"] = r.leave_one_out ? nlohmann::json(*r.leave_one_out) : nlohmann::json(nullptr);
@@ -803,8 +805,11 @@ std::string FitReport::to_markdown() const {
     const bool any_uncalibrated = std::any_of(results.begin(), results.end(), [](const TargetResult& r) { return r.uncalibrated.has_value(); });
     md << "\n## Targets\n\n";
     if (std::any_of(results.begin(), results.end(), [](const TargetResult& r) { return r.low.has_value(); }))
-        md << "Intervals cover the fitted scales' uncertainty (their covariance, linearised by re-timing); the documented costs' own "
-              "ranges are not propagated here.\n\n";
+        md << "Intervals on simulated values cover the fitted scales' uncertainty (their covariance, linearised by re-timing).";
+    if (std::any_of(results.begin(), results.end(), [](const TargetResult& r) { return r.plausible_low.has_value(); }))
+        md << " Intervals on uncalibrated values cover the documented guesses' plausible ranges (`pp5sim params`), each spread "
+              "evenly over its range, at the processor rates the machine file states (the rates are what the fit's scales measure).";
+    md << "\n\n";
     md << "| id | machine | metric | reported | " << (any_uncalibrated ? "uncalibrated | " : "")
        << "simulated [95% interval from the fit] | error | use | leave-one-out prediction |\n"
        << (any_uncalibrated ? "|---|---|---|---|---|---|---|---|---|\n" : "|---|---|---|---|---|---|---|---|\n");
@@ -817,13 +822,28 @@ std::string FitReport::to_markdown() const {
         const bool formula = r.target.is_formula();
         const std::string uncalibrated =
             !any_uncalibrated ? ""
-            : r.uncalibrated  ? fmt::format("{} ({}) | ", number(*r.uncalibrated), percent((*r.uncalibrated - r.target.reported) / r.target.reported))
+            : r.uncalibrated  ? fmt::format("{}{} ({}) | ", number(*r.uncalibrated),
+                                            r.plausible_low && r.plausible_high
+                                                ? fmt::format(" [{}, {}]", number(*r.plausible_low), number(*r.plausible_high))
+                                                : std::string(),
+                                            percent((*r.uncalibrated - r.target.reported) / r.target.reported))
                               : " | ";
         md << fmt::format("| {} | {} | {} ({}) | {} | {}{} | {} | {} | {} |\n", r.target.id, formula ? "(formula: " + r.target.kernel + ")" : r.target.machine,
                           formula ? r.target.formula : r.target.metric, unit, number(r.target.reported), uncalibrated,
                           r.low && r.high ? fmt::format("{} [{}, {}]", number(r.simulated), number(*r.low), number(*r.high)) : number(r.simulated),
                           percent(r.relative_error), describe(group_of(r.target)), loo);
     }
+    std::size_t banded = 0, inside = 0;
+    for (const TargetResult& r : results)
+        if (r.plausible_low && r.plausible_high) {
+            ++banded;
+            inside += r.target.reported >= *r.plausible_low && r.target.reported <= *r.plausible_high;
+        }
+    if (banded > 0)
+        md << fmt::format("\nThe reported figure lies within the uncalibrated interval for {} of {} simulated rows. Where it does not, the "
+                          "documented guesses alone cannot account for the difference: the processors' rates (the fit's to find) or "
+                          "work the model leaves out must.\n",
+                          inside, banded);
     md << "\n## Fit quality\n\nEach kind of row apart: only the predicted rows test the model on figures it never saw. Rows the "
           "workload step matched have spent their freedom on its parameters; arithmetic checks, rows matched by construction and "
           "comparisons with another machine test something else.\n\n"

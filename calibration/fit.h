@@ -48,6 +48,9 @@ struct TargetResult {
     double simulated = 0.0;
     double relative_error = 0.0;                   // (simulated - reported) / reported
     std::optional<double> uncalibrated;            // at the machine file's own scales, beside the fit
+    // The uncalibrated value's 95% band over the documented guesses' plausible ranges
+    // (calibration/uncertainty_report.h); absent until measured.
+    std::optional<double> plausible_low, plausible_high;
     // The 95% interval the fitted scales' covariance gives the simulated value (linearised: the row's
     // elasticities to the free scales, measured by re-timing); absent when no scale of its machine is fitted.
     std::optional<double> low, high;

@@ -8,6 +8,7 @@
 
 #include "calibration/fit.h"
 #include "calibration/residuals.h"
+#include "calibration/uncertainty_report.h"
 #include "calibration/host_check.h"
 #include "calibration/targets.h"
 #include "calibration/timing_model.h"
@@ -244,6 +245,8 @@ int run_reproduce(const CalibrateOptions& o) {
     if (uncalibrated) {
         report = evaluate_targets(*model, {});
         report.workload = prepared.workload;
+        for (TargetResult& r : report.results)
+            if (!r.target.is_formula()) r.uncalibrated = r.simulated;  // the column the guesses' intervals go in
     } else {
         report = fit(prepared, o);
         stage_fit(output, *model, report);
@@ -252,12 +255,16 @@ int run_reproduce(const CalibrateOptions& o) {
     // The table: every target with the (fitted) machines, and why each row that misses does.
     say("explaining the rows more than 10% off (re-timing each machine with every timing parameter moved)");
     const std::vector<ResidualAccount> residuals = explain_residuals(*model, report);
+    say("re-timing with every documented guess at either end of its plausible range");
+    add_plausible_bands(*model, report);
+    const std::vector<Conclusion> conclusions = check_conclusions(*model, report);
     const nlohmann::json table = report.to_json();
     output.add_text("reproduction.json", nlohmann::json{{"targets", report.targets_name}, {"calibrated", !uncalibrated},
                                                         {"rows", table["rows"]}, {"summary", table["summary"]},
                                                         {"degrees_of_freedom", table["degrees_of_freedom"]},
-                                                        {"residuals", residuals_json(residuals)}}.dump(2) + "\n");
-    std::string markdown = report.to_markdown() + residuals_markdown(residuals);
+                                                        {"residuals", residuals_json(residuals)},
+                                                        {"conclusions", conclusions_json(conclusions)}}.dump(2) + "\n");
+    std::string markdown = report.to_markdown() + residuals_markdown(residuals) + conclusions_markdown(conclusions);
 
     // Figure-like images from the recorded frames (what is computed does not depend on the machine's timing).
     // The target file's [[figures]].

@@ -464,7 +464,15 @@ TEST(Cli, ReproduceWritesTheTableImagesAndPlots) {
         EXPECT_TRUE(row["use"] == "fit" || row["use"] == "held-out") << row;
         EXPECT_TRUE(row["group"] == "fitted" || row["group"] == "predicted") << row;
         EXPECT_GT(row["uncalibrated"].get<double>(), 0.0) << row;  // the documented costs' value beside the fit's
+        // with its interval over the documented guesses' plausible ranges
+        EXPECT_LT(row["uncalibrated_low"].get<double>(), row["uncalibrated"].get<double>()) << row;
+        EXPECT_GT(row["uncalibrated_high"].get<double>(), row["uncalibrated"].get<double>()) << row;
     }
+    // The claims checked across the range, on the one multicomputer: re-timed at their worst, never better than as configured.
+    ASSERT_EQ(table["conclusions"].size(), 2u) << table["conclusions"];
+    EXPECT_GE(table["conclusions"][0]["at_worst"].get<double>(), table["conclusions"][0]["as_configured"].get<double>());
+    EXPECT_LE(table["conclusions"][1]["at_worst"].get<double>(), table["conclusions"][1]["as_configured"].get<double>());
+    EXPECT_NE(read_file(dir / "out/reproduction.md").find("## What holds across the plausible range"), std::string::npos);
     // Errors judged by unit: every row here is in seconds.
     EXPECT_EQ(table["summary"]["by_unit"]["s"]["count"].get<int>(), 8) << table["summary"];
     const auto sweep = nlohmann::json::parse(read_file(dir / "out/frame_time_vs_gps.json"));
