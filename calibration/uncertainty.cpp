@@ -69,7 +69,7 @@ std::vector<UncertainParameter> uncertain_parameters(const MachineConfig& config
                 if (spec.max) high = std::min(high, *spec.max);
             }
             if (!(high > low)) continue;  // fixed by its sources
-            found.push_back({key, value, low, high, integer, low > 0.0 && value > 0.0, spec.plausible->why});
+            found.push_back({key, value, low, high, integer, low > 0.0 && value > 0.0, spec.plausible->per_operation, spec.plausible->why});
         }
     }
     return found;
@@ -131,7 +131,7 @@ UncertaintyTable measure_uncertainty(const MachineConfig& config, const std::vec
         const double other = far.high ? p.low : p.high;
         if (other == p.value) continue;
         bool measurable = !far.figures;  // a refused far end: the near one must speak for the guess
-        for (std::size_t f = 0; far.figures && f < table.base.size(); ++f)
+        for (std::size_t f = 0; far.figures && !p.per_operation && f < table.base.size(); ++f)
             if (std::isfinite(table.base[f]))  // a figure the frame does not have says nothing
                 measurable = measurable || !(std::abs((*far.figures)[f] - table.base[f]) <= kMinorChange * std::abs(table.base[f]));
         if (measurable) {

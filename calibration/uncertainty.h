@@ -7,8 +7,10 @@
 //
 // The figure's response is measured, not assumed: the recorded work is re-timed with each guess at
 // either end of its range (the rest at their values), and the response between its value and each
-// end is taken as straight in the figure's logarithm. A minor guess (its far end moves no figure by
-// 2%) has its near end drawn on the straight line through the far one instead of re-timed. That captures a
+// end is taken as straight in the figure's logarithm. A per-operation cost, or a minor guess (its far
+// end moves no figure by 2%), has its near end drawn on the straight line through the far one instead
+// of re-timed: a frame's time is a sum of such costs along its busiest path, so the line errs, if at
+// all, towards a wider band. That captures a
 // guess that matters on one side only (fewer ray contexts starve the GPs; more barely help). The
 // responses add; their mean and variance give the 95% band, clipped to the box every guess at its
 // worst end would reach. Calibration scales are not guesses of this kind: the fit measures them, and
@@ -33,6 +35,7 @@ struct UncertainParameter {
     double high = 0.0;        //   the default, when the machine file sets another value)
     bool integer = false;
     bool logarithmic = false;  // spread evenly in ln (the range does not reach zero)
+    bool per_operation = false;  // a per-operation cost (PlausibleRange::per_operation)
     std::string why;
 };
 

@@ -111,9 +111,11 @@ ParamGroup& ParamGroup::plausible_factor(double low_factor, double high_factor, 
 }
 
 ParamGroup& ParamGroup::hand_counted() {
-    return plausible_factor(0.5, 2,
-                            "counted by hand from the arithmetic: compiled code could need half (fused or paired "
-                            "instructions) or twice as many (the loads, conversions and loop control a count leaves out)");
+    plausible_factor(0.5, 2,
+                     "counted by hand from the arithmetic: compiled code could need half (fused or paired "
+                     "instructions) or twice as many (the loads, conversions and loop control a count leaves out)");
+    specs_.back().plausible->per_operation = true;
+    return *this;
 }
 
 ParamGroup& ParamGroup::integer(std::string name, std::int64_t def, std::string unit, double min, double max,

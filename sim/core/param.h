@@ -28,6 +28,7 @@ struct PlausibleRange {
     double low = 0.0;
     double high = 0.0;
     std::string why;
+    bool per_operation = false;  // a cost charged per operation: time grows with it along a straight line
 };
 
 struct ParamSpec {

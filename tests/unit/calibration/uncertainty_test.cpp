@@ -50,35 +50,54 @@ TEST(Uncertainty, ARangeDeclaredAroundTheDefaultMovesWithAnotherMachinesValue) {
 }
 
 TEST(Uncertainty, TheBandOfAKnownResponseIsTheRectangularDistributions) {
-    // y = lookup * sqrt(send): straight in the logarithms, so the linearisation is exact.
+    // y = qee latency * sqrt(header words): straight in the logarithms, so the linearisation is exact.
     const MachineConfig config(run_param_groups());
     std::vector<UncertainParameter> guesses;
     for (const UncertainParameter& p : uncertain_parameters(config, {find_kernel("levoy")}))
-        if (p.key == "gp_cost.cache_lookup_cycles" || p.key == "gp_cost.message_send_cycles") guesses.push_back(p);
+        if (p.key == "pp.qee_latency_cycles" || p.key == "ring.header_words") guesses.push_back(p);
     ASSERT_EQ(guesses.size(), 2u);
     const FigureEvaluator figure = [](const MachineConfig& c) {
-        return std::vector<double>{c.real("gp_cost.cache_lookup_cycles") * std::sqrt(c.real("gp_cost.message_send_cycles"))};
+        return std::vector<double>{static_cast<double>(c.integer("pp.qee_latency_cycles")) *
+                                   std::sqrt(static_cast<double>(c.integer("ring.header_words")))};
     };
     const UncertaintyTable table = measure_uncertainty(config, guesses, figure);
-    EXPECT_EQ(table.retimings, 5u);
+    EXPECT_EQ(table.retimings, 5u);  // the base, then each guess at both ends
     ASSERT_EQ(table.parameters.size(), 2u);
 
-    // Each guess is a factor of 2 either way, evenly in ln: variance (ln 4)^2 / 12, the second at a quarter.
-    const double base = 10.0 * std::sqrt(50.0);
-    const double spread = 1.959964 * std::sqrt(1.25 * std::pow(std::log(4.0), 2) / 12.0);
+    // 4 in [1, 16] and 2 in [1, 4], evenly in ln: variances (ln 16)^2 / 12 and a quarter of (ln 4)^2 / 12.
+    const double base = 4.0 * std::sqrt(2.0);
+    const double variance = (std::pow(std::log(16.0), 2) + 0.25 * std::pow(std::log(4.0), 2)) / 12.0;
+    const double spread = 1.959964 * std::sqrt(variance);
     const Band b = band(table, 0);
     EXPECT_NEAR(b.low, base * std::exp(-spread), 1e-9 * base);
     EXPECT_NEAR(b.high, base * std::exp(spread), 1e-9 * base);
     const Band whole = extremes(table, 0);
-    EXPECT_NEAR(whole.low, base / std::pow(2.0, 1.5), 1e-9 * base);
-    EXPECT_NEAR(whole.high, base * std::pow(2.0, 1.5), 1e-9 * base);
+    EXPECT_NEAR(whole.low, 1.0, 1e-9);
+    EXPECT_NEAR(whole.high, 16.0 * 2.0, 1e-9);
     const std::vector<Contribution> main = main_contributors(table, 0, 5);
     ASSERT_EQ(main.size(), 2u);
-    EXPECT_EQ(main[0].key, "gp_cost.cache_lookup_cycles");
-    EXPECT_NEAR(main[0].share, 0.8, 1e-9);
+    EXPECT_EQ(main[0].key, "pp.qee_latency_cycles");
+    EXPECT_NEAR(main[0].share, 16.0 / 17.0, 1e-9);
     // The worst case for a low figure takes both guesses to their low ends.
     const MachineConfig low = worst_case(config, table, 0, true);
     EXPECT_DOUBLE_EQ(figure(low)[0], whole.low);
+}
+
+TEST(Uncertainty, APerOperationCostIsReTimedAtItsFarEndOnly) {
+    // A time that grows along a straight line with a per-operation cost: the near end drawn is exact.
+    const MachineConfig config(run_param_groups());
+    std::vector<UncertainParameter> guesses;
+    for (const UncertainParameter& p : uncertain_parameters(config, {find_kernel("levoy")}))
+        if (p.key == "gp_cost.cache_lookup_cycles") guesses.push_back(p);
+    ASSERT_EQ(guesses.size(), 1u);
+    EXPECT_TRUE(guesses[0].per_operation);
+    const FigureEvaluator figure = [](const MachineConfig& c) { return std::vector<double>{100.0 + 10.0 * c.real("gp_cost.cache_lookup_cycles")}; };
+    const UncertaintyTable table = measure_uncertainty(config, guesses, figure);
+    EXPECT_EQ(table.retimings, 2u);
+    EXPECT_EQ(table.drawn_ends, 1u);
+    ASSERT_EQ(table.parameters.size(), 1u);
+    EXPECT_NEAR(table.response[0][0].at_low, std::log(150.0 / 200.0), 1e-12);  // at 5 cycles
+    EXPECT_NEAR(table.response[0][0].at_high, std::log(300.0 / 200.0), 1e-12);  // at 20, re-timed
 }
 
 TEST(Uncertainty, TheBandHoldsTheFramesOfMachinesDrawnFromTheRanges) {
