@@ -34,7 +34,11 @@ RenderedPlot render_plot(const PlotSpec& spec, const std::string& name) {
     // One block per series, separated by two blank lines (gnuplot's "index").
     for (const PlotSeries& series : spec.series) {
         plot.data += "# " + series.title + "\n";
-        for (std::size_t i = 0; i < series.x.size() && i < series.y.size(); ++i) plot.data += fmt::format("{:.9g} {:.9g}\n", series.x[i], series.y[i]);
+        for (std::size_t i = 0; i < series.x.size() && i < series.y.size(); ++i) {
+            plot.data += fmt::format("{:.9g} {:.9g}", series.x[i], series.y[i]);
+            if (series.has_band()) plot.data += fmt::format(" {:.9g} {:.9g}", series.y_low[i], series.y_high[i]);
+            plot.data += "\n";
+        }
         plot.data += "\n\n";
     }
     std::string s;
@@ -47,8 +51,8 @@ RenderedPlot render_plot(const PlotSpec& spec, const std::string& name) {
     for (const std::string& c : spec.extra_commands) s += c + "\n";
     std::string plots;
     for (std::size_t i = 0; i < spec.series.size(); ++i) {
-        plots += fmt::format("{}{} index {} using 1:2 with {} title {}", plots.empty() ? "" : ", \\\n     ", quoted(name + ".dat"), i,
-                             spec.series[i].style, quoted(spec.series[i].title));
+        plots += fmt::format("{}{} index {} using {} with {} title {}", plots.empty() ? "" : ", \\\n     ", quoted(name + ".dat"), i,
+                             spec.series[i].has_band() ? "1:2:3:4" : "1:2", spec.series[i].style, quoted(spec.series[i].title));
     }
     for (const std::string& p : spec.extra_plots) plots += (plots.empty() ? "" : ", \\\n     ") + p;
     s += "plot " + plots + "\n";

@@ -13,6 +13,10 @@ struct PlotSeries {
     std::vector<double> x;
     std::vector<double> y;
     std::string style = "points pt 7 ps 1.2";  // gnuplot's "with ..." clause
+    // A band around each y (both as long as y, or empty): drawn as error bars, the style's points
+    // joined with "yerrorlines" (or shown as "yerrorbars").
+    std::vector<double> y_low, y_high;
+    bool has_band() const { return !y_low.empty() && y_low.size() == y.size() && y_high.size() == y.size(); }
 };
 
 struct PlotSpec {

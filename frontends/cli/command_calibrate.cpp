@@ -27,6 +27,7 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <thread>
 
 namespace pp5::cli {
@@ -166,19 +167,22 @@ std::vector<std::pair<std::string, PlotSpec>> reported_vs_simulated(const FitRep
         spec.x_label = "reported (" + unit + ")";
         spec.y_label = "simulated (" + unit + ")";
         spec.log_x = spec.log_y = true;
-        PlotSeries fitted{"fitted targets (and the workload step's)", {}, {}, "points pt 7 ps 1.4 lc rgb '#1f77b4'"};
-        PlotSeries held{"predicted targets", {}, {}, "points pt 5 ps 1.4 lc rgb '#d62728'"};
-        PlotSeries uncalibrated{"uncalibrated (documented costs)", {}, {}, "points pt 6 ps 1.2 lc rgb 'gray'"};
+        // Each point with its 95% interval as an error bar: the fit's for the calibrated values, the
+        // documented guesses' for the uncalibrated ones (a point without one gets a bar of no length).
+        PlotSeries fitted{"fitted targets (and the workload step's)", {}, {}, "yerrorbars pt 7 ps 1.4 lc rgb '#1f77b4'", {}, {}};
+        PlotSeries held{"predicted targets", {}, {}, "yerrorbars pt 5 ps 1.4 lc rgb '#d62728'", {}, {}};
+        PlotSeries uncalibrated{"uncalibrated (documented costs and their plausible ranges)", {}, {}, "yerrorbars pt 6 ps 1.2 lc rgb 'gray'", {}, {}};
+        const auto add = [](PlotSeries& series, double x, double y, std::optional<double> low, std::optional<double> high) {
+            series.x.push_back(x);
+            series.y.push_back(y);
+            series.y_low.push_back(low.value_or(y));
+            series.y_high.push_back(high.value_or(y));
+        };
         for (const TargetResult& r : report.results) {
             const RowGroup group = report.group_of(r.target);
             if (r.target.unit != unit || (group != RowGroup::Fitted && group != RowGroup::Workload && group != RowGroup::Predicted)) continue;
-            PlotSeries& s = group == RowGroup::Predicted ? held : fitted;
-            s.x.push_back(r.target.reported);
-            s.y.push_back(r.simulated);
-            if (r.uncalibrated) {
-                uncalibrated.x.push_back(r.target.reported);
-                uncalibrated.y.push_back(*r.uncalibrated);
-            }
+            add(group == RowGroup::Predicted ? held : fitted, r.target.reported, r.simulated, r.low, r.high);
+            if (r.uncalibrated) add(uncalibrated, r.target.reported, *r.uncalibrated, r.plausible_low, r.plausible_high);
         }
         for (const PlotSeries& s : {fitted, held, uncalibrated})
             if (!s.x.empty()) spec.series.push_back(s);
@@ -205,8 +209,8 @@ void stage_host_check(StagedOutput& output, const HostCheckReport& report) {
     spec.x_label = "measured (s)";
     spec.y_label = "predicted (s)";
     spec.log_x = spec.log_y = true;
-    PlotSeries fitted{"fitted cases", {}, {}, "points pt 7 ps 1.4 lc rgb '#1f77b4'"};
-    PlotSeries held{"held-out cases", {}, {}, "points pt 5 ps 1.4 lc rgb '#d62728'"};
+    PlotSeries fitted{"fitted cases", {}, {}, "points pt 7 ps 1.4 lc rgb '#1f77b4'", {}, {}};
+    PlotSeries held{"held-out cases", {}, {}, "points pt 5 ps 1.4 lc rgb '#d62728'", {}, {}};
     for (const HostCase& c : report.cases) {
         PlotSeries& series = c.fitted ? fitted : held;
         series.x.push_back(c.measured_seconds);
@@ -285,7 +289,7 @@ int run_reproduce(const CalibrateOptions& o) {
 
     // Plots.
     std::string plot_names;
-    markdown += "\n## Reported against simulated\n\nOne plot per metric unit; grey points are the uncalibrated values.\n";
+    markdown += "\n## Reported against simulated\n\nOne plot per metric unit, each point with its 95% interval; grey points are the uncalibrated values, their bars the documented guesses' plausible ranges.\n";
     for (const auto& [name, spec] : reported_vs_simulated(report)) {
         stage_plot_or_warn(output, spec, name);
         plot_names += name + ".png, ";
@@ -319,7 +323,7 @@ int run_reproduce(const CalibrateOptions& o) {
         for (std::size_t m = 0; m < swept.size(); ++m) {
             std::string title = swept[m];  // gnuplot would read an underscore as a subscript
             std::replace(title.begin(), title.end(), '_', ' ');
-            series.push_back(PlotSeries{title, {}, {}, fmt::format("linespoints pt {} lw 2", 7 - 2 * static_cast<int>(m % 3))});
+            series.push_back(PlotSeries{title, {}, {}, fmt::format("linespoints pt {} lw 2", 7 - 2 * static_cast<int>(m % 3)), {}, {}});
         }
         const CalibrationScales scales = report.scales(scaling->machine);
         for (const int n : o.gp_counts) {
@@ -340,7 +344,7 @@ int run_reproduce(const CalibrateOptions& o) {
         }
         // Perfect speed-up of the last metric from the fewest GPs, for comparison.
         const PlotSeries& last = series.back();
-        PlotSeries ideal{last.title + ", perfect speed-up", {}, {}, "lines dt 2 lc rgb 'gray'"};
+        PlotSeries ideal{last.title + ", perfect speed-up", {}, {}, "lines dt 2 lc rgb 'gray'", {}, {}};
         for (std::size_t i = 0; i < last.x.size(); ++i) {
             ideal.x.push_back(last.x[i]);
             ideal.y.push_back(last.y.front() * last.x.front() / last.x[i]);
@@ -352,7 +356,7 @@ int run_reproduce(const CalibrateOptions& o) {
             if (t.scenario != scaling->scenario || t.frame != scaling->frame || t.machine != scaling->machine) continue;
             if (std::find(swept.begin(), swept.end(), t.metric) == swept.end()) continue;
             const double gps = static_cast<double>(model->base_config(t.machine).integer("gp.count"));
-            spec.series.push_back(PlotSeries{"reported: " + t.id, {gps}, {t.reported}, "points pt 9 ps 2.5"});
+            spec.series.push_back(PlotSeries{"reported: " + t.id, {gps}, {t.reported}, "points pt 9 ps 2.5", {}, {}});
         }
         stage_plot_or_warn(output, spec, "frame_time_vs_gps");
         markdown += fmt::format("\n## Frame time against GP count\n\n![frame time against GP count](frame_time_vs_gps.png)\n\n`{}` frame {} on {} "

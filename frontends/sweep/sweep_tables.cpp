@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 
 namespace pp5 {
@@ -198,6 +199,13 @@ std::vector<std::pair<std::string, PlotSpec>> sweep_plots(const SweepResult& res
         const auto column = std::find_if(result.columns.begin(), result.columns.end(), [&](const SweepColumn& c) { return c.name == metric; });
         if (column == result.columns.end()) continue;
         const auto c = static_cast<std::size_t>(column - result.columns.begin());
+        // With --uncertainty, the metric's band: error bars over the frames' mean band.
+        const auto index_of = [&](const std::string& name) -> std::optional<std::size_t> {
+            for (std::size_t i = 0; i < result.columns.size(); ++i)
+                if (result.columns[i].name == name) return i;
+            return std::nullopt;
+        };
+        const std::optional<std::size_t> low = index_of(metric + "_low"), high = index_of(metric + "_high");
         std::map<std::string, PlotSeries> lines;  // by the other axes' values
         std::vector<std::string> order;
         for (const SweepPointResult& p : result.points) {
@@ -208,27 +216,39 @@ std::vector<std::pair<std::string, PlotSpec>> sweep_plots(const SweepResult& res
                 if (k == x_key) x = v;
                 else title += (title.empty() ? "" : ", ") + k + " = " + v;
             }
-            double sum = 0;
+            double sum = 0, sum_low = 0, sum_high = 0;
             std::size_t n = 0;
+            bool banded = low && high;
             for (const SweepFrameResult& f : p.frames)
-                if (f.values[c]) sum += *f.values[c], ++n;
+                if (f.values[c]) {
+                    sum += *f.values[c], ++n;
+                    banded = banded && f.values[*low] && f.values[*high];
+                    if (banded) sum_low += *f.values[*low], sum_high += *f.values[*high];
+                }
             const auto at = std::find(x_values.begin(), x_values.end(), x);
             if (n == 0 || at == x_values.end()) continue;
             if (!lines.count(title)) {
                 order.push_back(title);
                 std::string shown = title.empty() ? scenario : title;
                 std::replace(shown.begin(), shown.end(), '_', ' ');  // gnuplot reads _ as a subscript
-                lines[title] = PlotSeries{shown, {}, {}, fmt::format("linespoints pt {} lw 2", 5 + 2 * static_cast<int>(order.size() % 4))};
+                const int point_type = 5 + 2 * static_cast<int>(order.size() % 4);
+                lines[title] = PlotSeries{shown, {}, {}, fmt::format("{} pt {} lw 2", banded ? "yerrorlines" : "linespoints", point_type), {}, {}};
             }
-            lines[title].x.push_back(xs[static_cast<std::size_t>(at - x_values.begin())]);
-            lines[title].y.push_back(sum / static_cast<double>(n));
+            PlotSeries& line = lines[title];
+            line.x.push_back(xs[static_cast<std::size_t>(at - x_values.begin())]);
+            line.y.push_back(sum / static_cast<double>(n));
+            if (banded) {
+                line.y_low.push_back(sum_low / static_cast<double>(n));
+                line.y_high.push_back(sum_high / static_cast<double>(n));
+            }
         }
         if (lines.empty()) continue;
         PlotSpec spec;
         std::string shown_metric = metric, shown_x = x_key;
         std::replace(shown_metric.begin(), shown_metric.end(), '_', ' ');
         std::replace(shown_x.begin(), shown_x.end(), '_', ' ');
-        spec.title = fmt::format("{}: {} against {} (mean over frames)", header["name"].get<std::string>(), shown_metric, shown_x);
+        spec.title = fmt::format("{}: {} against {} (mean over frames{})", header["name"].get<std::string>(), shown_metric, shown_x,
+                                 low && high ? ", with its 95% band over the guesses' ranges" : "");
         spec.x_label = shown_x;
         spec.y_label = fmt::format("{} [{}]", shown_metric, column->unit);
         if (numeric && xs.size() > 1) {
