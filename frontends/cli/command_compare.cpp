@@ -6,6 +6,7 @@
 #include "frontends/cli/commands.h"
 #include "frontends/compare/stats_compare.h"
 #include "sim/core/input_error.h"
+#include "sim/core/json_input.h"
 
 #include <fmt/core.h>
 
@@ -36,8 +37,8 @@ nlohmann::json read_stats(const std::string& given) {
     std::ifstream in(path, std::ios::binary);
     std::stringstream text;
     text << in.rdbuf();
-    nlohmann::json json = nlohmann::json::parse(text.str(), nullptr, false);
-    if (json.is_discarded() || !json.is_object()) throw InputError(path.string(), "compare", "is not a JSON object (a run's stats.json)");
+    nlohmann::json json = parse_json_input(text.str(), path.string(), "compare");
+    if (!json.is_object()) throw InputError(path.string(), "compare", "is not a JSON object (a run's stats.json)");
     return json;
 }
 

@@ -15,6 +15,7 @@
 #include "frontends/sweep/sweep_tables.h"
 #include "kernels/scenario/scenario.h"
 #include "sim/core/input_error.h"
+#include "sim/core/json_input.h"
 
 #include <fmt/core.h>
 #include <tbb/global_control.h>
@@ -98,9 +99,7 @@ std::vector<std::pair<std::string, nlohmann::json>> read_shards(const std::vecto
             std::ifstream in(f, std::ios::binary);
             std::stringstream text;
             text << in.rdbuf();
-            nlohmann::json json = nlohmann::json::parse(text.str(), nullptr, false);
-            if (json.is_discarded()) throw InputError(f.string(), "shard", "is not JSON");
-            shards.emplace_back(f.string(), std::move(json));
+            shards.emplace_back(f.string(), parse_json_input(text.str(), f.string(), "shard"));
         }
     }
     return shards;

@@ -1,6 +1,7 @@
 #include "frontends/serve/view_server.h"
 
 #include "sim/core/input_error.h"
+#include "sim/core/json_input.h"
 
 #include <fmt/core.h>
 #include <httplib.h>
@@ -68,9 +69,9 @@ struct ViewServer::Impl {
                 return send_error(res, 415, "Content-Type", "a change is sent as application/json");
             nlohmann::json change;
             try {
-                change = nlohmann::json::parse(req.body);
-            } catch (const nlohmann::json::exception& e) {
-                return send_error(res, 400, "body", std::string("not JSON: ") + e.what());
+                change = parse_json_input(req.body, "request", "body");
+            } catch (const InputError& e) {
+                return send_error(res, 400, "body", e.reason());
             }
             const std::lock_guard lock(mutex);
             try {

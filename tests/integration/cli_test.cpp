@@ -623,6 +623,21 @@ TEST(Cli, RenderGivesEachFrameItsBandAndTheGuessesThatSetIt) {
     }
 }
 
+// JSON nested far deeper than any file pp5sim writes is refused as bad input by every command that
+// reads a user's JSON, before anything walks it (the walk recurses and would overflow the stack).
+TEST(Cli, DeeplyNestedJsonIsRefusedByCompareAndMerge) {
+    const fs::path dir = scratch("deep_json");
+    fs::create_directories(dir / "shards");
+    std::ofstream(dir / "deep.json") << std::string(50000, '[') << std::string(50000, ']');
+    std::ofstream(dir / "shards/shard-0-of-1.json") << std::string(50000, '{') ;
+    const RunResult compare = run("compare " + (dir / "deep.json").string() + " " + (dir / "deep.json").string(), dir);
+    EXPECT_EQ(compare.exit_code, 2) << compare.output;
+    EXPECT_NE(compare.output.find("deep.json: compare: nests arrays and objects more than"), std::string::npos) << compare.output;
+    const RunResult merge = run("sweep --merge " + (dir / "shards").string(), dir);
+    EXPECT_EQ(merge.exit_code, 2) << merge.output;
+    EXPECT_NE(merge.output.find("shard-0-of-1.json: shard: "), std::string::npos) << merge.output;
+}
+
 // compare on two renders that differ in gp.count: the frame times and per-GP figures change, the exit
 // status says they differ; a run against itself does not; a missing run is bad input.
 TEST(Cli, CompareShowsWhatChangedAndExitsThreeBeyondTheTolerance) {
