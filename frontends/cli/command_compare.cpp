@@ -38,7 +38,7 @@ nlohmann::json read_stats(const std::string& given) {
     std::stringstream text;
     text << in.rdbuf();
     nlohmann::json json = parse_json_input(text.str(), path.string(), "compare");
-    if (!json.is_object()) throw InputError(path.string(), "compare", "is not a JSON object (a run's stats.json)");
+    check_run_stats(json, path.string());
     return json;
 }
 

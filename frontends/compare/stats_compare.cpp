@@ -1,5 +1,7 @@
 #include "frontends/compare/stats_compare.h"
 
+#include "sim/core/input_error.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -83,6 +85,22 @@ StatsComparison compare_stats(const nlohmann::json& before, const nlohmann::json
     });
     for (const StatDifference& d : out.differences) out.beyond_tolerance += std::abs(d.relative()) > options.tolerance;
     return out;
+}
+
+void check_run_stats(const nlohmann::json& json, const std::string& file) {
+    const auto refuse = [&](const std::string& field, const std::string& why) {
+        throw InputError(file, field, why + ": compare takes two runs' stats.json, as `pp5sim render` writes them");
+    };
+    if (!json.is_object()) refuse("compare", "is not a JSON object");
+    if (json.contains("sweep") && json.contains("results")) refuse("compare", "is a sweep's results (sweep.json or a shard), not a run's statistics");
+    for (const char* table : {"summary", "components"})
+        if (!json.contains(table) || !json[table].is_object()) refuse(table, "is missing or not an object");
+    if (!json.contains("frames") || !json["frames"].is_array()) refuse("frames", "is missing or not a list");
+    const nlohmann::json& summary = json["summary"];
+    for (const char* text : {"scenario", "kernel"})
+        if (!summary.contains(text) || !summary[text].is_string()) refuse(std::string("summary.") + text, "is missing or not text");
+    if (!summary.contains("simulated_seconds") || !summary["simulated_seconds"].is_array())
+        refuse("summary.simulated_seconds", "is missing or not a list of frame times");
 }
 
 }  // namespace pp5

@@ -33,6 +33,11 @@ struct CompareOptions {
     bool include_host = false;    // compare host_seconds too
 };
 
+// Throws InputError naming `file` unless `json` is a run's stats.json as `pp5sim render` writes it:
+// an object with components, frames and a summary that gives the scenario, the kernel and each
+// frame's simulated time. A sweep's results, or any other JSON, is refused saying what it is.
+void check_run_stats(const nlohmann::json& json, const std::string& file);
+
 StatsComparison compare_stats(const nlohmann::json& before, const nlohmann::json& after, const CompareOptions& options);
 
 }  // namespace pp5

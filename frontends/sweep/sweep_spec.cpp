@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <map>
 #include <set>
 
 namespace pp5 {
@@ -174,13 +175,22 @@ SweepAxis parse_vary_option(const std::string& text) {
 
 void check_sweep_spec(const SweepSpec& spec) {
     const std::string& file = spec.file;
+    // It names the output folder, out/sweeps/<name>.
+    if (const std::string problem = output_name_problem(spec.name); !problem.empty()) throw InputError(file, "sweep.name", problem);
     if (spec.scenarios.empty()) throw InputError(file, "sweep.scenarios", "needs at least one scenario");
+    // A scenario's rows and plot are known by its name, so two entries may not name the same one.
+    std::map<std::string, std::size_t> entry_of_name;
     for (std::size_t i = 0; i < spec.scenarios.size(); ++i) {
+        const std::string field = fmt::format("sweep.scenarios[{}]", i);
+        std::string name;
         try {
-            (void)load_scenario(resolve_scenario_file(spec.scenarios[i]));
+            name = load_scenario(resolve_scenario_file(spec.scenarios[i])).name;
         } catch (const InputError& e) {
-            throw InputError(file, fmt::format("sweep.scenarios[{}]", i), std::string("\"") + spec.scenarios[i] + "\": " + e.what());
+            throw InputError(file, field, std::string("\"") + spec.scenarios[i] + "\": " + e.what());
         }
+        if (const auto [earlier, added] = entry_of_name.emplace(name, i); !added)
+            throw InputError(file, field, fmt::format("\"{}\" is scenario {}, which sweep.scenarios[{}] already names", spec.scenarios[i], name,
+                                                      earlier->second));
     }
     try {
         (void)load_run_config(spec.machine, spec.fixed);
@@ -199,18 +209,24 @@ void check_sweep_spec(const SweepSpec& spec) {
             throw InputError(file, field, e.field() == key ? e.reason() : e.what());
         }
     };
+    // The size first: checking a value loads a machine, and a grid past the cap is refused before that.
     std::size_t grid = spec.axes.empty() ? 0 : 1;
     for (const SweepAxis& axis : spec.axes) {
         const std::string field = "vary." + axis.key;
         if (!keys.insert(axis.key).second) throw InputError(file, field, "is set or varied twice");
         if (axis.values.empty()) throw InputError(file, field, "needs at least one value");
+        grid = std::min(grid * std::min(axis.values.size(), kMaxSweepPoints + 1), kMaxSweepPoints + 1);
+    }
+    const std::size_t total = std::min(grid + spec.points.size(), kMaxSweepPoints + 1) * spec.scenarios.size();
+    if (total > kMaxSweepPoints)
+        throw InputError(file, "vary", fmt::format("makes more than {} points; split the sweep", kMaxSweepPoints));
+    for (const SweepAxis& axis : spec.axes) {
+        const std::string field = "vary." + axis.key;
         std::set<std::string> seen;
         for (std::size_t i = 0; i < axis.values.size(); ++i) {
             if (!seen.insert(axis.values[i]).second) throw InputError(file, fmt::format("{}[{}]", field, i), "repeats an earlier value");
             check_value(axis.key, axis.values[i], fmt::format("{}[{}]", field, i));
         }
-        grid *= axis.values.size();
-        if (grid > kMaxSweepPoints) break;
     }
     for (std::size_t p = 0; p < spec.points.size(); ++p) {
         std::set<std::string> in_point;
@@ -220,9 +236,6 @@ void check_sweep_spec(const SweepSpec& spec) {
             check_value(key, value, field);
         }
     }
-    const std::size_t total = (grid + spec.points.size()) * spec.scenarios.size();
-    if (grid > kMaxSweepPoints || total > kMaxSweepPoints)
-        throw InputError(file, "vary", fmt::format("makes more than {} points; split the sweep", kMaxSweepPoints));
     if (total == 0) throw InputError(file, "vary", "gives no point: vary a parameter or list [[points]]");
     if (!spec.plot_x.empty() && std::none_of(spec.axes.begin(), spec.axes.end(), [&](const SweepAxis& a) { return a.key == spec.plot_x; }))
         throw InputError(file, "sweep.plot_x", "\"" + spec.plot_x + "\" is not one of the varied parameters");

@@ -1,5 +1,6 @@
 #include "frontends/sweep/sweep_tables.h"
 
+#include "frontends/sweep/sweep_json_shape.h"
 #include "kernels/registry/registry.h"
 #include "sim/core/input_error.h"
 
@@ -51,7 +52,9 @@ nlohmann::json sweep_to_json(const SweepResult& result, std::optional<Shard> sha
         for (const SweepFrameResult& f : p.frames) {
             nlohmann::json values = nlohmann::json::object();
             for (std::size_t c = 0; c < result.columns.size(); ++c)
-                values[result.columns[c].name] = f.values[c] ? nlohmann::json(*f.values[c]) : nlohmann::json(nullptr);
+                // A value that is not finite is written as JSON writes it, null (not measured).
+                values[result.columns[c].name] =
+                    f.values[c] && std::isfinite(*f.values[c]) ? nlohmann::json(*f.values[c]) : nlohmann::json(nullptr);
             frames.push_back({{"frame", f.frame}, {"label", f.label}, {"metrics", values}});
         }
         nlohmann::json point = {{"index", p.point.index}, {"scenario", p.point.scenario}, {"varied", varied}, {"frames", frames},
@@ -66,9 +69,8 @@ nlohmann::json sweep_to_json(const SweepResult& result, std::optional<Shard> sha
 
 SweepResult sweep_from_json(const nlohmann::json& json, const std::string& file) {
     SweepResult r;
+    check_sweep_json_shape(json, file);
     try {
-        if (!json.is_object() || !json.contains("sweep") || !json.contains("columns") || !json.contains("results"))
-            not_a_sweep(file, "sweep", "needs sweep, columns and results");
         r.header = json.at("sweep");
         for (const auto& c : json.at("columns")) r.columns.push_back({c.at("name"), c.at("unit"), c.at("description")});
         for (const auto& p : json.at("results")) {
@@ -131,10 +133,9 @@ SweepResult merge_sweep_shards(const std::vector<std::pair<std::string, nlohmann
     std::optional<std::size_t> count;
     std::set<std::size_t> seen_shards, seen_points;
     for (const auto& [file, json] : shards) {
-        if (!json.contains("shard") || !json["shard"].contains("index") || !json["shard"].contains("count"))
-            throw InputError(file, "shard", "is missing: this is not a shard's file");
-        const auto index = json["shard"]["index"].get<std::size_t>(), n = json["shard"]["count"].get<std::size_t>();
         SweepResult part = sweep_from_json(json, file);
+        if (!json.contains("shard")) throw InputError(file, "shard", "is missing: this is not a shard's file");
+        const auto index = json["shard"]["index"].get<std::size_t>(), n = json["shard"]["count"].get<std::size_t>();
         if (!count) {
             count = n;
             merged.header = part.header;
@@ -164,6 +165,7 @@ SweepResult merge_sweep_shards(const std::vector<std::pair<std::string, nlohmann
 
 std::vector<std::pair<std::string, PlotSpec>> sweep_plots(const SweepResult& result) {
     std::vector<std::pair<std::string, PlotSpec>> plots;
+    std::set<std::string> plot_names;
     const nlohmann::json& header = result.header;
     if (header["axes"].empty()) return plots;
     std::string x_key = header.value("plot_x", std::string());
@@ -276,6 +278,9 @@ std::vector<std::pair<std::string, PlotSpec>> sweep_plots(const SweepResult& res
         std::string name = "sweep_" + scenario;
         for (char& ch : name)
             if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_') ch = '_';
+        // Names that differ only in the characters replaced ("a b", "a_b") get a number each after the first.
+        const std::string base = name;
+        for (int copy = 2; !plot_names.insert(name).second; ++copy) name = fmt::format("{}_{}", base, copy);
         plots.emplace_back(name, std::move(spec));
     }
     return plots;

@@ -531,13 +531,8 @@ Scenario read_scenario(const toml::table& root, const std::filesystem::path& pat
     // Checked against the registry when a run starts (this layer lies below the kernels).
     if (const auto kernel = meta.text("kernel")) s.kernel = *kernel;
     meta.finish();
-    // It names the output folder, out/<name>: a plain file name, not one that climbs out of out/.
-    constexpr std::size_t kLongestName = 100;
-    if (s.name.empty() || s.name.find_first_of("/\\") != std::string::npos || s.name == "." || s.name == ".." ||
-        s.name.size() > kLongestName || s.name.find('\0') != std::string::npos)
-        meta.fail("name", fmt::format("must be a name of 1 to {} characters without slashes, and not . or .. (it names the output "
-                                      "folder out/<name>)",
-                                      kLongestName));
+    // It names the output folder, out/<name>.
+    if (const std::string problem = output_name_problem(s.name); !problem.empty()) meta.fail("name", problem);
 
     if (!top.has("dataset")) top.fail("dataset", "required: a [dataset] table naming packaged, file or phantom");
     s.dataset = read_dataset(top.sub("dataset"), path);

@@ -3,7 +3,10 @@
 #include "sim/core/input_error.h"
 #include "sim/core/spelling.h"
 
+#include <fmt/format.h>
+
 #include <cstdlib>
+#include <string_view>
 #include <map>
 #include <vector>
 
@@ -45,6 +48,15 @@ std::vector<std::filesystem::path> list_named_files(const NamedFileSearch& searc
     std::vector<fs::path> out;
     for (auto& [name, path] : by_name) out.push_back(std::move(path));
     return out;
+}
+
+std::string output_name_problem(const std::string& name) {
+    constexpr std::size_t kLongestOutputName = 100;
+    if (name.empty() || name.size() > kLongestOutputName || name == "." || name == ".." ||
+        name.find_first_of(std::string_view("/\\\0", 3)) != std::string::npos)
+        return fmt::format("must be a name of 1 to {} characters without slashes, and not . or .. (it names an output folder)",
+                           kLongestOutputName);
+    return {};
 }
 
 }  // namespace pp5

@@ -21,4 +21,9 @@ std::filesystem::path resolve_named_file(const std::string& name_or_path, const 
 // shipped file of the same name).
 std::vector<std::filesystem::path> list_named_files(const NamedFileSearch& search);
 
+// Why `name` cannot name an output folder (out/<name>, out/sweeps/<name>), or "" when it can: one
+// plain component of 1 to 100 characters, not . or .., so that nothing written under it lands
+// outside the folder it was meant for.
+std::string output_name_problem(const std::string& name);
+
 }  // namespace pp5

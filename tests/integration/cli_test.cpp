@@ -652,6 +652,16 @@ TEST(Cli, CompareShowsWhatChangedAndExitsThreeBeyondTheTolerance) {
     EXPECT_EQ(same.exit_code, 0) << same.output;
     const RunResult missing = run("compare " + (dir / "a").string() + " " + (dir / "nowhere").string(), dir);
     EXPECT_EQ(missing.exit_code, 2) << missing.output;
+
+    // Only runs' statistics: two empty objects do not "agree", and a sweep's results are not a run.
+    std::ofstream(dir / "empty.json") << "{}";
+    const RunResult empty = run("compare " + (dir / "empty.json").string() + " " + (dir / "empty.json").string(), dir);
+    EXPECT_EQ(empty.exit_code, 2) << empty.output;
+    EXPECT_NE(empty.output.find("empty.json: summary: is missing"), std::string::npos) << empty.output;
+    std::ofstream(dir / "sweep.json") << R"({"sweep": {}, "columns": [], "results": []})";
+    const RunResult sweep = run("compare " + (dir / "a").string() + " " + (dir / "sweep.json").string(), dir);
+    EXPECT_EQ(sweep.exit_code, 2) << sweep.output;
+    EXPECT_NE(sweep.output.find("sweep.json: compare: is a sweep's results"), std::string::npos) << sweep.output;
 }
 
 // Usage mistakes keep the documented exit code 2, say what was meant when it is close, and counts

@@ -14,6 +14,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <set>
 
@@ -62,11 +63,18 @@ TEST(SweepFile, MalformedFilesAreRefusedNamingTheField) {
         {"[sweep]\nscenarios = [\"head-phantom\"]\nset = [\"gp.count=8\"]\n[vary]\n\"gp.count\" = [4]\n", "vary.gp.count"},
         {std::string(kHead) + "plot_x = \"ring.clock_mhz\"\n[vary]\n\"gp.count\" = [4]\n", "sweep.plot_x"},
         {std::string(kHead) + "uncertainty = 1\n[vary]\n\"gp.count\" = [4]\n", "sweep.uncertainty"},
-        {std::string(kHead) + "[vary]\n\"gp.count\" = [1,2,3,4,5,6,7,8,9,10,11]\n\"gp.ray_contexts\" = [1,2,3,4,5,6,7,8,9,10]\n"
+        // Over the point cap: refused as such before any value is checked (0 GPs would be refused too).
+        {std::string(kHead) + "[vary]\n\"gp.count\" = [0,2,3,4,5,6,7,8,9,10,11]\n\"gp.ray_contexts\" = [1,2,3,4,5,6,7,8,9,10]\n"
                               "\"gp.clock_mhz\" = [1,2,3,4,5,6,7,8,9,10]\n\"ring.channels\" = [1,2,3,4,5,6,7,8,9,10]\n"
                               "\"ring.clock_mhz\" = [1,2,3,4,5,6,7,8,9,10]\n",
          "vary"},
         {std::string(kHead) + "[[points]]\n\"gp.count\" = 4\n\"gp.count\" = 8\n", ""},  // TOML itself refuses a key twice
+        // The name becomes out/sweeps/<name>: nothing that climbs out of it.
+        {"[sweep]\nname = \"../../elsewhere\"\nscenarios = [\"head-phantom\"]\n[vary]\n\"gp.count\" = [4]\n", "sweep.name"},
+        {"[sweep]\nname = \"/tmp/x\"\nscenarios = [\"head-phantom\"]\n[vary]\n\"gp.count\" = [4]\n", "sweep.name"},
+        {"[sweep]\nname = \"..\"\nscenarios = [\"head-phantom\"]\n[vary]\n\"gp.count\" = [4]\n", "sweep.name"},
+        // Rows and plots are known by the scenario's name: the same scenario twice is refused.
+        {"[sweep]\nscenarios = [\"head-phantom\", \"head-phantom\"]\n[vary]\n\"gp.count\" = [4]\n", "sweep.scenarios[1]"},
     };
     for (std::size_t i = 0; i < cases.size(); ++i) {
         const auto path = write("bad" + std::to_string(i), cases[i].first);
@@ -115,6 +123,86 @@ TEST(SweepShards, EveryPointRunsInExactlyOneShardAndTheLaunchersSayWhich) {
     EXPECT_EQ(s->count, 4u);
     for (const char* v : {"SLURM_ARRAY_TASK_ID", "SLURM_ARRAY_TASK_MIN", "SLURM_ARRAY_TASK_COUNT"}) ::unsetenv(v);
     EXPECT_FALSE(shard_from_environment());
+}
+
+// A shard as another machine would write it: shard 0 of 2 of a sweep of two scenarios over two GP
+// counts (points 0 and 2 are its share), with the names "a b" and "a_b" that a plot's file name
+// would make the same.
+nlohmann::json hand_written_shard(std::size_t index) {
+    nlohmann::json shard = nlohmann::json::parse(R"({
+      "sweep": {"name": "t", "description": "", "scenarios": ["a b", "a_b"], "machine": "pxpl5", "set": [],
+                "frames": 1, "axes": [{"key": "gp.count", "values": ["4", "8"]}], "points": [],
+                "total_points": 4, "plot_x": "", "plot_metric": "frame_ms",
+                "kernels": {"a b": "levoy", "a_b": "levoy"}},
+      "columns": [{"name": "frame_ms", "unit": "ms", "description": "simulated frame time"}],
+      "results": []})");
+    for (std::size_t point = index; point < 4; point += 2) {
+        const std::string gps = point % 2 == 0 ? "4" : "8";
+        shard["results"].push_back({{"index", point},
+                                    {"scenario", point < 2 ? "a b" : "a_b"},
+                                    {"varied", {{"gp.count", gps}}},
+                                    {"frames", {{{"frame", 0}, {"label", "f"}, {"metrics", {{"frame_ms", 10.0 + point}}}}}},
+                                    {"parameters", {{"gp.count", std::stoi(gps)}}}});
+    }
+    shard["shard"] = {{"index", index}, {"count", 2}};
+    return shard;
+}
+
+TEST(SweepShards, MalformedShardsAreRefusedNamingTheFileAndTheField) {
+    const auto shards_with = [](const std::function<void(nlohmann::json&)>& change) {
+        std::vector<std::pair<std::string, nlohmann::json>> shards{{"s0.json", hand_written_shard(0)}, {"s1.json", hand_written_shard(1)}};
+        change(shards[0].second);
+        return shards;
+    };
+    const SweepResult merged = merge_sweep_shards(shards_with([](nlohmann::json&) {}));
+    ASSERT_EQ(merged.points.size(), 4u);
+    EXPECT_EQ(merged.points[3].frames[0].values[0], 13.0);
+    // Two scenarios whose plot names would clash get a plot each.
+    const auto plots = sweep_plots(merged);
+    ASSERT_EQ(plots.size(), 2u);
+    EXPECT_EQ(plots[0].first, "sweep_a_b");
+    EXPECT_EQ(plots[1].first, "sweep_a_b_2");
+
+    using Change = std::function<void(nlohmann::json&)>;
+    const std::vector<std::pair<Change, std::string>> cases = {
+        {[](auto& j) { j["shard"]["index"] = "0"; }, "shard.index"},
+        {[](auto& j) { j["shard"]["index"] = nullptr; }, "shard.index"},
+        {[](auto& j) { j["shard"]["index"] = 1.5; }, "shard.index"},
+        {[](auto& j) { j["shard"]["index"] = -1; }, "shard.index"},
+        {[](auto& j) { j["shard"]["index"] = 2; }, "shard.index"},
+        {[](auto& j) { j["shard"]["count"] = 0; }, "shard.count"},
+        {[](auto& j) { j["shard"] = 3; }, "shard"},
+        {[](auto& j) { j.erase("shard"); }, "shard"},
+        {[](auto& j) { j = nlohmann::json::array(); }, "sweep"},
+        {[](auto& j) { j["sweep"] = "x"; }, "sweep"},
+        {[](auto& j) { j["sweep"].erase("axes"); }, "sweep.axes"},
+        {[](auto& j) { j["sweep"]["axes"][0]["values"] = {4, 8}; }, "sweep.axes[0].values[0]"},
+        {[](auto& j) { j["sweep"]["axes"][0]["values"] = nlohmann::json::array(); }, "sweep.axes[0].values"},
+        {[](auto& j) { j["sweep"]["axes"][0] = "gp.count"; }, "sweep.axes[0]"},
+        {[](auto& j) { j["sweep"]["total_points"] = 5; }, "sweep.total_points"},
+        {[](auto& j) { j["sweep"]["scenarios"] = nlohmann::json::array(); }, "sweep.scenarios"},
+        {[](auto& j) { j["sweep"]["kernels"]["a b"] = 1; }, "sweep.kernels.a b"},
+        {[](auto& j) { j["sweep"]["points"] = {1}; }, "sweep.points[0]"},
+        {[](auto& j) { j["columns"][0].erase("unit"); }, "columns[0].unit"},
+        {[](auto& j) { j["columns"].push_back(j["columns"][0]); }, "columns[1].name"},
+        {[](auto& j) { j["results"][0]["index"] = 9; }, "results[0].index"},
+        {[](auto& j) { j["results"][0]["scenario"] = "c"; }, "results[0].scenario"},
+        {[](auto& j) { j["results"][0]["varied"]["gp.count"] = 4; }, "results[0].varied.gp.count"},
+        {[](auto& j) { j["results"][0]["frames"][0]["metrics"]["frame_ms"] = "fast"; }, "results[0].frames[0].metrics.frame_ms"},
+        {[](auto& j) { j["results"][0]["frames"][0]["metrics"].erase("frame_ms"); }, "results[0].frames[0].metrics.frame_ms"},
+        {[](auto& j) { j["results"][0]["frames"][0]["frame"] = -3; }, "results[0].frames[0].frame"},
+        {[](auto& j) { j["results"][0]["error"] = 7; }, "results[0].error"},
+        {[](auto& j) { j["results"][1]["index"] = 1; }, "results"},  // point 1 is shard 1's
+    };
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+        try {
+            merge_sweep_shards(shards_with(cases[i].first));
+            ADD_FAILURE() << "case " << i << " accepted";
+        } catch (const InputError& e) {
+            EXPECT_EQ(e.file(), "s0.json") << "case " << i << ": " << e.what();
+            EXPECT_EQ(e.field(), cases[i].second) << "case " << i << ": " << e.what();
+        }
+    }
 }
 
 SweepSpec small_sweep() {
