@@ -248,8 +248,8 @@ void read_formula_row(const toml::table& row, const std::string& file, const std
     if (inputs == nullptr) throw InputError(file, prefix + "inputs", "must be a table of the formula's inputs");
     for (const auto& [key, node] : *inputs) {
         const std::string name(key.str());
-        if (std::find(formula->inputs.begin(), formula->inputs.end(), name) == formula->inputs.end())
-            throw InputError(file, prefix + "inputs." + name, "is not an input of " + t.formula);
+        const auto input = std::find_if(formula->inputs.begin(), formula->inputs.end(), [&](const FormulaInput& i) { return i.name == name; });
+        if (input == formula->inputs.end()) throw InputError(file, prefix + "inputs." + name, "is not an input of " + t.formula);
         std::vector<double> values;
         const auto take = [&](const toml::node& n) {
             const auto v = n.value<double>();
@@ -262,10 +262,14 @@ void read_formula_row(const toml::table& row, const std::string& file, const std
         } else {
             take(node);
         }
+        if (values.size() != input->count)
+            throw InputError(file, prefix + "inputs." + name,
+                             input->count == 1 ? std::string("must be one number")
+                                               : fmt::format("must list {} numbers, not {}", input->count, values.size()));
         t.inputs[name] = std::move(values);
     }
-    for (const std::string& name : formula->inputs)
-        if (!t.inputs.count(name)) throw InputError(file, prefix + "inputs." + name, "is missing");
+    for (const FormulaInput& input : formula->inputs)
+        if (!t.inputs.count(input.name)) throw InputError(file, prefix + "inputs." + input.name, "is missing");
     try {
         (void)kernel->formula(t.formula, t.inputs);
     } catch (const std::domain_error& e) {

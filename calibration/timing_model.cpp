@@ -47,11 +47,12 @@ RecordedScenario::RecordedScenario(const Scenario& scenario, const MachineConfig
     kernel_.check(scenario_);
     const Volume volume = load_dataset(scenario_);
     Machine machine(functional);
-    const std::unique_ptr<KernelRun> run = kernel_.start(machine, functional, scenario_, volume);
+    const std::unique_ptr<KernelRun> run =
+        naming_parameter_origins(functional, [&] { return kernel_.start(machine, functional, scenario_, volume); });
     const int count = std::min(frames, static_cast<int>(scenario_.frames.size()));
     for (int i = 0; i < count; ++i) {
         const FrameSpec& spec = scenario_.frames[static_cast<std::size_t>(i)];
-        RecordedFrame recorded{spec.label, run->record_frame(spec), {}, {}};
+        RecordedFrame recorded{spec.label, naming_parameter_origins(functional, [&] { return run->record_frame(spec); }), {}, {}};
         recorded.crude_image = recorded.frame->pass_images.front();
         recorded.refined_image = recorded.frame->pass_images.back();
         recorded.frame->pass_images.clear();  // kept once, above

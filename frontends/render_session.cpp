@@ -125,7 +125,8 @@ Volume RenderSession::load_checked_volume(TraceRecorder* trace) {
                            fmt::format("holding a {}x{} frame's pictures", scenario_.image.width, scenario_.image.height));
     // When the scenario gives the volume's size, one the machine cannot hold is refused before reading it.
     if (const auto dims = scenario_.dataset.known_dims(); dims && kernel_.runs_on_machine())
-        kernel_.check_volume_fits(machine_, config_, scenario_, *dims);
+        naming_parameter_origins(config_, [&] { kernel_.check_volume_fits(machine_, config_, scenario_, *dims); });
+    const ScopedActivity activity("loading the volume of " + scenario_.file.string());
     return load_dataset(scenario_);
 }
 
@@ -139,7 +140,8 @@ RenderSession::RenderSession(const Scenario& scenario, const MachineConfig& conf
       machine_(config_),
       volume_(load_checked_volume(trace)) {
     // The kernel sets the scenario up on the machine first: a volume that does not fit stops here.
-    run_ = kernel_.start(machine_, config_, scenario_, volume_);
+    const ScopedActivity activity(fmt::format("setting {} up on the machine for the {} kernel", scenario_.name, kernel_.name()));
+    run_ = naming_parameter_origins(config_, [&] { return kernel_.start(machine_, config_, scenario_, volume_); });
     // The oracle every machine kernel's pictures are compared with.
     if (kernel_.runs_on_machine() && compare_with_reference_) {
         reference_.emplace(volume_);
@@ -170,6 +172,8 @@ std::string RenderSession::reference_includes(const FrameSpec& frame) const {
 SessionFrame RenderSession::render(FrameSpec frame) {
     if (frames_rendered_ == 0) frame.camera_changed = frame.lighting_changed = frame.classification_changed = true;
     const std::size_t index = frames_rendered_;
+    const ScopedActivity activity(fmt::format("rendering frame {} ({}) of {}{}", index, frame.label, scenario_.name,
+                                              reference_ ? " and its reference picture" : ""));
     const auto frame_start = std::chrono::steady_clock::now();
     std::optional<Image> reference_image;
     RenderStats reference_counts;
@@ -182,7 +186,7 @@ SessionFrame RenderSession::render(FrameSpec frame) {
 
     SessionFrame out;
     out.index = index;
-    std::unique_ptr<KernelFrame> recorded = run_->record_frame(frame);
+    std::unique_ptr<KernelFrame> recorded = naming_parameter_origins(config_, [&] { return run_->record_frame(frame); });
     const bool on_machine = kernel_.runs_on_machine();
     const BusyTotals before = busy_totals(machine_);
     out.timing = on_machine ? time_frame(machine_, recorded->work) : FrameTiming{};

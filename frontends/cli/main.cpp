@@ -1,6 +1,7 @@
 // pp5sim: the command-line front end of the Pixel-planes 5 volume rendering simulator.
 
 #include "frontends/cli/commands.h"
+#include "sim/core/host_memory.h"
 #include "sim/core/input_error.h"
 #include "sim/core/spelling.h"
 
@@ -9,6 +10,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -86,6 +88,10 @@ int main(int argc, char** argv) {
         return run();
     } catch (const pp5::InputError& e) {
         fmt::print(stderr, "pp5sim: error: {}\n", e.what());
+        return kBadInput;
+    } catch (const std::bad_alloc&) {
+        // A run the up-front checks let through (they count the large allocations an input decides, not all).
+        fmt::print(stderr, "pp5sim: error: {}\n", pp5::out_of_memory_message());
         return kBadInput;
     } catch (const std::exception& e) {
         fmt::print(stderr, "pp5sim: internal error: {}\n", e.what());

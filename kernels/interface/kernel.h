@@ -62,11 +62,15 @@ struct KernelMetric {
 // A figure a kernel computes from a description rather than from a rendered frame: the size of a
 // representation for a paper's data set that is not available here, say. A calibration target can
 // name one (with the inputs) and compare it with the paper's figure.
+struct FormulaInput {
+    std::string name;   // "low_resolution"
+    std::size_t count;  // how many numbers it is: 3 for sizes [x, y, z], 1 for a count
+};
 struct KernelFormula {
     std::string name;  // "storage_megabytes"
     std::string unit;
     std::string description;
-    std::vector<std::string> inputs;  // each a list of numbers: "low_resolution" = [x, y, z]
+    std::vector<FormulaInput> inputs;  // a target row gives each as a number or a list of `count` numbers
 };
 using FormulaInputs = std::map<std::string, std::vector<double>>;
 

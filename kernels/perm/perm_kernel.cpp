@@ -6,6 +6,7 @@
 #include "kernels/perm/perm_structure.h"
 #include "kernels/pp_volume/pp_shading.h"
 #include "kernels/scenario/scenario_inputs.h"
+#include "sim/core/host_memory.h"
 #include "sim/core/input_error.h"
 
 #include <fmt/format.h>
@@ -186,12 +187,12 @@ private:
         const double alpha = settings_.reduction_opacity;
         const double needed = stop < 1 && alpha < 1 ? 2 + std::log(1 - stop) / std::log(1 - alpha) : 2;
         if (stop >= 1 || settings_.reduction_cells < std::ceil(needed))
-            throw InputError("machine configuration", "perm.reduction_cells",
-                             stop >= 1 ? std::string("rays never terminate early (image.termination_opacity = 1), so no cell can be dropped")
-                                       : fmt::format("{} cells of opacity {} bring a ray to {:.3f}, short of its termination at {}; use at "
-                                                     "least {} (or raise perm.reduction_opacity)",
-                                                     settings_.reduction_cells - 2, alpha,
-                                                     1 - std::pow(1 - alpha, settings_.reduction_cells - 2), scenario.image.termination_opacity, std::ceil(needed)));
+            reject_field("perm.reduction_cells",
+                         stop >= 1 ? std::string("rays never terminate early (image.termination_opacity = 1), so no cell can be dropped")
+                                   : fmt::format("{} cells of opacity {} bring a ray to {:.3f}, short of its termination at {}; use at "
+                                                 "least {} (or raise perm.reduction_opacity)",
+                                                 settings_.reduction_cells - 2, alpha,
+                                                 1 - std::pow(1 - alpha, settings_.reduction_cells - 2), scenario.image.termination_opacity, std::ceil(needed)));
     }
 
     std::uint32_t renderer_of_cell(glm::ivec3 origin) const {
@@ -220,17 +221,14 @@ private:
     }
 
     void check_fit(const PermMemory& m, const std::vector<glm::ivec3>& origins) {
-        // The host holds the records too (the pictures come from them): beyond this it would not.
-        constexpr std::uint64_t kHostBudgetBytes = std::uint64_t{4} << 30;
-        // Density is kept as 16 bits; PP results as four 16-bit codes a position.
+        // The host holds the records too (the pictures come from them). Density is kept as 16 bits; PP
+        // results as four 16-bit codes a position.
         const std::uint64_t pp_results = settings_.shading == PermShading::Pp ? 8 * cube_of(m.density_positions) : 0;
         const std::uint64_t host_bytes = m.candidates * (m.record_bytes() + 2 * cube_of(m.density_positions) + pp_results);
-        if (host_bytes > kHostBudgetBytes)
-            throw InputError("machine configuration", "perm.density_positions",
-                             fmt::format("{} candidate cells of {} bytes would take {:.1f} GB of this computer's memory to build "
-                                         "(at most {:.1f} GB); quantize more coarsely (perm.density_positions, perm.gradient_positions)",
-                                         m.candidates, m.record_bytes(), static_cast<double>(host_bytes) / 1e9,
-                                         static_cast<double>(kHostBudgetBytes) / 1e9));
+        check_fits_host_memory("", "perm.density_positions", static_cast<double>(host_bytes),
+                               fmt::format("holding {} candidate cells of {} bytes (quantize more coarsely: perm.density_positions, "
+                                           "perm.gradient_positions)",
+                                           m.candidates, m.record_bytes()));
         std::vector<std::uint64_t> per(renderers_, 0);
         for (const glm::ivec3& o : origins) ++per[renderer_of_cell(o)];
         const std::uint64_t busiest = per.empty() ? 0 : *std::max_element(per.begin(), per.end());
@@ -239,25 +237,25 @@ private:
                                             ? PermRecordShading::backing_store_bits_needed(busiest * cube_of(m.density_positions), pps_, layout_)
                                             : (busiest_renderer_bytes_ * 8 + static_cast<std::uint64_t>(pps_) - 1) / static_cast<std::uint64_t>(pps_);
         if (settings_.shading == PermShading::Pp && busiest_renderer_bits_per_pp_ > backing_store_bits_)
-            throw InputError("machine configuration", "renderer.backing_store_bits",
-                             fmt::format("PERM's records shaded on the PPs need {} bits per PP on the busiest renderer ({} records of {} "
-                                         "positions, {} bits each) but a PP holds {}; quantize the density more coarsely "
-                                         "(perm.density_positions), add renderers (renderer.count) or backing store, or shade on the "
-                                         "GPs (perm.shading = \"gp\")",
-                                         busiest_renderer_bits_per_pp_, busiest, cube_of(m.density_positions), layout_.bits(),
-                                         backing_store_bits_));
+            reject_field("renderer.backing_store_bits",
+                         fmt::format("PERM's records shaded on the PPs need {} bits per PP on the busiest renderer ({} records of {} "
+                                     "positions, {} bits each) but a PP holds {}; quantize the density more coarsely "
+                                     "(perm.density_positions), add renderers (renderer.count) or backing store, or shade on the "
+                                     "GPs (perm.shading = \"gp\")",
+                                     busiest_renderer_bits_per_pp_, busiest, cube_of(m.density_positions), layout_.bits(),
+                                     backing_store_bits_));
         if (settings_.residence == PermResidence::GpMemory && m.total_bytes() > gp_memory_bytes_)
-            throw InputError("machine configuration", "gp.memory_bytes",
-                             fmt::format("a copy of PERM in every GP needs {} bytes ({} candidate cells of {} bytes and the index "
-                                         "volume), more than a GP's {}; use perm.residence = \"renderers\" or quantize more coarsely",
-                                         m.total_bytes(), m.candidates, m.record_bytes(), gp_memory_bytes_));
+            reject_field("gp.memory_bytes",
+                         fmt::format("a copy of PERM in every GP needs {} bytes ({} candidate cells of {} bytes and the index "
+                                     "volume), more than a GP's {}; use perm.residence = \"renderers\" or quantize more coarsely",
+                                     m.total_bytes(), m.candidates, m.record_bytes(), gp_memory_bytes_));
         if (settings_.residence == PermResidence::Renderers && busiest_renderer_bytes_ > renderer_bytes_)
-            throw InputError("machine configuration", "renderer.backing_store_bits",
-                             fmt::format("PERM's records need {} bytes on the busiest renderer ({} candidate cells of {} bytes, {:.1f} MB "
-                                         "in all) but a renderer's PPs hold {} bytes; quantize more coarsely (perm.density_positions, "
-                                         "perm.gradient_positions), add renderers (renderer.count) or backing store",
-                                         busiest_renderer_bytes_, m.candidates, m.record_bytes(), static_cast<double>(m.total_bytes()) / 1e6,
-                                         renderer_bytes_));
+            reject_field("renderer.backing_store_bits",
+                         fmt::format("PERM's records need {} bytes on the busiest renderer ({} candidate cells of {} bytes, {:.1f} MB "
+                                     "in all) but a renderer's PPs hold {} bytes; quantize more coarsely (perm.density_positions, "
+                                     "perm.gradient_positions), add renderers (renderer.count) or backing store",
+                                     busiest_renderer_bytes_, m.candidates, m.record_bytes(), static_cast<double>(m.total_bytes()) / 1e6,
+                                     renderer_bytes_));
     }
 
     // What each GP keeps besides its cache: the distance map and the index volume that finds a sample's
@@ -331,7 +329,7 @@ public:
         return {{"memory_megabytes", "MB",
                  "eqs. (3) and (6): the index volume (with a 4-byte summed count per z slice at 2-byte indices) and the candidates' "
                  "records; MB = 10^6 bytes",
-                 {"dims", "candidates", "density_positions", "gradient_positions", "index_bytes", "density_bytes"}}};
+                 {{"dims", 3}, {"candidates", 1}, {"density_positions", 1}, {"gradient_positions", 1}, {"index_bytes", 1}, {"density_bytes", 1}}}};
     }
     double formula(const std::string& name, const FormulaInputs& inputs) const override {
         if (name != "memory_megabytes") return Kernel::formula(name, inputs);

@@ -48,11 +48,11 @@ PermRecordShading::PermRecordShading(Machine& machine, const PermStructure& stru
         const std::uint64_t on_renderer = records_[r].size() * static_cast<std::uint64_t>(per_record_);
         const std::uint64_t bits = backing_store_bits_needed(on_renderer, array.size(), layout_);
         if (bits > static_cast<std::uint64_t>(array.backing_store_bits()))
-            throw InputError("machine configuration", "renderer.backing_store_bits",
-                             fmt::format("the PP-shaded records need {} bits per PP on renderer {} ({} positions of {} bits over {} PPs), "
-                                         "more than its {}; quantize the density more coarsely (perm.density_positions), add renderers "
-                                         "or backing store, or shade on the GPs (perm.shading = \"gp\")",
-                                         bits, r, on_renderer, layout_.bits(), array.size(), array.backing_store_bits()));
+            reject_field("renderer.backing_store_bits",
+                         fmt::format("the PP-shaded records need {} bits per PP on renderer {} ({} positions of {} bits over {} PPs), "
+                                     "more than its {}; quantize the density more coarsely (perm.density_positions), add renderers "
+                                     "or backing store, or shade on the GPs (perm.shading = \"gp\")",
+                                     bits, r, on_renderer, layout_.bits(), array.size(), array.backing_store_bits()));
         slots_[r] = static_cast<int>(bits / static_cast<std::uint64_t>(layout_.bits()));
     }
     // Load: position e of renderer r (its records' positions in order) goes to PP e mod P of slot e / P.

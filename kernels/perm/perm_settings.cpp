@@ -66,12 +66,12 @@ PermSettings PermSettings::from(const MachineConfig& config) {
     s.candidates = config.text("perm.candidate_rule") == "paper_origin" ? CandidateRule::PaperOrigin : CandidateRule::AnyCorner;
     s.index_bytes = static_cast<int>(config.integer("perm.index_bytes"));
     if (s.index_bytes != 2 && s.index_bytes != 4)
-        throw InputError("machine configuration", "perm.index_bytes", "must be 2 (per-slice indices and a summed table) or 4");
+        reject_field("perm.index_bytes", "must be 2 (per-slice indices and a summed table) or 4");
     s.residence = config.text("perm.residence") == "gp_memory" ? PermResidence::GpMemory : PermResidence::Renderers;
     s.shading = config.text("perm.shading") == "pp" ? PermShading::Pp : PermShading::Gp;
     if (s.shading == PermShading::Pp && s.residence == PermResidence::GpMemory)
-        throw InputError("machine configuration", "perm.shading",
-                         "the PPs can shade only records in the renderers' backing store; use perm.residence = \"renderers\"");
+        reject_field("perm.shading",
+                     "the PPs can shade only records in the renderers' backing store; use perm.residence = \"renderers\"");
     s.tile_pixels = static_cast<int>(config.integer("perm.tile_pixels"));
     s.reduction_cells = static_cast<int>(config.integer("perm.reduction_cells"));
     s.reduction_opacity = config.real("perm.reduction_opacity");

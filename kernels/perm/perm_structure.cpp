@@ -211,9 +211,9 @@ PermStructure PermStructure::build(const Volume& volume, const Classification& c
     if (s.reduction_cells > 0) reduce(volume, gradients, classification, s, per_slice);
     for (std::size_t z = 0; z < per_slice.size(); ++z) {
         if (s.index_bytes == 2 && per_slice[z].size() > 65535)
-            throw InputError("machine configuration", "perm.index_bytes",
-                             fmt::format("z slice {} holds {} candidate cells, more than 2-byte per-slice indices can number; use 4",
-                                         z, per_slice[z].size()));
+            reject_field("perm.index_bytes",
+                         fmt::format("z slice {} holds {} candidate cells, more than 2-byte per-slice indices can number; use 4",
+                                     z, per_slice[z].size()));
         for (const glm::ivec3& c : per_slice[z]) {
             p.index_[volume.index(c.x, c.y, c.z)] = static_cast<std::int32_t>(p.cell_origin_.size());
             p.cell_origin_.push_back(c);

@@ -15,7 +15,6 @@ namespace pp5 {
 
 namespace {
 
-constexpr const char* kMachineFile = "machine configuration";
 
 std::uint64_t mask(int bits) { return bits >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << bits) - 1; }
 
@@ -38,7 +37,7 @@ PpArrayShape shape_of(const Machine& machine) {
 }
 
 void refuse_unless_placed(const VoxelPlacement& placement) {
-    if (!placement.fits()) throw InputError(kMachineFile, "renderer.backing_store_bits", placement.shortfall());
+    if (!placement.fits()) reject_field("renderer.backing_store_bits", placement.shortfall());
 }
 
 }  // namespace

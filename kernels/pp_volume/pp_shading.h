@@ -71,8 +71,8 @@ struct PpFrameReport {
 
 class PpShading {
 public:
-    // Places and loads the volume. Throws InputError(machine configuration, "renderer.backing_store_bits",
-    // what it would need) if it does not fit, and InputError for a layout the programs cannot use.
+    // Places and loads the volume. Refuses "renderer.backing_store_bits" (reject_field, saying what it
+    // would need) if it does not fit, and InputError for a layout the programs cannot use.
     PpShading(Machine& machine, const Volume& volume, const VoxelStoreSettings& settings);
     // The same refusal for a volume of `dims`, before it is read.
     static void check_fits(const Machine& machine, glm::ivec3 dims, const VoxelStoreSettings& settings);

@@ -1,5 +1,6 @@
 #include "kernels/wilson/hybrid_volume.h"
 
+#include "sim/core/host_memory.h"
 #include "sim/core/input_error.h"
 #include "sim/core/parallel.h"
 
@@ -15,11 +16,8 @@ namespace pp5 {
 
 namespace {
 
-constexpr const char* kSettings = "machine configuration";
 // Error samples examined at most (a 2048^3 grid): beyond this the preprocessing would run for hours.
 constexpr std::uint64_t kMaxErrorSamples = std::uint64_t{1} << 33;
-// Samples of an interpolated original held at once (error grids finer than the original).
-constexpr std::uint64_t kMaxUpsampledSamples = std::uint64_t{1} << 30;
 
 std::size_t linear(glm::ivec3 dims, int x, int y, int z) {
     return static_cast<std::size_t>(x) +
@@ -210,18 +208,18 @@ HybridVolume HybridVolume::build(const Volume& v, const WilsonSettings& s, bool 
     h.grid_ = dims * g;
     // The renderers' cell keys hold 12-bit indices (slice_programs.h).
     if (glm::any(glm::greaterThan(low, glm::ivec3(4093))))
-        throw InputError(kSettings, "wilson.downsample_factor",
-                         fmt::format("a {}x{}x{} low-resolution volume has more than the renderers' 4093 cells along an axis; "
-                                     "raise the factor", low.x, low.y, low.z));
+        reject_field("wilson.downsample_factor",
+                     fmt::format("a {}x{}x{} low-resolution volume has more than the renderers' 4093 cells along an axis; "
+                                 "raise the factor", low.x, low.y, low.z));
     h.grid_factor_ = g;
     if (count(h.grid_) > kMaxErrorSamples)
-        throw InputError(kSettings, "wilson.error_grid_factor",
-                         fmt::format("an error grid of {}x{}x{} samples is more than the {} this preprocessing examines; lower "
-                                     "the factor", h.grid_.x, h.grid_.y, h.grid_.z, kMaxErrorSamples));
-    if (g > 1 && count(h.grid_) > kMaxUpsampledSamples)
-        throw InputError(kSettings, "wilson.error_grid_factor",
-                         fmt::format("interpolating the volume onto a {}x{}x{} error grid would hold {:.1f} GB; lower the factor",
-                                     h.grid_.x, h.grid_.y, h.grid_.z, static_cast<double>(count(h.grid_)) * 4e-9));
+        reject_field("wilson.error_grid_factor",
+                     fmt::format("an error grid of {}x{}x{} samples is more than the {} this preprocessing examines; lower "
+                                 "the factor", h.grid_.x, h.grid_.y, h.grid_.z, kMaxErrorSamples));
+    if (g > 1)
+        check_fits_host_memory("", "wilson.error_grid_factor", static_cast<double>(count(h.grid_)) * sizeof(float),
+                               fmt::format("interpolating the volume onto a {}x{}x{} error grid (lower the factor)", h.grid_.x,
+                                           h.grid_.y, h.grid_.z));
     h.low_ = Volume(low, v.spacing() * static_cast<float>(k), v.source_type(), downsample(v, k, low, s), v.name() + " (low resolution)");
 
     // The original on the error grid: itself, or tricubically interpolated.

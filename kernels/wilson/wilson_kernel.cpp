@@ -211,13 +211,13 @@ private:
         const auto& gp = *machine.gps().front();
         const std::uint64_t cache_bytes = gp.cache_bits() / 8;
         if (most_point_bytes_ + cache_bytes > gp.memory_bytes())
-            throw InputError("machine configuration", "gp.memory_bytes",
-                             fmt::format("GP {} must keep {} bytes of points ({} points of {} bytes in all) besides its {} byte cache: "
-                                         "{} bytes, more than its {}; raise gp.memory_bytes or gp.count, or keep fewer points "
-                                         "(wilson.error_threshold, wilson.max_points)",
-                                         most - per_gp.begin(), most_point_bytes_, hybrid_.points().size(),
-                                         hybrid_.point_format().record_bytes(), cache_bytes, most_point_bytes_ + cache_bytes,
-                                         gp.memory_bytes()));
+            reject_field("gp.memory_bytes",
+                         fmt::format("GP {} must keep {} bytes of points ({} points of {} bytes in all) besides its {} byte cache: "
+                                     "{} bytes, more than its {}; raise gp.memory_bytes or gp.count, or keep fewer points "
+                                     "(wilson.error_threshold, wilson.max_points)",
+                                     most - per_gp.begin(), most_point_bytes_, hybrid_.points().size(),
+                                     hybrid_.point_format().record_bytes(), cache_bytes, most_point_bytes_ + cache_bytes,
+                                     gp.memory_bytes()));
     }
 
     static RegionMachine slice_machine(const Machine& machine, const PpShading& store) {
@@ -285,10 +285,10 @@ public:
         return {{"storage_megabytes", "MB",
                  "the paper's representation of 8-bit data (section 3.3): a value byte and a normal index per low-resolution voxel, "
                  "a 6- or 9-byte record per point by the error grid's size; MB = 10^6 bytes",
-                 {"low_resolution", "points", "error_grid"}},
+                 {{"low_resolution", 3}, {"points", 1}, {"error_grid", 3}}},
                 {"point_room_millions", "million points",
                  "how many point records fit in the space a lower resolution frees (section 3.3)",
-                 {"original", "low_resolution", "point_bytes"}}};
+                 {{"original", 3}, {"low_resolution", 3}, {"point_bytes", 1}}}};
     }
     double formula(const std::string& name, const FormulaInputs& inputs) const override {
         const auto dims = [&](const char* key) {

@@ -86,8 +86,8 @@ WilsonSettings WilsonSettings::from(const MachineConfig& config) {
     s.brick_voxels = static_cast<int>(config.integer("wilson.brick_voxels"));
     s.accumulator_bits = static_cast<int>(config.integer("wilson.accumulator_bits"));
     if (s.downsample == Downsample::Minimum && std::isfinite(s.overestimate_limit))
-        throw InputError("machine configuration", "wilson.overestimate_limit",
-                         "limits how far cubic or box samples exceed the minimum; with downsample = \"min\" there is nothing to limit");
+        reject_field("wilson.overestimate_limit",
+                     "limits how far cubic or box samples exceed the minimum; with downsample = \"min\" there is nothing to limit");
     return s;
 }
 

@@ -86,13 +86,13 @@ YuanSettings YuanSettings::from(const MachineConfig& config) {
     s.accumulator_bits = static_cast<int>(config.integer("yuan.accumulator_bits"));
     // The ranges above are the parameter table's; what they cannot say is checked here.
     if (s.kernel_sigma * 1.5 > s.kernel_radius)
-        throw InputError("machine configuration", "yuan.kernel_sigma",
-                         fmt::format("a Gaussian of sigma {} cut off at radius {} keeps too little of itself (the radius must be at "
-                                     "least 1.5 sigma)", s.kernel_sigma, s.kernel_radius));
+        reject_field("yuan.kernel_sigma",
+                     fmt::format("a Gaussian of sigma {} cut off at radius {} keeps too little of itself (the radius must be at "
+                                 "least 1.5 sigma)", s.kernel_sigma, s.kernel_radius));
     if (s.point_radius_pixels() < 0.5)
-        throw InputError("machine configuration", "yuan.point_filter_radius",
-                         fmt::format("a point filter of radius {:.3f} pixels can fall between pixel centres (at least 0.5)",
-                                     s.point_radius_pixels()));
+        reject_field("yuan.point_filter_radius",
+                     fmt::format("a point filter of radius {:.3f} pixels can fall between pixel centres (at least 0.5)",
+                                 s.point_radius_pixels()));
     return s;
 }
 

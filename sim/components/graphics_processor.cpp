@@ -61,21 +61,21 @@ BlockCache& GraphicsProcessor::cache(std::uint64_t block_bits) {
     if (!cache_) {
         const std::uint64_t blocks = cache_bits_ / block_bits;
         if (blocks == 0) {
-            throw InputError("machine configuration", "gp.cache_bits",
-                             "the block cache (" + std::to_string(cache_bits_) + " bits) cannot hold one block of " +
-                                 std::to_string(block_bits) + " bits");
+            reject_field("gp.cache_bits",
+                         "the block cache (" + std::to_string(cache_bits_) + " bits) cannot hold one block of " +
+                             std::to_string(block_bits) + " bits");
         }
         if (cache_bits_ / 8 > memory_bytes_)
-            throw InputError("machine configuration", "gp.cache_bits",
-                             fmt::format("a {} byte cache does not fit in the GP's {} bytes of memory (gp.memory_bytes)", cache_bits_ / 8,
-                                         memory_bytes_));
+            reject_field("gp.cache_bits",
+                         fmt::format("a {} byte cache does not fit in the GP's {} bytes of memory (gp.memory_bytes)", cache_bits_ / 8,
+                                     memory_bytes_));
         // The simulator keeps a tag and a use count per block: refuse caches this computer cannot hold.
         constexpr std::uint64_t kHostBytesPerBlock = 16;
         constexpr std::uint64_t kMostHostBytes = std::uint64_t{1} << 30;
         if (blocks > kMostHostBytes / kHostBytesPerBlock)
-            throw InputError("machine configuration", "gp.cache_bits",
-                             fmt::format("{} blocks a GP would take {} MiB of this computer's memory to simulate, per GP; at most {} MiB",
-                                         blocks, blocks * kHostBytesPerBlock >> 20, kMostHostBytes >> 20));
+            reject_field("gp.cache_bits",
+                         fmt::format("{} blocks a GP would take {} MiB of this computer's memory to simulate, per GP; at most {} MiB",
+                                     blocks, blocks * kHostBytesPerBlock >> 20, kMostHostBytes >> 20));
         cache_block_bits_ = block_bits;
         cache_ = std::make_unique<BlockCache>(this, blocks, cache_associativity_);
     }

@@ -168,6 +168,16 @@ nlohmann::json MachineConfig::to_json() const {
 
 const std::string& MachineConfig::origin(const std::string& key) const { return entry(key).origin; }
 
+std::string MachineConfig::describe_origin(const std::string& key) const {
+    const std::string& from = origin(key);
+    return from == "default" ? fmt::format("the built-in defaults (a machine file or --set changes {})", key) : from;
+}
+
+InputError MachineConfig::naming_origin(const InputError& error) const {
+    if (!error.file().empty() || !entries_.count(error.field())) return error;
+    return InputError(describe_origin(error.field()), error.field(), error.reason());
+}
+
 std::string to_string(MachineKind kind) { return kind == MachineKind::Uniprocessor ? "uniprocessor" : "multicomputer"; }
 
 std::filesystem::path resolve_machine_file(const std::string& name_or_path) {

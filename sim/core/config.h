@@ -2,6 +2,7 @@
 // The resolved machine configuration: every declared parameter with its value and where the value
 // came from (default, a machine file, or a --set override). Written as config.json beside results.
 
+#include "sim/core/input_error.h"
 #include "sim/core/param.h"
 
 #include <nlohmann/json_fwd.hpp>
@@ -10,6 +11,7 @@
 #include <map>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace pp5 {
@@ -39,6 +41,11 @@ public:
     const std::string& text(const std::string& key) const;
     // Where a parameter's value came from: "default", a machine file's path, or "--set".
     const std::string& origin(const std::string& key) const;
+    // The same as an error names it: the machine file, "--set", or the defaults.
+    std::string describe_origin(const std::string& key) const;
+    // A check made after loading (a component's or a kernel's) refuses a value with reject_field, not
+    // knowing which file or option gave it; this names it. Other errors come back unchanged.
+    InputError naming_origin(const InputError& error) const;
 
     const std::string& machine_name() const { return machine_name_; }
     const std::string& machine_description() const { return machine_description_; }
@@ -67,5 +74,16 @@ private:
 // Finds a machine file: an existing path as given, else a preset name ("pxpl5") looked up in the
 // preset directories (sim/machines in the source tree and beside the installed binary).
 std::filesystem::path resolve_machine_file(const std::string& name_or_path);
+
+// Runs `work` (which builds or runs a machine and kernel from `config`) with its refusals naming the
+// machine file, --set or the defaults that gave the refused value.
+template <class Work>
+decltype(auto) naming_parameter_origins(const MachineConfig& config, Work&& work) {
+    try {
+        return std::forward<Work>(work)();
+    } catch (const InputError& error) {
+        throw config.naming_origin(error);
+    }
+}
 
 }  // namespace pp5

@@ -32,7 +32,7 @@ const MachineConfig& fits_host(const MachineConfig& config) {
     const double pps = static_cast<double>(config.integer("renderer.pp_columns")) * static_cast<double>(config.integer("renderer.pp_rows"));
     const double words = static_cast<double>((config.integer("renderer.backing_store_bits") + 63) / 64);
     const double bytes = static_cast<double>(config.integer("renderer.count")) * pps * words * 8;
-    check_fits_host_memory("machine configuration", "renderer.count",
+    check_fits_host_memory(config.describe_origin("renderer.count"), "renderer.count",
                            bytes, fmt::format("simulating {} renderers of {} PPs with {} bits of backing store each",
                                               config.integer("renderer.count"), pps, config.integer("renderer.backing_store_bits")));
     return config;
@@ -40,12 +40,16 @@ const MachineConfig& fits_host(const MachineConfig& config) {
 
 }  // namespace
 
-Machine::Machine(const MachineConfig& config)
+// A component that refuses its parameters is named with where the value came from.
+Machine::Machine(const MachineConfig& config) try
     : config_(fits_host(config)),
       frame_buffer_(config_),
       gps_(build_all<GraphicsProcessor>(config_.integer("gp.count"), config_)),
       renderers_(build_all<Renderer>(config_.integer("renderer.count"), config_)),
-      ring_(config_, gps_.size(), renderers_.size()) {}
+      ring_(config_, gps_.size(), renderers_.size()) {
+} catch (const InputError& error) {
+    throw config.naming_origin(error);
+}
 
 namespace {
 // Draws each ring message as a slice on its channel's track and an arrow from sender to receiver.

@@ -158,9 +158,9 @@ PpField PpProgramBuilder::alloc(const std::string& name, int bits, bool is_signe
     if (offset < 0) {
         const int needed = in_use + bits;
         if (needed > capacity_bits_) {
-            throw InputError("machine configuration", machine_field_,
-                             fmt::format("PP program {} needs {} bits of local memory for field {}; each PP has {} ({} short)",
-                                         program_.name, needed, name, capacity_bits_, plural_bits(needed - capacity_bits_)));
+            reject_field(machine_field_,
+                         fmt::format("PP program {} needs {} bits of local memory for field {}; each PP has {} ({} short)",
+                                     program_.name, needed, name, capacity_bits_, plural_bits(needed - capacity_bits_)));
         }
         // Enough bits are free, but released fields left them in pieces too small for this one.
         int longest = 0;
@@ -168,11 +168,11 @@ PpField PpProgramBuilder::alloc(const std::string& name, int bits, bool is_signe
             run = used_[static_cast<std::size_t>(i)] ? 0 : run + 1;
             longest = std::max(longest, run);
         }
-        throw InputError("machine configuration", machine_field_,
-                         fmt::format("PP program {} needs {} contiguous bits of local memory for field {}; each PP has {}, "
-                                     "{} of them free but the longest free run is {} ({} short)",
-                                     program_.name, bits, name, capacity_bits_, capacity_bits_ - in_use,
-                                     plural_bits(longest), plural_bits(bits - longest)));
+        reject_field(machine_field_,
+                     fmt::format("PP program {} needs {} contiguous bits of local memory for field {}; each PP has {}, "
+                                 "{} of them free but the longest free run is {} ({} short)",
+                                 program_.name, bits, name, capacity_bits_, capacity_bits_ - in_use,
+                                 plural_bits(longest), plural_bits(bits - longest)));
     }
     for (int i = 0; i < bits; ++i) used_[static_cast<std::size_t>(offset + i)] = true;
     program_.local_memory_bits_used = std::max(program_.local_memory_bits_used, in_use + bits);

@@ -100,8 +100,8 @@ public:
     // the error when a program does not fit.
     PpProgramBuilder(std::string name, int local_memory_bits, std::string machine_field = "renderer.local_memory_bits");
 
-    // A field of `bits` bits at the lowest free offset. Throws InputError(machine configuration,
-    // machine_field, "program P needs N bits of local memory for F; the PP has M (K short)").
+    // A field of `bits` bits at the lowest free offset. Refuses machine_field (reject_field: "program P
+    // needs N bits of local memory for F; the PP has M (K short)") when they are not free.
     PpField alloc(const std::string& name, int bits, bool is_signed);
     // Returns the field's bits to the free pool; its value must not be used again.
     void release(PpField field);

@@ -46,7 +46,6 @@ std::vector<Tick> gp_op_costs(const MachineConfig& config, const std::vector<GpO
 
 namespace {
 
-constexpr const char* kMachineFile = "machine configuration";
 
 // An event's payload: what happened (2 bits), which GP (22 bits), which block or task (40 bits).
 // Arrival: a message arriving (a reply at a GP, a request at a renderer). Ready: a renderer has read
@@ -1027,9 +1026,9 @@ void FrameRun::start_broadcast_phase(const BroadcastPhase& phase, PhaseTiming& t
 void check_picture_fits(const Machine& machine, int width, int height) {
     const FrameBuffer& fb = machine.frame_buffer();
     if (width > fb.width())
-        throw InputError(kMachineFile, "frame_buffer.width", fmt::format("the frame buffer is {} pixels wide, the picture {}", fb.width(), width));
+        reject_field("frame_buffer.width", fmt::format("the frame buffer is {} pixels wide, the picture {}", fb.width(), width));
     if (height > fb.height())
-        throw InputError(kMachineFile, "frame_buffer.height", fmt::format("the frame buffer is {} pixels high, the picture {}", fb.height(), height));
+        reject_field("frame_buffer.height", fmt::format("the frame buffer is {} pixels high, the picture {}", fb.height(), height));
 }
 
 void check_gp_memory_fits(const Machine& machine, bool with_cache, std::uint64_t resident_bits,
@@ -1043,10 +1042,10 @@ void check_gp_memory_fits(const Machine& machine, bool with_cache, std::uint64_t
         const std::uint64_t data_bits = resident_bits + owned[g];
         const std::uint64_t need_bytes = (cache_bits + data_bits + 7) / 8;
         if (need_bytes > gp->memory_bytes())
-            throw InputError(kMachineFile, "gp.memory_bytes",
-                             fmt::format("GP {} must hold its {} byte cache and {} bytes of the kernel's data ({} bytes in all), "
-                                         "more than its {} bytes of memory (more GPs, gp.count, would spread the data)",
-                                         g, cache_bits / 8, (data_bits + 7) / 8, need_bytes, gp->memory_bytes()));
+            reject_field("gp.memory_bytes",
+                         fmt::format("GP {} must hold its {} byte cache and {} bytes of the kernel's data ({} bytes in all), "
+                                     "more than its {} bytes of memory (more GPs, gp.count, would spread the data)",
+                                     g, cache_bits / 8, (data_bits + 7) / 8, need_bytes, gp->memory_bytes()));
     }
 }
 

@@ -638,6 +638,68 @@ TEST(Cli, DeeplyNestedJsonIsRefusedByCompareAndMerge) {
     EXPECT_NE(merge.output.find("shard-0-of-1.json: shard: "), std::string::npos) << merge.output;
 }
 
+// A value refused once the run has started (by a component or a kernel, not by the machine file's
+// reader) is named with where it came from: the machine file, or --set.
+TEST(Cli, AValueRefusedWhenTheRunStartsNamesTheFileOrOptionThatGaveIt) {
+    const fs::path dir = scratch("origins");
+    std::ofstream(dir / "odd.toml") << "[perm]\nindex_bytes = 3\n";
+    const RunResult from_file = run("render perm-head-phantom --machine " + (dir / "odd.toml").string() + " --out " + (dir / "a").string(), dir);
+    EXPECT_EQ(from_file.exit_code, 2) << from_file.output;
+    EXPECT_NE(from_file.output.find("odd.toml: perm.index_bytes: must be 2"), std::string::npos) << from_file.output;
+    const RunResult from_set = run("render perm-head-phantom --set perm.index_bytes=3 --out " + (dir / "a").string(), dir);
+    EXPECT_EQ(from_set.exit_code, 2) << from_set.output;
+    EXPECT_NE(from_set.output.find("error: --set: perm.index_bytes: must be 2"), std::string::npos) << from_set.output;
+    EXPECT_FALSE(fs::exists(dir / "a"));
+}
+
+// The up-front memory checks compare with what this process may use: under an address-space limit
+// (ulimit -v, as a batch job may set) a volume is refused at half of the limit, saying which limit.
+// The sanitizers reserve terabytes of address space, so this runs only in the plain builds.
+TEST(Cli, MemoryChecksUseTheProcessLimitNotOnlyThePhysicalMemory) {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+    GTEST_SKIP() << "an address-space limit cannot be set under a sanitizer";
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+    GTEST_SKIP() << "an address-space limit cannot be set under a sanitizer";
+#endif
+#endif
+    const fs::path dir = scratch("memory_limit");
+    std::ofstream(dir / "big.toml") << "[scenario]\nname = \"big\"\n[dataset]\nphantom = \"sphere\"\nsize = 640\n"
+                                       "[classification]\nkind = \"piecewise-linear\"\npoints = [{ value = 50.0, opacity = 0.0 }, "
+                                       "{ value = 150.0, opacity = 0.8 }]\n[image]\nwidth = 64\nheight = 64\n";
+    const RunResult limited = run_command("ulimit -v 1500000; " + std::string(PP5SIM_BINARY) + " render " + (dir / "big.toml").string() +
+                                              " --out " + (dir / "out").string(),
+                                          dir);
+    EXPECT_EQ(limited.exit_code, 2) << limited.output;
+    EXPECT_NE(limited.output.find("big.toml: dataset.size: loading a 640x640x640 volume"), std::string::npos) << limited.output;
+    EXPECT_NE(limited.output.find("this process may use 1.5 GB, set by its address-space limit (ulimit -v)"), std::string::npos)
+        << limited.output;
+    EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
+// Float samples at the ends of float's range (their differences and sums overflow a float) render on
+// every kernel: gradients, statistics and classification stay finite.
+TEST(Cli, FloatVolumesAtTheEndsOfTheRangeRenderOnEveryKernel) {
+    const fs::path dir = scratch("float_extremes");
+    std::vector<float> samples;
+    for (int z = 0; z < 16; ++z)
+        for (int y = 0; y < 16; ++y)
+            for (int x = 0; x < 16; ++x) samples.push_back((x * y + z) % 3 == 0 ? 3.4e38f : (x + y) % 3 == 1 ? -3.4e38f : 1.0f);
+    std::ofstream(dir / "extremes.raw", std::ios::binary)
+        .write(reinterpret_cast<const char*>(samples.data()), static_cast<std::streamsize>(samples.size() * sizeof(float)));
+    for (const std::string kernel : {"levoy", "yuan", "wilson", "perm"}) {
+        std::ofstream(dir / (kernel + ".toml")) << "[scenario]\nname = \"extremes-" << kernel << "\"\nkernel = \"" << kernel << "\"\n"
+                                                << "[dataset]\nfile = \"extremes.raw\"\n[dataset.raw]\ndims = [16, 16, 16]\ntype = \"float32\"\n"
+                                                << "[classification]\nkind = \"piecewise-linear\"\n"
+                                                << "points = [{ value = 0.0, opacity = 0.0 }, { value = 1e9, opacity = 0.8 }]\n"
+                                                << "[image]\nwidth = 32\nheight = 32\n"
+                                                << (kernel == "perm" ? "resampling = \"interpolate-then-shade\"\n" : "");
+        const RunResult r = run("render " + (dir / (kernel + ".toml")).string() + " --out " + (dir / kernel).string(), dir);
+        EXPECT_EQ(r.exit_code, 0) << kernel << ": " << r.output;
+        EXPECT_TRUE(fs::exists(dir / kernel / "stats.json")) << kernel;
+    }
+}
+
 // compare on two renders that differ in gp.count: the frame times and per-GP figures change, the exit
 // status says they differ; a run against itself does not; a missing run is bad input.
 TEST(Cli, CompareShowsWhatChangedAndExitsThreeBeyondTheTolerance) {

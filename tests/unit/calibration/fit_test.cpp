@@ -395,7 +395,14 @@ TEST(Targets, FormulaRowsAreAKernelsFigureFromItsInputs) {
     expect_error(replace(good, "points = 361000", "points = -5"), "targets[0].inputs");
     expect_error(replace(good, "points = 361000, ", ""), "targets[0].inputs.points");
     expect_error(replace(good, "points = 361000", "pointz = 361000"), "targets[0].inputs.pointz");
-    expect_error(replace(good, "[256, 256, 256]", "[256, 256]"), "targets[0].inputs");
+    // Each input has its declared length, checked for every kernel's formulas alike.
+    expect_error(replace(good, "[256, 256, 256]", "[256, 256]"), "targets[0].inputs.low_resolution");
+    expect_error(replace(good, "points = 361000", "points = [361000, 5]"), "targets[0].inputs.points");
+    const std::string perm_row = "kernel = \"perm\"\nformula = \"memory_megabytes\"\n"
+                                 "inputs = { dims = [256, 256, 113], candidates = 900000, density_positions = 8, gradient_positions = 8, "
+                                 "index_bytes = 2, density_bytes = 1 }\nreported = 6.0\nexactness = \"estimate\"\nuse = \"check\"\n";
+    EXPECT_NO_THROW(load_targets(file_with(perm_row)));
+    expect_error(replace(perm_row, "candidates = 900000", "candidates = [900000, 1]"), "targets[0].inputs.candidates");
     expect_error(good + "scenario = \"mr-head\"\n", "targets[0].scenario");
     std::filesystem::remove_all(dir);
 }

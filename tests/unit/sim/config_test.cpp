@@ -119,7 +119,7 @@ TEST(Machine, ThatCannotFitThisComputerIsRefusedBeforeItIsBuilt) {
     MachineConfig config = Machine::default_config();
     config.apply_override("renderer.count=1024");
     config.apply_override("renderer.backing_store_bits=16777216");
-    const std::string why = expect_input_error([&] { Machine machine(config); }, "machine configuration", "renderer.count");
+    const std::string why = expect_input_error([&] { Machine machine(config); }, "--set", "renderer.count");
     EXPECT_NE(why.find("GB of this computer's memory"), std::string::npos) << why;
 }
 
