@@ -12,8 +12,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 namespace pp5::cli {
 namespace {
@@ -32,12 +30,8 @@ nlohmann::json read_stats(const std::string& given) {
     std::error_code error;
     if (std::filesystem::is_directory(path, error)) path /= "stats.json";
     if (!std::filesystem::is_regular_file(path, error)) throw InputError(path.string(), "compare", "is not a stats.json file or a run folder holding one");
-    constexpr std::uintmax_t kMostBytes = std::uintmax_t{1} << 30;
-    if (std::filesystem::file_size(path, error) > kMostBytes) throw InputError(path.string(), "compare", "is larger than 1 GiB: not a stats.json");
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream text;
-    text << in.rdbuf();
-    nlohmann::json json = parse_json_input(text.str(), path.string(), "compare");
+    constexpr std::uintmax_t kMostStatsBytes = std::uintmax_t{1} << 30;
+    nlohmann::json json = read_json_file(path, "compare", kMostStatsBytes);
     check_run_stats(json, path.string());
     return json;
 }

@@ -23,8 +23,6 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <thread>
 
 namespace pp5::cli {
@@ -91,15 +89,8 @@ std::vector<std::pair<std::string, nlohmann::json>> read_shards(const std::vecto
         if (error) throw InputError(d, "--merge", "cannot be read: " + error.message());
         std::sort(files.begin(), files.end());
         for (const auto& f : files) {
-            constexpr std::uintmax_t kMostBytes = std::uintmax_t{1} << 30;
-            std::error_code unreadable;
-            const std::uintmax_t bytes = std::filesystem::file_size(f, unreadable);
-            if (unreadable) throw InputError(f.string(), "shard", "cannot be read: " + unreadable.message());
-            if (bytes > kMostBytes) throw InputError(f.string(), "shard", "is larger than 1 GiB: not a shard's file");
-            std::ifstream in(f, std::ios::binary);
-            std::stringstream text;
-            text << in.rdbuf();
-            shards.emplace_back(f.string(), parse_json_input(text.str(), f.string(), "shard"));
+            constexpr std::uintmax_t kMostShardBytes = std::uintmax_t{1} << 30;
+            shards.emplace_back(f.string(), read_json_file(f, "shard", kMostShardBytes));
         }
     }
     return shards;

@@ -9,14 +9,22 @@
 #include <cstdlib>
 #include <exception>
 #include <mutex>
+#include <regex>
 
 namespace pp5 {
 
 namespace {
 
+// Connections served at once. Each holds a worker while it sends its request, so a few clients that
+// trickle bytes must not take them all: a valid request still finds a free worker at once.
+constexpr std::size_t kWorkers = 64;
+// More header lines than any browser sends: a request with more is refused, not served.
+constexpr std::size_t kMostHeaders = 100;
+
 void send_json(httplib::Response& response, int status, const nlohmann::json& body) {
     response.status = status;
-    response.set_content(body.dump(), "application/json");
+    // A reason may quote the request, whose bytes need not be UTF-8: those are replaced, not a 500.
+    response.set_content(body.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), "application/json");
 }
 
 void send_error(httplib::Response& response, int status, const std::string& field, const std::string& reason) {
@@ -24,6 +32,37 @@ void send_error(httplib::Response& response, int status, const std::string& fiel
 }
 
 void no_caching(httplib::Response& response) { response.set_header("Cache-Control", "no-store"); }
+
+// The methods each path answers (HEAD as GET); another method on one of them is a 405.
+const char* methods_of(const std::string& path) {
+    static const std::regex pass_picture(R"(/api/pass/\d{1,3}\.png)");
+    if (path == "/" || path == "/api/state" || path == "/api/image.png" || std::regex_match(path, pass_picture)) return "GET, HEAD";
+    if (path == "/api/change") return "POST";
+    return nullptr;
+}
+
+// What is checked before a request's body is read or it is routed.
+httplib::Server::HandlerResponse screen(const httplib::Request& req, httplib::Response& res) {
+    if (req.headers.size() > kMostHeaders) {
+        send_error(res, 431, "headers", fmt::format("{} header lines; at most {} are read", req.headers.size(), kMostHeaders));
+        return httplib::Server::HandlerResponse::Handled;
+    }
+    // Only a change has a body; /api/change reads a chunked one itself, up to the size limit.
+    if (req.has_header("Transfer-Encoding") && req.path != "/api/change") {
+        send_error(res, 411, "Transfer-Encoding", "only a change to /api/change has a body");
+        return httplib::Server::HandlerResponse::Handled;
+    }
+    if (const char* allowed = methods_of(req.path)) {
+        const std::string list = allowed;
+        const bool get_like = req.method == "GET" || req.method == "HEAD";
+        if (!(get_like && list.starts_with("GET")) && list != req.method) {
+            res.set_header("Allow", list);
+            send_error(res, 405, "method", fmt::format("{} is not served at {} ({} is)", req.method, req.path, list));
+            return httplib::Server::HandlerResponse::Handled;
+        }
+    }
+    return httplib::Server::HandlerResponse::Unhandled;
+}
 
 }  // namespace
 
@@ -35,10 +74,12 @@ struct ViewServer::Impl {
     int port = -1;
 
     Impl(InteractiveView& v, ServeOptions o) : view(v), options(std::move(o)) {
+        server.new_task_queue = [] { return new httplib::ThreadPool(kWorkers); };
         server.set_payload_max_length(options.max_request_bytes);
-        server.set_read_timeout(5, 0);  // a client that stops sending mid-request is dropped, not waited for
+        server.set_read_timeout(2, 0);  // a client that stops sending mid-request is dropped, not waited for
         server.set_write_timeout(5, 0);
         server.set_keep_alive_max_count(100);
+        server.set_pre_routing_handler(screen);
 
         server.Get("/", [](const httplib::Request&, httplib::Response& res) {
             no_caching(res);
@@ -63,13 +104,25 @@ struct ViewServer::Impl {
             no_caching(res);
             res.set_content(view.pass_png(pass), "image/png");
         });
-        server.Post("/api/change", [this](const httplib::Request& req, httplib::Response& res) {
+        // The body is read here, piece by piece, so that the size limit holds for a chunked body too
+        // (cpp-httplib enforces it only on a Content-Length).
+        server.Post("/api/change", [this](const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& read_body) {
             const std::string type = req.get_header_value("Content-Type");
             if (type.rfind("application/json", 0) != 0)
                 return send_error(res, 415, "Content-Type", "a change is sent as application/json");
+            std::string body;
+            bool too_large = false;
+            const bool read = read_body([&](const char* data, std::size_t length) {
+                too_large = body.size() + length > options.max_request_bytes;
+                if (!too_large) body.append(data, length);
+                return !too_large;
+            });
+            // cpp-httplib refuses a Content-Length past the limit itself, with a 413 and no body.
+            if (too_large || res.status == 413) return send_error(res, 413, "body", "the request is larger than the server accepts");
+            if (!read) return send_error(res, 400, "body", "the body could not be read whole");
             nlohmann::json change;
             try {
-                change = parse_json_input(req.body, "request", "body");
+                change = parse_json_input(body, "request", "body");
             } catch (const InputError& e) {
                 return send_error(res, 400, "body", e.reason());
             }
@@ -82,16 +135,6 @@ struct ViewServer::Impl {
             no_caching(res);
             send_json(res, 200, view.state());
         });
-        // The paths exist, but not for this method.
-        const auto not_allowed = [](const httplib::Request& req, httplib::Response& res) {
-            send_error(res, 405, "method", req.method + " is not served here");
-        };
-        server.Post("/api/state", not_allowed);
-        server.Post("/api/image.png", not_allowed);
-        server.Get("/api/change", not_allowed);
-        server.Put(".*", not_allowed);
-        server.Delete(".*", not_allowed);
-        server.Patch(".*", not_allowed);
         server.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
             if (!res.body.empty()) return;
             if (res.status == 404) send_error(res, 404, "path", "nothing is served at " + req.path);

@@ -6,6 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstdint>
+#include <filesystem>
 #include <string>
 
 namespace pp5 {
@@ -16,5 +18,12 @@ inline constexpr int kMostJsonDepth = 128;
 // than `most_depth` arrays and objects.
 nlohmann::json parse_json_input(const std::string& text, const std::string& file, const std::string& field,
                                 int most_depth = kMostJsonDepth);
+
+// The same for a file, read as it is parsed, so a file that is not JSON (a volume given by mistake) is
+// refused at its first bytes rather than read whole. Refused up front when larger than `most_bytes`,
+// or when its parsed form (taken as ten times its size, what nlohmann's nodes take for files of short
+// numbers and keys) would not fit in this process's memory.
+nlohmann::json read_json_file(const std::filesystem::path& path, const std::string& field, std::uintmax_t most_bytes,
+                              int most_depth = kMostJsonDepth);
 
 }  // namespace pp5

@@ -112,6 +112,48 @@ void obj_seeds(const fs::path& dir) {
     write_plain(dir / "textured.obj", text("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\ng part\nf 1/1 2/2 3/3\n"));
 }
 
+// A whole sweep as one shard: two scenarios over two GP counts, one point failed.
+void shard_seeds(const fs::path& dir) {
+    write_plain(dir / "shard-0-of-1.json", text(R"({"sweep": {"name": "seed", "description": "", "scenarios": ["a", "b"],
+  "machine": "pxpl5", "set": [], "frames": 1, "axes": [{"key": "gp.count", "values": ["4", "8"]}], "points": [],
+  "total_points": 4, "plot_x": "", "plot_metric": "frame_ms", "kernels": {"a": "levoy", "b": "yuan"}},
+ "columns": [{"name": "frame_ms", "unit": "ms", "description": "frame time"}, {"name": "hits", "unit": "count", "description": "hits"}],
+ "results": [
+  {"index": 0, "scenario": "a", "varied": {"gp.count": "4"}, "parameters": {"gp.count": 4},
+   "frames": [{"frame": 0, "label": "f", "metrics": {"frame_ms": 12.5, "hits": null}}]},
+  {"index": 1, "scenario": "a", "varied": {"gp.count": "8"}, "parameters": {"gp.count": 8},
+   "frames": [{"frame": 0, "label": "f", "metrics": {"frame_ms": 7.0, "hits": 3}}]},
+  {"index": 2, "scenario": "b", "varied": {"gp.count": "4"}, "parameters": {"gp.count": 4}, "error": "too small", "frames": []},
+  {"index": 3, "scenario": "b", "varied": {"gp.count": "8"}, "parameters": {"gp.count": 8},
+   "frames": [{"frame": 0, "label": "f", "metrics": {"frame_ms": 3.25, "hits": 1}}]}],
+ "shard": {"index": 0, "count": 1}}
+)"));
+}
+
+// A run's statistics in the shape `pp5sim render` writes, with a statistic, a histogram and frames.
+void compare_seeds(const fs::path& dir) {
+    write_plain(dir / "stats.json", text(R"({"summary": {"scenario": "s", "kernel": "levoy", "machine": "pxpl5", "frames": 2,
+  "simulated_seconds": [0.016, 0.012], "host_seconds": 0.2},
+ "components": {"gp[0]": {"busy_time": {"value": 1.5e9, "unit": "ps", "description": "busy"},
+   "latency": {"value": {"bounds": [0, 10, 100], "counts": [3, 4], "sum": 250}, "unit": "ns", "description": "latency"}}},
+ "frames": [{"simulated_seconds": 0.016, "label": "a"}, {"simulated_seconds": 0.012, "label": "b"}],
+ "simulation": {"events_run": 10}, "dataset": {}, "placement": {}}
+)"));
+}
+
+// Requests as a browser sends them, and a few it would not.
+void http_seeds(const fs::path& dir) {
+    write_plain(dir / "get-state", text("GET /api/state HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"));
+    write_plain(dir / "get-page", text("GET / HTTP/1.1\r\nHost: localhost\r\nAccept: text/html\r\nConnection: close\r\n\r\n"));
+    write_plain(dir / "get-pass", text("GET /api/pass/0.png HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"));
+    const std::string change = R"({"camera": {"azimuth": 30}, "light": {"direction": [0.2, 1.0, 0.3]}})";
+    write_plain(dir / "post-change", text("POST /api/change HTTP/1.1\r\nHost: localhost\r\nContent-Type: application/json\r\n"
+                                          "Content-Length: " + std::to_string(change.size()) + "\r\nConnection: close\r\n\r\n" + change));
+    write_plain(dir / "post-chunked", text("POST /api/change HTTP/1.1\r\nHost: localhost\r\nContent-Type: application/json\r\n"
+                                           "Transfer-Encoding: chunked\r\nConnection: close\r\n\r\n2\r\n{}\r\n0\r\n\r\n"));
+    write_plain(dir / "delete-state", text("DELETE /api/state HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"));
+}
+
 // Every shipped file of a kind, as it is: the richest valid inputs there are.
 void copy_shipped(const fs::path& from, const fs::path& dir) {
     for (const auto& entry : fs::directory_iterator(from))
@@ -142,6 +184,9 @@ int main(int argc, char** argv) {
         make("scenario", [&](const fs::path& dir) { copy_shipped(source / "traces/scenarios", dir); });
         make("machine", [&](const fs::path& dir) { copy_shipped(source / "sim/machines", dir); });
         make("targets", [&](const fs::path& dir) { copy_shipped(source / "traces/calibration", dir); });
+        make("shard", shard_seeds);
+        make("compare", compare_seeds);
+        make("http", http_seeds);
     } catch (const std::exception& e) {
         std::cerr << "make_fuzz_seeds: " << e.what() << "\n";
         return 1;

@@ -11,6 +11,9 @@
 #include <filesystem>
 #include <fstream>
 #include <thread>
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 namespace pp5 {
@@ -113,12 +116,80 @@ TEST_F(ServerTest, RefusesBadRequestsWithAReasonAndKeepsServing) {
     EXPECT_EQ(client().Get("/no/such/path")->status, 404);
     EXPECT_EQ(client().Get("/../../etc/passwd")->status, 404);
     EXPECT_EQ(client().Get("/api/pass/99.png")->status, 404);
-    EXPECT_EQ(client().Get("/api/change")->status, 405);
-    EXPECT_EQ(client().Delete("/api/state")->status, 405);
+    // A known path with a method it does not answer: 405, saying which it does.
+    for (const auto& [method, path] : std::vector<std::pair<std::string, std::string>>{
+             {"GET", "/api/change"}, {"DELETE", "/api/state"}, {"POST", "/"}, {"PUT", "/api/image.png"}, {"POST", "/api/pass/0.png"}}) {
+        httplib::Request request;
+        request.method = method;
+        request.path = path;
+        auto r = client().send(request);
+        ASSERT_TRUE(r) << method << " " << path;
+        EXPECT_EQ(r->status, 405) << method << " " << path << ": " << r->body;
+        EXPECT_FALSE(r->get_header_value("Allow").empty()) << method << " " << path;
+    }
+    // A body that is not UTF-8 is a bad request whose reason can still be written.
+    auto not_utf8 = change("{\"light\": \"\xff\xfe\"}");
+    ASSERT_TRUE(not_utf8);
+    EXPECT_EQ(not_utf8->status, 400) << not_utf8->body;
+    EXPECT_NO_THROW((void)nlohmann::json::parse(not_utf8->body)) << not_utf8->body;
+    // A body sent in chunks is read up to the same limit: a small change is served, a large one refused.
+    const auto send_chunked = [&](const std::string& body) {
+        return client().Post(
+            "/api/change",
+            [body](std::size_t offset, httplib::DataSink& sink) {
+                if (offset < body.size()) {
+                    const std::size_t piece = std::min<std::size_t>(1000, body.size() - offset);
+                    sink.write(body.data() + offset, piece);
+                } else {
+                    sink.done();
+                }
+                return true;
+            },
+            "application/json");
+    };
+    auto small_chunked = send_chunked(R"({"camera": {"azimuth": "east"}})");
+    ASSERT_TRUE(small_chunked);
+    EXPECT_EQ(small_chunked->status, 400) << small_chunked->body;  // read whole and parsed: the change itself is wrong
+    EXPECT_EQ(nlohmann::json::parse(small_chunked->body)["field"], "camera.azimuth") << small_chunked->body;
+    // Over the limit (4096 bytes here) reading stops: a 413, unless the connection is cut first while the
+    // client still sends; either way the change is not applied (the version is checked below).
+    auto large_chunked = send_chunked(R"({"camera": {"azimuth": 15}, "padding": ")" + std::string(6000, 'x') + "\"}");
+    if (large_chunked) EXPECT_EQ(large_chunked->status, 413) << large_chunked->body;
+    // Far more header lines than a browser sends.
+    httplib::Headers many;
+    for (int i = 0; i < 500; ++i) many.emplace("X-Filler-" + std::to_string(i), "x");
+    auto crowded = client().Get("/api/state", many);
+    ASSERT_TRUE(crowded);
+    EXPECT_EQ(crowded->status, 431) << crowded->body;
     // Still serving, and nothing changed.
     auto state = client().Get("/api/state");
     ASSERT_TRUE(state);
     EXPECT_EQ(nlohmann::json::parse(state->body)["version"], 1);
+}
+
+// Clients that open a connection and trickle a request (or send nothing) hold a worker each; more of
+// them than the old pool's eight must not keep a valid request waiting.
+TEST_F(ServerTest, SlowClientsDoNotKeepAValidRequestWaiting) {
+    std::vector<int> slow;
+    for (int i = 0; i < 16; ++i) {
+        const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+        ASSERT_GE(fd, 0);
+        sockaddr_in address{};
+        address.sin_family = AF_INET;
+        address.sin_port = htons(static_cast<std::uint16_t>(port));
+        address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        ASSERT_EQ(::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address), 0);
+        const std::string start = "GET /api/state HTTP/1.1\r\nHost: x\r\n";  // never finished
+        ASSERT_EQ(::send(fd, start.data(), start.size(), 0), static_cast<ssize_t>(start.size()));
+        slow.push_back(fd);
+    }
+    httplib::Client c("127.0.0.1", port);
+    c.set_connection_timeout(3, 0);
+    c.set_read_timeout(3, 0);  // the slow clients' requests are not timed out before this answers
+    auto state = c.Get("/api/state");
+    ASSERT_TRUE(state) << httplib::to_string(state.error());
+    EXPECT_EQ(state->status, 200);
+    for (const int fd : slow) ::close(fd);
 }
 
 TEST_F(ServerTest, ConcurrentChangesAreServedOneAtATime) {
