@@ -27,6 +27,7 @@ void add_reproduce_command(CLI::App& app, std::function<int()>& run);
 void add_host_check_command(CLI::App& app, std::function<int()>& run);
 void add_sweep_command(CLI::App& app, std::function<int()>& run);
 void add_compare_command(CLI::App& app, std::function<int()>& run);
+void add_compare_kernels_command(CLI::App& app, std::function<int()>& run);
 void add_scenarios_command(CLI::App& app, std::function<int()>& run);
 void add_serve_command(CLI::App& app, std::function<int()>& run);
 

@@ -68,6 +68,7 @@ int main(int argc, char** argv) {
     pp5::cli::add_host_check_command(app, run);
     pp5::cli::add_sweep_command(app, run);
     pp5::cli::add_compare_command(app, run);
+    pp5::cli::add_compare_kernels_command(app, run);
     pp5::cli::add_scenarios_command(app, run);
     pp5::cli::add_serve_command(app, run);
 

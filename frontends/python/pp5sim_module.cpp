@@ -6,6 +6,7 @@
 // the CLI's file, field and reason. See docs/python.md.
 
 #include "calibration/timing_model.h"
+#include "frontends/compare_kernels.h"
 #include "frontends/render_session.h"
 #include "frontends/serve/interactive_view.h"
 #include "kernels/registry/registry.h"
@@ -96,7 +97,14 @@ struct PyRun {
     py::object config;
 };
 
-PyRun render(const Scenario& scenario, const std::optional<PyMachine>& machine_given, std::optional<std::size_t> frame_count) {
+// A Scenario, or the name or path of one as the CLI takes it ("sphere", "traces/scenarios/mr-head.toml").
+Scenario scenario_of(const py::object& given) {
+    if (py::isinstance<py::str>(given)) return load_scenario(resolve_scenario_file(given.cast<std::string>()));
+    return given.cast<Scenario>();
+}
+
+PyRun render(const py::object& scenario_given, const std::optional<PyMachine>& machine_given, std::optional<std::size_t> frame_count) {
+    const Scenario scenario = scenario_of(scenario_given);
     const PyMachine machine = machine_given.value_or(default_machine());
     const std::size_t count = std::min(frame_count.value_or(scenario.frames.size()), scenario.frames.size());
     std::vector<SessionFrame> rendered;
@@ -166,10 +174,29 @@ struct PyRecording {
     }
 };
 
-PyRecording record(const Scenario& scenario, const std::optional<PyMachine>& machine_given) {
+PyRecording record(const py::object& scenario_given, const std::optional<PyMachine>& machine_given) {
+    const Scenario scenario = scenario_of(scenario_given);
     const PyMachine machine = machine_given.value_or(default_machine());
     const py::gil_scoped_release unlocked;
     return {std::make_shared<RecordedScenario>(scenario, machine.config, static_cast<int>(scenario.frames.size())), machine.config};
+}
+
+// Every kernel on one scenario and machine (frontends/compare_kernels.h): the report as a dict, with
+// each rendered kernel's last picture as an array under "pictures".
+py::object compare_kernels_of(const py::object& scenario_given, const std::optional<PyMachine>& machine_given, bool reference) {
+    const Scenario scenario = scenario_of(scenario_given);
+    const PyMachine machine = machine_given.value_or(default_machine());
+    KernelComparison comparison;
+    {
+        const py::gil_scoped_release unlocked;
+        comparison = compare_kernels(scenario, machine.config, {reference});
+    }
+    py::dict report = to_python(to_json(comparison)).cast<py::dict>();
+    py::dict pictures;
+    for (const KernelComparisonRow& row : comparison.rows)
+        if (row.rendered()) pictures[py::str(row.kernel)] = to_array(row.picture);
+    report["pictures"] = pictures;
+    return report;
 }
 
 }  // namespace
@@ -273,8 +300,13 @@ PYBIND11_MODULE(pp5sim, m) {
     m.def("record", &record, py::arg("scenario"), py::arg("machine") = std::nullopt,
           "Record the scenario's work on the machine (default pxpl5), for re-timing");
 
+    m.def("compare_kernels", &compare_kernels_of, py::arg("scenario"), py::arg("machine") = std::nullopt, py::arg("reference") = true,
+          "Render the scenario with every kernel that runs on the machine (default pxpl5): the report `pp5sim compare-kernels` "
+          "writes, as a dict, with each kernel's last picture under 'pictures'");
+
     py::class_<InteractiveView>(m, "View", "The browser tool's view: change the eye, light, region or kernel a step at a time")
-        .def(py::init([](const Scenario& s, const std::optional<PyMachine>& machine) {
+        .def(py::init([](const py::object& given, const std::optional<PyMachine>& machine) {
+                 const Scenario s = scenario_of(given);
                  const PyMachine chosen = machine.value_or(default_machine());
                  const py::gil_scoped_release unlocked;
                  return std::make_unique<InteractiveView>(s, chosen.config);

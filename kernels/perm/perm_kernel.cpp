@@ -256,6 +256,14 @@ private:
                                      "perm.gradient_positions), add renderers (renderer.count) or backing store",
                                      busiest_renderer_bytes_, m.candidates, m.record_bytes(), static_cast<double>(m.total_bytes()) / 1e6,
                                      renderer_bytes_));
+        // Records the GPs fetch from the renderers' backing store are placed data there, in the same
+        // books as the voxel store's (PermRecordShading counts its own layout when the PPs shade).
+        if (settings_.residence == PermResidence::Renderers && settings_.shading == PermShading::Gp) {
+            auto& renderers = machine_.renderers();
+            for (std::size_t r = 0; r < renderers.size() && r < per.size(); ++r)
+                renderers[r]->set_backing_store_bits_used((per[r] * m.record_bytes() * 8 + static_cast<std::uint64_t>(pps_) - 1) /
+                                                          static_cast<std::uint64_t>(pps_));
+        }
     }
 
     // What each GP keeps besides its cache: the distance map and the index volume that finds a sample's

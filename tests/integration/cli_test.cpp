@@ -700,6 +700,35 @@ TEST(Cli, FloatVolumesAtTheEndsOfTheRangeRenderOnEveryKernel) {
     }
 }
 
+// compare-kernels: every kernel that runs on the machine renders the same scenario; the report lists
+// each with its picture and figures, or with why it refused; PERM renders in its own resampling order.
+TEST(Cli, CompareKernelsReportsEveryKernelOnOneScenario) {
+    const fs::path dir = scratch("compare_kernels");
+    const RunResult r = run("compare-kernels sphere --out " + (dir / "report").string(), dir);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const auto report = nlohmann::json::parse(read_file(dir / "report/report.json"));
+    EXPECT_EQ(report["scenario"], "sphere");
+    std::set<std::string> kernels;
+    for (const auto& row : report["kernels"]) {
+        const std::string name = row["kernel"];
+        kernels.insert(name);
+        if (row.contains("refusal")) {
+            EXPECT_FALSE(row["refusal"].get<std::string>().empty()) << name;
+            continue;
+        }
+        EXPECT_TRUE(fs::exists(dir / "report" / (name + ".png"))) << name;
+        EXPECT_GT(row["mean_frame_seconds"].get<double>(), 0.0) << name;
+        EXPECT_GT(row["psnr_db"].get<double>(), 20.0) << name;
+        EXPECT_FALSE(row["phases_seconds"].empty()) << name;
+        EXPECT_GT(row["ring_bytes"].get<double>(), 0.0) << name;
+        if (name == "perm") EXPECT_NE(row["adaptation"].get<std::string>().find("interpolate-then-shade"), std::string::npos);
+    }
+    EXPECT_EQ(kernels, (std::set<std::string>{"levoy", "yuan", "wilson", "perm"}));
+    EXPECT_TRUE(fs::exists(dir / "report/side_by_side.png"));
+    const std::string md = read_file(dir / "report/report.md");
+    for (const std::string& name : kernels) EXPECT_NE(md.find("## " + name), std::string::npos) << name;
+}
+
 // compare on two renders that differ in gp.count: the frame times and per-GP figures change, the exit
 // status says they differ; a run against itself does not; a missing run is bad input.
 TEST(Cli, CompareShowsWhatChangedAndExitsThreeBeyondTheTolerance) {

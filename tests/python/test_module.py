@@ -110,6 +110,24 @@ class ModuleTest(unittest.TestCase):
             view.apply({"camera": {"elevation": 120}})
         self.assertEqual(caught.exception.field, "camera.elevation")
 
+    def test_a_scenario_can_be_named_as_on_the_command_line(self):
+        run = pp5sim.render("sphere")
+        self.assertEqual(run.stats["summary"]["scenario"], "sphere")
+        with self.assertRaises(pp5sim.InputError):
+            pp5sim.render("no-such-scenario")
+
+    def test_compare_kernels_reports_every_kernel_with_its_picture(self):
+        report = pp5sim.compare_kernels(pp5sim.scenario_from_toml(SMALL))
+        names = [row["kernel"] for row in report["kernels"]]
+        self.assertEqual(sorted(names), ["levoy", "perm", "wilson", "yuan"])
+        for row in report["kernels"]:
+            if "refusal" in row:
+                self.assertTrue(row["refusal"])
+                continue
+            self.assertEqual(report["pictures"][row["kernel"]].shape, (32, 32, 4))
+            self.assertGreater(row["mean_frame_seconds"], 0.0)
+            self.assertEqual(len(row["frame_seconds"]), 2)
+
 
 if __name__ == "__main__":
     unittest.main()
