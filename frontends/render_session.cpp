@@ -1,5 +1,6 @@
 #include "frontends/render_session.h"
 
+#include "calibration/timing_model.h"
 #include "kernels/registry/registry.h"
 #include "kernels/scenario/scenario_inputs.h"
 #include "sim/core/calibration.h"
@@ -149,6 +150,26 @@ RenderSession::RenderSession(const Scenario& scenario, const MachineConfig& conf
     }
 }
 
+RenderSession::Retimed RenderSession::retime_on(const MachineConfig& timing, const std::vector<const FrameWork*>& replay) {
+    const nlohmann::json recorded = config_.to_json()["parameters"];
+    const nlohmann::json wanted = timing.to_json()["parameters"];
+    for (const auto& [key, entry] : recorded.items())
+        if (!is_timing_parameter(key) && wanted.contains(key) && wanted[key]["value"] != entry["value"])
+            throw InputError(wanted[key]["origin"].get<std::string>(), key,
+                             "changes what the kernels compute, not only how long it takes: the frame must be rendered again");
+    timing_machine_.reset();  // it refers to the configuration replaced next
+    timing_config_ = timing;
+    timing_machine_ = std::make_unique<Machine>(*timing_config_);
+    Retimed last;
+    if (!kernel_.runs_on_machine()) return last;
+    for (const FrameWork* work : replay) {
+        const BusyTotals before = busy_totals(*timing_machine_);
+        last.timing = time_frame(*timing_machine_, *work);
+        last.activity = activity_between(before, busy_totals(*timing_machine_), *timing_machine_, last.timing.duration_ps());
+    }
+    return last;
+}
+
 // What the oracle's picture holds of the frame, for stats.json: the difference includes whatever it leaves out.
 std::string RenderSession::reference_includes(const FrameSpec& frame) const {
     std::string against = "reference renderer (floating point): the volume, classified and shaded";
@@ -188,9 +209,10 @@ SessionFrame RenderSession::render(FrameSpec frame) {
     out.index = index;
     std::unique_ptr<KernelFrame> recorded = naming_parameter_origins(config_, [&] { return run_->record_frame(frame); });
     const bool on_machine = kernel_.runs_on_machine();
-    const BusyTotals before = busy_totals(machine_);
-    out.timing = on_machine ? time_frame(machine_, recorded->work) : FrameTiming{};
-    out.activity = activity_between(before, busy_totals(machine_), machine_, out.timing.duration_ps());
+    Machine& timed = timing_machine_ ? *timing_machine_ : machine_;
+    const BusyTotals before = busy_totals(timed);
+    out.timing = on_machine ? time_frame(timed, recorded->work) : FrameTiming{};
+    out.activity = activity_between(before, busy_totals(timed), timed, out.timing.duration_ps());
 
     // Each stage against the reference, with its difference image, for kernels whose stages are
     // alternatives (the low-resolution volume alone, then with its points).

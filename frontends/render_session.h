@@ -76,6 +76,19 @@ public:
     // A few lines for a terminal: the machine, the dataset, then one per frame record.
     std::vector<std::string> summary_lines(const nlohmann::json& frames) const;
 
+    // From now on, times frames on `timing`, a machine that differs from the session's only in timing
+    // parameters (InputError naming the first key that does not), with caches starting cold, and first
+    // times `replay` on it (the frames before, in order) so that what follows finds the caches as that
+    // machine would have left them. Returns the last of replay's timings and activity. The recording
+    // machine stays as it was: what the kernels computed does not depend on timing.
+    struct Retimed {
+        FrameTiming timing;
+        FrameActivity activity;
+    };
+    Retimed retime_on(const MachineConfig& timing, const std::vector<const FrameWork*>& replay);
+    // The configuration frames are timed with (the session's own until retime_on).
+    const MachineConfig& timing_config() const { return timing_config_ ? *timing_config_ : config_; }
+
     const Scenario& scenario() const { return scenario_; }
     const Kernel& kernel() const { return kernel_; }
     const MachineConfig& config() const { return config_; }
@@ -95,6 +108,9 @@ private:
     Machine machine_;
     Volume volume_;
     std::unique_ptr<KernelRun> run_;
+    // After retime_on: the machine frames are timed on (the recording machine_ keeps the kernel's state).
+    std::optional<MachineConfig> timing_config_;
+    std::unique_ptr<Machine> timing_machine_;
     std::optional<ReferenceRenderer> reference_;
     std::size_t frames_rendered_ = 0;
 };

@@ -316,7 +316,8 @@ PYBIND11_MODULE(pp5sim, m) {
             const nlohmann::json c = from_python(change, "change");
             const py::gil_scoped_release unlocked;
             v.apply(c);
-        }, py::arg("change"), "Apply a change ({'camera': {'azimuth': 40}}, {'light': ...}, {'region': ...}, {'kernel': ...}); docs/serve.md")
+        }, py::arg("change"), "Apply a change ({'camera': {'azimuth': 40}}, {'light': ...}, {'region': ...}, {'kernel': ...}, "
+               "{'machine': {'gp.count': 64}}, which re-times the frame when only timing changes); docs/serve.md")
         .def_property_readonly("state", [](const InteractiveView& v) { return to_python(v.state()); })
         .def_property_readonly("png", [](const InteractiveView& v) { return py::bytes(v.frame_png()); }, "The last frame as PNG bytes");
 }

@@ -1,5 +1,6 @@
 #include "frontends/serve/interactive_view.h"
 
+#include "calibration/timing_model.h"
 #include "kernels/registry/registry.h"
 #include "kernels/scenario/scenario_inputs.h"
 #include "sim/core/input_error.h"
@@ -9,6 +10,7 @@
 #include <glm/trigonometric.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <set>
 #include <stdexcept>
@@ -48,6 +50,18 @@ glm::vec3 vector3(const nlohmann::json& value, const std::string& field, double 
 
 nlohmann::json to_json(glm::vec3 v) { return {v.x, v.y, v.z}; }
 
+// The parameters the page puts in front of a class, with their values and whether changing one only
+// re-times the frame.
+nlohmann::json machine_controls(const MachineConfig& config) {
+    nlohmann::json controls = nlohmann::json::array();
+    const nlohmann::json parameters = config.to_json()["parameters"];
+    for (const char* key : {"gp.count", "renderer.count", "ring.clock_mhz", "ring.channels", "gp.cache_bits"}) {
+        if (!parameters.contains(key)) continue;
+        controls.push_back({{"key", key}, {"value", parameters[key]["value"]}, {"unit", parameters[key]["unit"]}, {"timing_only", is_timing_parameter(key)}});
+    }
+    return controls;
+}
+
 // Voxels the region moves for one pixel of drag along the screen's right and up: what lets the page
 // move the region under the pointer.
 nlohmann::json drag_basis(const FrameSpec& frame, const Volume& volume, const ImageSpec& image) {
@@ -64,14 +78,19 @@ nlohmann::json drag_basis(const FrameSpec& frame, const Volume& volume, const Im
 
 }  // namespace
 
-InteractiveView::InteractiveView(Scenario scenario, MachineConfig config) : scenario_(std::move(scenario)), config_(std::move(config)) {
+InteractiveView::InteractiveView(Scenario scenario, MachineConfig config)
+    : scenario_(std::move(scenario)), config_(std::move(config)), timing_(config_) {
     current_ = scenario_.frames.front();
     session_ = std::make_unique<RenderSession>(scenario_, config_);
     render(current_);
 }
 
 void InteractiveView::apply(const nlohmann::json& change) {
-    only_keys(change, "", {"camera", "light", "region", "kernel"});
+    only_keys(change, "", {"camera", "light", "region", "kernel", "machine"});
+    if (change.contains("machine")) {
+        if (change.size() > 1) refuse("machine", "a change to the machine comes alone, so that what it did to the frame is its own");
+        return change_machine(change["machine"]);
+    }
     FrameSpec next = current_;
     next.label = "change";
     next.camera_changed = next.lighting_changed = next.classification_changed = next.region_changed = false;
@@ -147,9 +166,11 @@ void InteractiveView::apply(const nlohmann::json& change) {
             other.kernel = name;
             other.frames = {next};
             try {
-                auto session = std::make_unique<RenderSession>(other, config_);
+                auto session = std::make_unique<RenderSession>(other, timing_);
                 scenario_ = std::move(other);
                 session_ = std::move(session);
+                config_ = timing_;
+                recent_.clear();
                 phase_names_.clear();
             } catch (const InputError& e) {
                 refuse("kernel", fmt::format("{} cannot render this view: {}", name, e.what()));
@@ -175,38 +196,110 @@ void InteractiveView::render(FrameSpec frame) {
     frame_png_ = encode_png(*picture);
     ++version_;
 
+    machine_change_ = nullptr;
+    last_record_ = rendered.record;
+    describe(rendered.index, rendered.record, *rendered.recorded, rendered.timing, rendered.activity);
+    recent_.push_back(std::move(rendered.recorded));
+    if (recent_.size() > 2) recent_.erase(recent_.begin());
+}
+
+void InteractiveView::describe(std::size_t index, const nlohmann::json& record, const KernelFrame& recorded, const FrameTiming& timing,
+                               const FrameActivity& activity) {
     const Kernel& kernel = session_->kernel();
     nlohmann::json metrics = nlohmann::json::array();
     for (const KernelMetric& m : kernel.metrics()) {
         try {
-            metrics.push_back({{"name", m.name}, {"unit", m.unit}, {"description", m.description},
-                               {"value", kernel.metric(m.name, *rendered.recorded, rendered.timing)}});
+            metrics.push_back({{"name", m.name}, {"unit", m.unit}, {"description", m.description}, {"value", kernel.metric(m.name, recorded, timing)}});
         } catch (const std::domain_error&) {
             // This frame cannot give it (a polygon rate without polygons): not shown.
         }
     }
     // Every phase this session has run, so that what a change did not need shows as kept.
-    for (const PhaseTiming& p : rendered.timing.phases)
+    for (const PhaseTiming& p : timing.phases)
         if (std::find(phase_names_.begin(), phase_names_.end(), p.name) == phase_names_.end()) phase_names_.push_back(p.name);
     nlohmann::json phases = nlohmann::json::array();
     for (const std::string& name : phase_names_) {
-        const PhaseTiming* p = rendered.timing.phase(name);
+        const PhaseTiming* p = timing.phase(name);
         const Tick duration = p != nullptr ? p->duration_ps() : 0;
         phases.push_back({{"name", name}, {"seconds", ticks_to_seconds(duration)}, {"ran", duration > 0}});
     }
-    const double seconds = ticks_to_seconds(rendered.timing.duration_ps());
-    const auto& record = rendered.record;
-    last_ = {{"index", rendered.index},
+    const double seconds = ticks_to_seconds(timing.duration_ps());
+    last_ = {{"index", index},
              {"changed", record["changed"]},
              {"simulated_seconds", seconds},
              {"frames_per_second", seconds > 0 ? nlohmann::json(1.0 / seconds) : nlohmann::json(nullptr)},
              {"metrics", metrics},
              {"phases", phases},
              {"passes", passes_.size()},
-             {"utilisation", {{"gps", rendered.activity.gps}, {"renderers", rendered.activity.renderers}, {"ring", rendered.activity.ring}}},
+             {"utilisation", {{"gps", activity.gps}, {"renderers", activity.renderers}, {"ring", activity.ring}}},
              {"psnr_db", record.contains("fidelity") ? record["fidelity"]["psnr_db"] : nlohmann::json(nullptr)},
              {"host_seconds", record["host_seconds"]},
              {"record", record}};
+}
+
+void InteractiveView::change_machine(const nlohmann::json& change) {
+    if (!change.is_object() || change.empty()) refuse("machine", "expected an object of parameter = value, e.g. {\"gp.count\": 64}");
+    MachineConfig wanted = timing_;
+    std::vector<std::string> changed;
+    bool timing_only = true;
+    for (const auto& [key, value] : change.items()) {
+        const std::string field = "machine." + key;
+        ParamValue parsed;
+        if (value.is_boolean()) parsed = value.get<bool>();
+        else if (value.is_number_integer()) parsed = value.get<std::int64_t>();
+        else if (value.is_number()) parsed = value.get<double>();
+        else if (value.is_string()) parsed = value.get<std::string>();
+        else refuse(field, "expected a number, true or false, or text");
+        // A whole number sent as 32.0 (as a slider may) counts as one.
+        if (const ParamSpec* spec = wanted.find_spec(key); spec != nullptr && spec->type == ParamType::Integer && value.is_number_float()) {
+            const double v = value.get<double>();
+            if (v == std::floor(v) && std::abs(v) < 9e15) parsed = static_cast<std::int64_t>(v);
+        }
+        try {
+            wanted.set(key, parsed, kRequest);
+        } catch (const InputError& e) {
+            refuse(field, e.reason());
+        }
+        if (wanted.to_json()["parameters"][key]["value"] != timing_.to_json()["parameters"][key]["value"]) {
+            changed.push_back(key);
+            timing_only = timing_only && is_timing_parameter(key);
+        }
+    }
+    if (changed.empty()) return;  // the machine it already is
+    const auto started = std::chrono::steady_clock::now();
+    if (timing_only && session_->kernel().runs_on_machine() && !recent_.empty()) {
+        // What the kernels computed stands: the last frames are timed again on the changed machine.
+        std::vector<const FrameWork*> replay;
+        for (const auto& frame : recent_) replay.push_back(&frame->work);
+        const RenderSession::Retimed retimed = session_->retime_on(wanted, replay);
+        timing_ = std::move(wanted);
+        describe(last_["index"].get<std::size_t>(), last_record_, *recent_.back(), retimed.timing, retimed.activity);
+        last_["changed"] = {{"machine", changed}};
+        ++version_;
+        machine_change_ = {{"kind", "re-timed"},
+                           {"keys", changed},
+                           {"frames_replayed", replay.size()},
+                           {"host_seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count()}};
+        return;
+    }
+    // It changes what is computed (or there is nothing recorded to re-time): the frame is rendered again.
+    try {
+        auto session = std::make_unique<RenderSession>(scenario_, wanted);
+        session_ = std::move(session);
+    } catch (const InputError& e) {
+        refuse("machine", fmt::format("this machine cannot render the view: {}", e.what()));
+    }
+    config_ = wanted;
+    timing_ = std::move(wanted);
+    recent_.clear();
+    phase_names_.clear();
+    FrameSpec again = current_;
+    again.label = "change";
+    render(again);
+    last_["changed"] = {{"machine", changed}};
+    machine_change_ = {{"kind", "rendered again"},
+                       {"keys", changed},
+                       {"host_seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count()}};
 }
 
 nlohmann::json InteractiveView::state() const {
@@ -241,6 +334,8 @@ nlohmann::json InteractiveView::state() const {
             {"kernels", kernels},
             {"machine", config_.machine_name()},
             {"machine_summary", session_->machine().summary()},
+            {"machine_parameters", machine_controls(timing_)},
+            {"machine_change", machine_change_},
             {"image", {{"width", scenario_.image.width}, {"height", scenario_.image.height}}},
             {"volume", {{"name", volume.name()}, {"dims", {volume.dims().x, volume.dims().y, volume.dims().z}}}},
             {"camera", {{"azimuth", current_.camera.azimuth_degrees}, {"elevation", current_.camera.elevation_degrees}, {"zoom", current_.camera.zoom}}},

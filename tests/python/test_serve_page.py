@@ -125,6 +125,28 @@ class ServePageTest(unittest.TestCase):
         self.assertEqual(caught.exception.code, 404)
         self.assertEqual(json.loads(self.get("/api/state"))["version"], version)
 
+    def test_4_a_machine_change_of_timing_alone_retimes_without_a_new_picture(self):
+        before = json.loads(self.get("/api/state"))
+        picture = self.get("/api/image.png")
+        gps = next(c["value"] for c in before["machine_parameters"] if c["key"] == "gp.count")
+        status, state = self.post({"machine": {"gp.count": max(1, gps // 8)}})
+        self.assertEqual(status, 200, state)
+        self.assertEqual(state["machine_change"]["kind"], "re-timed")
+        self.assertLess(state["frame"]["frames_per_second"], before["frame"]["frames_per_second"])  # fewer GPs, slower
+        self.assertEqual(self.get("/api/image.png"), picture)
+        browser = chromium()
+        if browser is not None:
+            profile = os.path.join(self.folder, "profile-machine")
+            dom = subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--user-data-dir=" + profile,
+                                  "--virtual-time-budget=10000", "--dump-dom", self.base + "/"],
+                                 capture_output=True, text=True, timeout=120).stdout
+            self.assertIn(f'data-key="gp.count" value="{max(1, gps // 8)}"', dom)
+            self.assertIn("re-timed", dom)
+            self.assertIn(f"{state['frame']['frames_per_second']:.1f} frames/s", dom)
+        status, state = self.post({"machine": {"renderer.count": 4}})
+        self.assertEqual(status, 200, state)
+        self.assertEqual(state["machine_change"]["kind"], "rendered again")
+
 
 if __name__ == "__main__":
     unittest.main()

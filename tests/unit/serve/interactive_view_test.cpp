@@ -36,6 +36,64 @@ const nlohmann::json& phase(const nlohmann::json& state, const std::string& name
     throw std::runtime_error("no phase " + name);
 }
 
+double control(const nlohmann::json& state, const std::string& key) {
+    for (const auto& c : state["machine_parameters"])
+        if (c["key"] == key) return c["value"].get<double>();
+    throw std::runtime_error("no control " + key);
+}
+
+// The machine in the page: a change of timing alone (GP count, ring, caches) re-times the recorded
+// frame at once, with the same picture; one that changes what is computed renders again.
+TEST(InteractiveView, AMachineChangeOfTimingOnlyRetimesTheFrameAndAnotherRendersAgain) {
+    InteractiveView view(small_scenario(false), load_run_config("pxpl5", {}));
+    const nlohmann::json before = view.state();
+    const std::string picture = view.frame_png();
+    const double gps = control(before, "gp.count");
+    ASSERT_GT(gps, 4);
+
+    view.apply({{"machine", {{"gp.count", 4}}}});
+    const nlohmann::json fewer = view.state();
+    EXPECT_EQ(fewer["machine_change"]["kind"], "re-timed");
+    EXPECT_EQ(fewer["machine_change"]["keys"], nlohmann::json::array({"gp.count"}));
+    EXPECT_EQ(view.frame_png(), picture);
+    EXPECT_EQ(fewer["frame"]["index"], before["frame"]["index"]);  // no new frame
+    EXPECT_GT(fewer["frame"]["simulated_seconds"].get<double>(), before["frame"]["simulated_seconds"].get<double>());
+    EXPECT_EQ(control(fewer, "gp.count"), 4);
+    // Back to the first machine: the session's own time, replayed from cold caches as it was.
+    view.apply({{"machine", {{"gp.count", gps}}}});
+    EXPECT_EQ(view.state()["frame"]["simulated_seconds"], before["frame"]["simulated_seconds"]);
+    // The next frame is timed on the machine as changed.
+    view.apply({{"machine", {{"gp.count", 4}}}});
+    view.apply({{"camera", {{"azimuth", 60}}}});
+    EXPECT_TRUE(view.state()["machine_change"].is_null());
+    EXPECT_EQ(control(view.state(), "gp.count"), 4);
+
+    // The renderer count changes where the volume lives: rendered again.
+    view.apply({{"machine", {{"renderer.count", 8}}}});
+    const nlohmann::json rerendered = view.state();
+    EXPECT_EQ(rerendered["machine_change"]["kind"], "rendered again");
+    EXPECT_EQ(control(rerendered, "renderer.count"), 8);
+    EXPECT_EQ(control(rerendered, "gp.count"), 4);  // the timing change stays
+
+    // Refused naming the field, and nothing changes.
+    const auto version = view.version();
+    for (const auto& [change, field] : std::vector<std::pair<nlohmann::json, std::string>>{
+             {{{"machine", {{"gp.count", 0}}}}, "machine.gp.count"},
+             {{{"machine", {{"gp.cuont", 4}}}}, "machine.gp.cuont"},
+             {{{"machine", {{"gp.count", "many"}}}}, "machine.gp.count"},
+             {{{"machine", {{"gp.count", nullptr}}}}, "machine.gp.count"},
+             {{{"machine", 3}}, "machine"},
+             {{{"machine", {{"gp.count", 8}}}, {"camera", {{"zoom", 2}}}}, "machine"}}) {
+        try {
+            view.apply(change);
+            ADD_FAILURE() << change.dump() << " accepted";
+        } catch (const InputError& e) {
+            EXPECT_EQ(e.field(), field) << e.what();
+        }
+    }
+    EXPECT_EQ(view.version(), version);
+}
+
 TEST(InteractiveView, ALightMoveReshadesAndCastsButKeepsTheClassificationAndPyramid) {
     InteractiveView view(small_scenario(false), load_run_config("pxpl5", {}));
     const std::string first = view.frame_png();
