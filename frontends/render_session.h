@@ -88,6 +88,8 @@ public:
     Retimed retime_on(const MachineConfig& timing, const std::vector<const FrameWork*>& replay);
     // The configuration frames are timed with (the session's own until retime_on).
     const MachineConfig& timing_config() const { return timing_config_ ? *timing_config_ : config_; }
+    // The machine frames are timed on (the session's own until retime_on).
+    const Machine& timing_machine() const { return timing_machine_ ? *timing_machine_ : machine_; }
 
     const Scenario& scenario() const { return scenario_; }
     const Kernel& kernel() const { return kernel_; }

@@ -333,7 +333,7 @@ nlohmann::json InteractiveView::state() const {
             {"kernel", scenario_.kernel},
             {"kernels", kernels},
             {"machine", config_.machine_name()},
-            {"machine_summary", session_->machine().summary()},
+            {"machine_summary", session_->timing_machine().summary()},
             {"machine_parameters", machine_controls(timing_)},
             {"machine_change", machine_change_},
             {"image", {{"width", scenario_.image.width}, {"height", scenario_.image.height}}},

@@ -59,6 +59,7 @@ TEST(InteractiveView, AMachineChangeOfTimingOnlyRetimesTheFrameAndAnotherRenders
     EXPECT_EQ(fewer["frame"]["index"], before["frame"]["index"]);  // no new frame
     EXPECT_GT(fewer["frame"]["simulated_seconds"].get<double>(), before["frame"]["simulated_seconds"].get<double>());
     EXPECT_EQ(control(fewer, "gp.count"), 4);
+    EXPECT_NE(fewer["machine_summary"].get<std::string>().find(": 4 GPs"), std::string::npos) << fewer["machine_summary"];
     // Back to the first machine: the session's own time, replayed from cold caches as it was.
     view.apply({{"machine", {{"gp.count", gps}}}});
     EXPECT_EQ(view.state()["frame"]["simulated_seconds"], before["frame"]["simulated_seconds"]);
