@@ -240,8 +240,6 @@ void InteractiveView::describe(std::size_t index, const nlohmann::json& record, 
 void InteractiveView::change_machine(const nlohmann::json& change) {
     if (!change.is_object() || change.empty()) refuse("machine", "expected an object of parameter = value, e.g. {\"gp.count\": 64}");
     MachineConfig wanted = timing_;
-    std::vector<std::string> changed;
-    bool timing_only = true;
     for (const auto& [key, value] : change.items()) {
         const std::string field = "machine." + key;
         ParamValue parsed;
@@ -260,10 +258,15 @@ void InteractiveView::change_machine(const nlohmann::json& change) {
         } catch (const InputError& e) {
             refuse(field, e.reason());
         }
-        if (wanted.to_json()["parameters"][key]["value"] != timing_.to_json()["parameters"][key]["value"]) {
-            changed.push_back(key);
-            timing_only = timing_only && is_timing_parameter(key);
-        }
+    }
+    // What differs from the machine now, compared as config.json writes the values.
+    const nlohmann::json now = timing_.to_json()["parameters"], next = wanted.to_json()["parameters"];
+    std::vector<std::string> changed;
+    bool timing_only = true;
+    for (const auto& [key, value] : change.items()) {
+        if (next[key]["value"] == now[key]["value"]) continue;
+        changed.push_back(key);
+        timing_only = timing_only && is_timing_parameter(key);
     }
     if (changed.empty()) return;  // the machine it already is
     const auto started = std::chrono::steady_clock::now();
