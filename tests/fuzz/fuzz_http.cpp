@@ -12,6 +12,8 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -53,7 +55,9 @@ Harness& harness() {
 // Sends `data` and returns what the server answers within `wait_ms` of its last byte. The sending
 // side is left open (cpp-httplib 0.11 writes no answer to a client that has half-closed), so a request
 // the input leaves unfinished is simply abandoned when the wait runs out: closing the socket ends the
-// server's read at once.
+// server's read at once. libFuzzer's -timeout arms a SIGALRM every timeout/2 + 1 seconds, and poll is
+// never restarted after a signal: an interrupted call is retried for what is left of the wait, or an
+// answer still on its way would be read as none.
 std::string exchange(int port, const std::uint8_t* data, std::size_t size, int wait_ms) {
     const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
     if (fd < 0) std::abort();
@@ -61,19 +65,30 @@ std::string exchange(int port, const std::uint8_t* data, std::size_t size, int w
     address.sin_family = AF_INET;
     address.sin_port = htons(static_cast<std::uint16_t>(port));
     address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    if (::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0) std::abort();
+    // An interrupted connect goes on in the background, and Linux's TCP send waits for it to finish.
+    if (::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0 && errno != EINTR) std::abort();
     for (std::size_t sent = 0; sent < size;) {
         const ssize_t n = ::send(fd, data + sent, size - sent, MSG_NOSIGNAL);
+        if (n < 0 && errno == EINTR) continue;
         if (n <= 0) break;  // the server may close early on a refused request
         sent += static_cast<std::size_t>(n);
     }
     std::string answer;
     char buffer[4096];
-    pollfd readable{fd, POLLIN, 0};
-    while (::poll(&readable, 1, wait_ms) > 0) {
+    using Clock = std::chrono::steady_clock;
+    auto deadline = Clock::now() + std::chrono::milliseconds(wait_ms);
+    while (true) {
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
+        if (left <= 0) break;
+        pollfd readable{fd, POLLIN, 0};
+        const int ready = ::poll(&readable, 1, static_cast<int>(left));
+        if (ready < 0 && errno == EINTR) continue;
+        if (ready <= 0) break;
         const ssize_t n = ::recv(fd, buffer, sizeof buffer, 0);
+        if (n < 0 && errno == EINTR) continue;
         if (n <= 0) break;
         answer.append(buffer, static_cast<std::size_t>(n));
+        deadline = Clock::now() + std::chrono::milliseconds(wait_ms);  // the wait runs from the last byte
     }
     ::close(fd);
     return answer;
