@@ -20,6 +20,7 @@ int TraceRecorder::track(const std::string& group, const std::string& name) {
     }
     auto [t, new_track] = tracks_.try_emplace({pid, name}, static_cast<int>(tracks_.size()) + 1);
     if (new_track) {
+        track_list_.push_back({pid * 100000 + t->second, group, name});
         records_.push_back(nlohmann::json{{"ph", "M"}, {"name", "thread_name"}, {"pid", pid}, {"tid", t->second}, {"args", {{"name", name}}}}.dump());
     }
     return pid * 100000 + t->second;
@@ -34,11 +35,27 @@ bool TraceRecorder::take() {
     return true;
 }
 
+void TraceRecorder::keep_slice(int track, const std::string& name, Tick start, Tick end) {
+    if (slices_.size() >= max_slices_) {
+        ++slices_dropped_;
+        return;
+    }
+    auto [at, added] = slice_name_index_.try_emplace(name, static_cast<int>(slice_names_.size()));
+    if (added) slice_names_.push_back(name);
+    slices_.push_back({track, at->second, start, end});
+}
+
+void TraceRecorder::forget_slices() {
+    slices_.clear();
+    slices_dropped_ = 0;
+}
+
 void TraceRecorder::slice(int track, const std::string& name, Tick start, Tick end) {
     if (keep_busy_ && name != "waiting" && end > start) {
         const auto group = static_cast<std::size_t>(track / 100000);
         if (group >= 1 && group <= group_names_.size()) busy_[group_names_[group - 1]].emplace_back(start, end);
     }
+    if (max_slices_ > 0) keep_slice(track, name, start, end);
     if (!in_window(start, end) || !take()) return;
     records_.push_back(nlohmann::json{{"ph", "X"}, {"name", name}, {"pid", track / 100000}, {"tid", track % 100000},
                                       {"ts", microseconds(start)}, {"dur", microseconds(end - start)}}

@@ -52,18 +52,22 @@ Machine::Machine(const MachineConfig& config) try
 }
 
 namespace {
+const char* const kRingTraceGroup = "ring";
+std::string ring_channel_track(int channel) { return Component::indexed("channel", static_cast<std::size_t>(channel)); }
+
 // Draws each ring message as a slice on its channel's track and an arrow from sender to receiver.
 class RingTracer final : public RingObserver {
 public:
     RingTracer(Machine& machine, TraceRecorder& trace) : machine_(machine), trace_(trace) {
         for (int c = 0; c < machine.ring().channel_count(); ++c)
-            channels_.push_back(trace.track("ring", Component::indexed("channel", static_cast<std::size_t>(c))));
+            channels_.push_back(trace.track(kRingTraceGroup, ring_channel_track(c)));
     }
     void on_message(const RingMessage& message, const RingTransit& transit) override {
         const RingNetwork& ring = machine_.ring();
         const Tick hold = ring.clock().cycles_to_ticks(transit.words);
         trace_.slice(channels_[static_cast<std::size_t>(transit.channel)], to_string(message.kind), transit.start, transit.start + hold);
-        if (!message.broadcast)
+        // The arrows exist only in the trace-event document; a recorder kept for spans has none.
+        if (!message.broadcast && trace_.records_events())
             trace_.flow(machine_.trace_track(message.from), transit.requested, machine_.trace_track(message.to), transit.arrival,
                         to_string(message.kind));
     }
@@ -82,15 +86,29 @@ void Machine::attach_trace(TraceRecorder* trace) {
     ring_.set_observer(ring_tracer_.get());
 }
 
-int Machine::trace_track(std::size_t station) const {
-    const RingStation& s = ring_.stations().at(station);
-    switch (s.kind) {
-        case StationKind::GraphicsProcessor: return trace_->track("GPs", s.name);
-        case StationKind::Renderer: return trace_->track("renderers", s.name);
+namespace {
+// The group of trace tracks a ring station's records go under.
+const char* trace_group(StationKind kind) {
+    switch (kind) {
+        case StationKind::GraphicsProcessor: return "GPs";
+        case StationKind::Renderer: return "renderers";
         case StationKind::Host:
         case StationKind::FrameBuffer: break;
     }
-    return trace_->track("host and frame buffer", s.name);
+    return "host and frame buffer";
+}
+}  // namespace
+
+int Machine::trace_track(std::size_t station) const {
+    const RingStation& s = ring_.stations().at(station);
+    return trace_->track(trace_group(s.kind), s.name);
+}
+
+std::vector<std::pair<std::string, std::string>> Machine::trace_track_names() const {
+    std::vector<std::pair<std::string, std::string>> names;
+    for (const RingStation& s : ring_.stations()) names.emplace_back(trace_group(s.kind), s.name);
+    for (int c = 0; c < ring_.channel_count(); ++c) names.emplace_back(kRingTraceGroup, ring_channel_track(c));
+    return names;
 }
 
 std::vector<const Component*> Machine::components() const {

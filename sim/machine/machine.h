@@ -47,6 +47,9 @@ public:
     TraceRecorder* trace() const { return trace_; }
     // The trace track of a ring station ("gp[3]", "renderer[1]", "host", "frame_buffer").
     int trace_track(std::size_t station) const;
+    // The (group, name) of every track this machine's components record on: its stations, then its
+    // ring channels. A recorder that outlives one machine keeps the others' tracks as well.
+    std::vector<std::pair<std::string, std::string>> trace_track_names() const;
 
     // Every top-level component (children are reached through them).
     std::vector<const Component*> components() const;

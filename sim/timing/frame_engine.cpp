@@ -1003,10 +1003,13 @@ void FrameRun::start_broadcast_phase(const BroadcastPhase& phase, PhaseTiming& t
     const GpCostModel& costs = machine_.gps().front()->costs();
     Tick taken_in = t;
     Tick receiving = 0;
+    std::vector<std::pair<Tick, Tick>> receives;  // when every GP takes each message in
     for (const RingTransit& transit : transits) {
         const Tick receive = costs.message_receive + static_cast<Tick>(transit.words) * costs.receive_per_word;
-        taken_in = std::max(taken_in, transit.arrival) + receive;
+        const Tick from = std::max(taken_in, transit.arrival);
+        taken_in = from + receive;
         receiving += receive;
+        receives.emplace_back(from, taken_in);
     }
     const std::vector<Tick> op_cost = gp_op_costs(machine_.config(), work_.op_kinds);
     Tick compute = 0;
@@ -1014,8 +1017,11 @@ void FrameRun::start_broadcast_phase(const BroadcastPhase& phase, PhaseTiming& t
     for (auto& gp : machine_.gps()) {
         gp->busy_ps += static_cast<std::uint64_t>(receiving + compute);
         for (const GpOp& op : phase.then_each_gp) gp->operations(work_.op_kinds[op.kind].name) += op.count;
-        if (TraceRecorder* trace = machine_.trace())
-            trace->slice(trace->track("GPs", gp->name()), timing_.phases[current_].name, taken_in, taken_in + compute);
+        if (TraceRecorder* trace = machine_.trace()) {
+            const int track = trace->track("GPs", gp->name());
+            for (const auto& [from, to] : receives) trace->slice(track, "taking a broadcast in", from, to);
+            trace->slice(track, timing_.phases[current_].name, taken_in, taken_in + compute);
+        }
     }
     timing.end_ps = taken_in + compute;
     end_phase_at(timing.end_ps);
