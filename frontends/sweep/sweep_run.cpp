@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <compare>
 #include <cmath>
 #include <cstdlib>
 #include <map>
@@ -147,11 +148,19 @@ void add_bands(std::vector<std::optional<double>>& values, const std::vector<std
     }
 }
 
+// The machine's overrides at a point (the kernel is not one of them).
 std::vector<std::string> overrides_of(const SweepSpec& spec, const SweepAssignment& parameters, bool timing_too) {
     std::vector<std::string> out = spec.fixed;
     for (const auto& [key, value] : parameters)
-        if (timing_too || !is_timing_parameter(key)) out.push_back(key + "=" + value);
+        if (key != kSweepKernelKey && (timing_too || !is_timing_parameter(key))) out.push_back(key + "=" + value);
     return out;
+}
+
+// The kernel that renders a point: the one it varies to, else its scenario's own.
+std::string kernel_at(const SweepAssignment& parameters, const std::string& scenario_kernel) {
+    for (const auto& [key, value] : parameters)
+        if (key == kSweepKernelKey) return value;
+    return scenario_kernel;
 }
 
 nlohmann::json parameter_values(const MachineConfig& config) {
@@ -238,19 +247,25 @@ SweepResult run_sweep(const SweepSpec& spec, const Shard& shard, const SweepProg
     const std::vector<SweepPoint> plan = plan_sweep(spec);
     SweepResult result;
 
-    // The columns: the machine's, then each kernel's metrics in the order the scenarios name them.
+    // The columns: the machine's, then each kernel's metrics in the order the scenarios name them,
+    // then those of the kernels the sweep varies to.
     result.columns = machine_columns();
-    std::map<std::string, const Kernel*> kernel_of;  // scenario -> kernel
+    const auto add_metrics_of = [&](const Kernel& kernel) {
+        for (const KernelMetric& m : kernel.metrics())
+            if (std::none_of(result.columns.begin(), result.columns.end(), [&](const SweepColumn& c) { return c.name == m.name; }))
+                result.columns.push_back({m.name, m.unit, m.description});
+    };
+    std::map<std::string, const Kernel*> kernel_of;  // scenario -> its own kernel
     std::map<std::string, Scenario> scenarios;
     for (const std::string& name : spec.scenarios) {
         Scenario s = load_scenario(resolve_scenario_file(name));
         const Kernel& kernel = kernel_for(s);
         kernel_of[name] = &kernel;
-        for (const KernelMetric& m : kernel.metrics())
-            if (std::none_of(result.columns.begin(), result.columns.end(), [&](const SweepColumn& c) { return c.name == m.name; }))
-                result.columns.push_back({m.name, m.unit, m.description});
+        add_metrics_of(kernel);
         scenarios.emplace(name, std::move(s));
     }
+    for (const SweepPoint& p : plan)
+        if (const std::string k = kernel_at(p.parameters, ""); !k.empty()) add_metrics_of(*find_kernel(k));
     const std::vector<SweepColumn> metric_columns = result.columns;
     const std::vector<std::size_t> banded = banded_columns(metric_columns);
     if (spec.uncertainty)
@@ -282,15 +297,25 @@ SweepResult run_sweep(const SweepSpec& spec, const Shard& shard, const SweepProg
     for (const auto& [name, kernel] : kernel_of) kernels[name] = kernel->name();
     result.header["kernels"] = kernels;
 
-    // The points grouped by what they compute: one recording per group. Each group's uncertainty is
-    // measured at its middle point, whichever shard runs it.
-    std::map<std::pair<std::string, std::vector<std::string>>, std::vector<std::size_t>> all_groups, groups;
+    // The points grouped by what they compute (the scenario, its kernel and the functional overrides):
+    // one recording per group. Each group's uncertainty is measured at its middle point, whichever
+    // shard runs it.
+    struct Group {
+        std::string scenario;
+        std::string kernel;
+        std::vector<std::string> overrides;  // the functional ones
+        auto operator<=>(const Group&) const = default;
+    };
+    const auto group_of = [&](const SweepPoint& p) {
+        return Group{p.scenario, kernel_at(p.parameters, kernel_of.at(p.scenario)->name()), overrides_of(spec, p.parameters, false)};
+    };
+    std::map<Group, std::vector<std::size_t>> all_groups, groups;
     for (const SweepPoint& p : plan) {
-        const auto key = std::make_pair(p.scenario, overrides_of(spec, p.parameters, false));
+        const auto key = group_of(p);
         all_groups[key].push_back(p.index);
         if (shard.takes(p.index)) groups[key].push_back(p.index);
     }
-    std::map<std::pair<std::string, std::vector<std::string>>, std::size_t> reference_of;
+    std::map<Group, std::size_t> reference_of;
     std::set<std::string> varied;  // the sweep's own keys: chosen, not guessed
     for (const SweepPoint& p : plan)
         for (const auto& [k, v] : p.parameters) varied.insert(k);
@@ -323,18 +348,19 @@ SweepResult run_sweep(const SweepSpec& spec, const Shard& shard, const SweepProg
         // Named, not bound: clang 14 (the sanitizer build) cannot capture a structured binding.
         const auto& key = group.first;
         const std::vector<std::size_t>& members = group.second;
-        const Scenario& scenario = scenarios.at(key.first);
+        Scenario scenario = scenarios.at(key.scenario);
+        scenario.kernel = key.kernel;
         std::set<std::string> kernel_metrics;
-        for (const KernelMetric& m : kernel_of.at(key.first)->metrics()) kernel_metrics.insert(m.name);
+        for (const KernelMetric& m : find_kernel(scenario.kernel)->metrics()) kernel_metrics.insert(m.name);
         const int frames = spec.frames > 0 ? std::min<int>(spec.frames, static_cast<int>(scenario.frames.size()))
                                            : static_cast<int>(scenario.frames.size());
         std::unique_ptr<RecordedScenario> recording;
         std::optional<UncertaintyTable> uncertainty;
         std::string group_error;
         try {
-            MachineConfig functional = load_run_config(spec.machine, key.second);
+            MachineConfig functional = load_run_config(spec.machine, key.overrides);
             // A lone processor is timed from work recorded on Pixel-planes 5.
-            if (functional.machine_kind() == MachineKind::Uniprocessor) functional = load_run_config("pxpl5", key.second);
+            if (functional.machine_kind() == MachineKind::Uniprocessor) functional = load_run_config("pxpl5", key.overrides);
             recording = std::make_unique<RecordedScenario>(scenario, functional, frames);
         } catch (const InputError& e) {
             group_error = e.what();
@@ -356,6 +382,7 @@ SweepResult run_sweep(const SweepSpec& spec, const Shard& shard, const SweepProg
             SweepPointResult r{point, group_error, nlohmann::json::object(), {}};
             const MachineConfig config = load_run_config(spec.machine, overrides_of(spec, point.parameters, true));
             r.parameters = parameter_values(config);
+            r.parameters[kSweepKernelKey] = scenario.kernel;
             if (recording) {
                 try {
                     const std::vector<FrameTiming> timings = recording->time_on(config);

@@ -1,5 +1,6 @@
 #include "frontends/sweep/sweep_spec.h"
 
+#include "kernels/registry/registry.h"
 #include "kernels/registry/run_config.h"
 #include "kernels/scenario/scenario.h"
 #include "sim/core/input_error.h"
@@ -201,6 +202,10 @@ void check_sweep_spec(const SweepSpec& spec) {
     std::set<std::string> keys;
     for (const std::string& f : spec.fixed) keys.insert(f.substr(0, f.find('=')));
     const auto check_value = [&](const std::string& key, const std::string& value, const std::string& field) {
+        if (key == kSweepKernelKey) {
+            if (find_kernel(value) == nullptr) throw InputError(file, field, "\"" + value + "\" is not a kernel; known: " + kernel_names());
+            return;
+        }
         try {
             std::vector<std::string> overrides = spec.fixed;
             overrides.push_back(key + "=" + value);

@@ -2,7 +2,8 @@
 // What a sweep asks for: scenarios, a machine with fixed overrides, axes of parameter values whose
 // every combination is a point (a grid), and explicit extra points. Read from a sweep file (TOML,
 // traces/sweeps/, documented in traces/README.md) or built from `--vary key=v1,v2` options.
-// Values are kept as the text a --set override takes, so any machine or kernel parameter can vary.
+// Values are kept as the text a --set override takes, so any machine or kernel parameter can vary, and
+// so can the kernel itself (kSweepKernelKey).
 
 #include <filesystem>
 #include <string>
@@ -47,6 +48,10 @@ SweepAxis parse_vary_option(const std::string& text);
 // Checks a spec however it was made (scenarios exist, every key and value is one the machine takes,
 // keys appear once); throws InputError naming spec.file and the field.
 void check_sweep_spec(const SweepSpec& spec);
+
+// The one key a sweep varies that is not a machine parameter: the kernel that renders each scenario
+// (values: registered kernels' names). A point whose kernel cannot render a scenario is a row saying why.
+inline constexpr const char* kSweepKernelKey = "kernel";
 
 // The most points a sweep may have: beyond it, it is refused up front.
 inline constexpr std::size_t kMaxSweepPoints = 100000;

@@ -191,9 +191,13 @@ std::vector<std::pair<std::string, PlotSpec>> sweep_plots(const SweepResult& res
         for (const auto& axis : header["axes"]) n *= axis["values"].size();
         return n;
     }();
+    const std::vector<std::string> keys = parameter_keys(header);
+    const bool kernel_varies = std::find(keys.begin(), keys.end(), kSweepKernelKey) != keys.end();
     for (const auto& scenario_json : header["scenarios"]) {
         const std::string scenario = scenario_json.get<std::string>();
         std::string metric = header.value("plot_metric", std::string());
+        // Kernels name their figures differently; the frame's simulated time is every kernel's.
+        if (metric.empty() && kernel_varies) metric = "simulated_seconds";
         if (metric.empty()) {
             const Kernel* kernel = find_kernel(header["kernels"].value(scenario, std::string()));
             metric = kernel != nullptr && !kernel->metrics().empty() ? kernel->metrics().front().name : "simulated_seconds";

@@ -32,11 +32,15 @@ const Kernel* find_kernel(const std::string& name) {
     return nullptr;
 }
 
-const Kernel& kernel_for(const Scenario& scenario) {
-    if (const Kernel* k = find_kernel(scenario.kernel)) return *k;
+std::string kernel_names() {
     std::string known;
     for (const Kernel* k : registry()) known += (known.empty() ? "" : ", ") + k->name();
-    throw InputError(scenario.file.string(), "scenario.kernel", "unknown kernel \"" + scenario.kernel + "\"; the known ones are " + known);
+    return known;
+}
+
+const Kernel& kernel_for(const Scenario& scenario) {
+    if (const Kernel* k = find_kernel(scenario.kernel)) return *k;
+    throw InputError(scenario.file.string(), "scenario.kernel", "unknown kernel \"" + scenario.kernel + "\"; the known ones are " + kernel_names());
 }
 
 void register_kernel(const Kernel& kernel) {

@@ -13,6 +13,8 @@ namespace pp5 {
 const std::vector<const Kernel*>& kernels();
 // The kernel of that name, or nullptr.
 const Kernel* find_kernel(const std::string& name);
+// "levoy, yuan, ...": the known kernels' names, for messages refusing an unknown one.
+std::string kernel_names();
 // The scenario's kernel; an unknown name is an InputError naming the scenario file and listing the
 // known kernels.
 const Kernel& kernel_for(const Scenario& scenario);

@@ -6,6 +6,7 @@
 #include "frontends/sweep/sweep_run.h"
 #include "frontends/sweep/sweep_spec.h"
 #include "frontends/sweep/sweep_tables.h"
+#include "kernels/registry/registry.h"
 #include "sim/core/input_error.h"
 
 #include <gtest/gtest.h>
@@ -267,6 +268,62 @@ TEST(SweepRun, PointsThatOnlyRetimeMatchAFreshRecordingOnTheirMachine) {
     const SweepResult alone = run_sweep(spec, Shard{});
     ASSERT_EQ(alone.points.size(), 1u);
     for (std::size_t f = 0; f < 2; ++f) EXPECT_EQ(swept.points[1].frames[f].values, alone.points[0].frames[f].values);
+}
+
+// The kernel as an axis: every point is rendered by its kernel (its metrics in its rows, the kernel in
+// its parameters and the CSV), a kernel that cannot render the scenario is a row saying why, the Levoy
+// points are those of the same sweep without the axis, and an unknown kernel is refused up front.
+TEST(SweepRun, AKernelAxisRendersEachPointWithItsKernel) {
+    SweepSpec spec = small_sweep();
+    spec.frames = 1;
+    spec.points.clear();
+    spec.axes = {{"kernel", {"levoy", "yuan", "wilson", "perm"}}, {"gp.count", {"4", "16"}}};
+    check_sweep_spec(spec);
+    const SweepResult swept = run_sweep(spec, Shard{});
+    ASSERT_EQ(swept.points.size(), 8u);
+    const auto column = [&](const std::string& name) {
+        for (std::size_t c = 0; c < swept.columns.size(); ++c)
+            if (swept.columns[c].name == name) return c;
+        throw std::runtime_error("no column " + name);
+    };
+    std::size_t rendered = 0;
+    for (std::size_t k = 0; k < 4; ++k) {
+        const SweepPointResult& few = swept.points[2 * k];
+        const SweepPointResult& many = swept.points[2 * k + 1];
+        const std::string kernel = spec.axes[0].values[k];
+        EXPECT_EQ(few.parameters["kernel"], kernel);
+        EXPECT_EQ(many.parameters["kernel"], kernel);
+        if (!few.error.empty()) {
+            EXPECT_EQ(few.error, many.error);  // the kernel refuses the scenario, on any machine
+            continue;
+        }
+        ++rendered;
+        ASSERT_EQ(few.frames.size(), 1u);
+        const double slow = few.frames[0].values[column("simulated_seconds")].value(), fast = many.frames[0].values[column("simulated_seconds")].value();
+        EXPECT_GT(slow, fast) << kernel << ": 4 GPs against 16";
+        // The kernel's own first metric is in its rows.
+        const Kernel* k_ = find_kernel(kernel);
+        ASSERT_NE(k_, nullptr);
+        if (!k_->metrics().empty()) EXPECT_TRUE(few.frames[0].values[column(k_->metrics().front().name)].has_value()) << kernel;
+    }
+    EXPECT_GE(rendered, 2u);
+    EXPECT_TRUE(swept.points[0].error.empty()) << swept.points[0].error;  // Levoy's own scenario
+    EXPECT_NE(sweep_to_csv(swept).find("point,scenario,kernel,gp.count"), std::string::npos);
+
+    SweepSpec levoy_only = spec;
+    levoy_only.axes = {{"gp.count", {"4", "16"}}};
+    const SweepResult alone = run_sweep(levoy_only, Shard{});
+    for (std::size_t p = 0; p < 2; ++p)
+        for (std::size_t c = 0; c < alone.columns.size(); ++c) EXPECT_EQ(swept.points[p].frames[0].values[column(alone.columns[c].name)], alone.points[p].frames[0].values[c]);
+
+    spec.axes[0].values[1] = "yaun";
+    try {
+        check_sweep_spec(spec);
+        ADD_FAILURE() << "an unknown kernel was accepted";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.field(), "vary.kernel[1]");
+        EXPECT_NE(e.reason().find("levoy"), std::string::npos) << e.reason();
+    }
 }
 
 }  // namespace
