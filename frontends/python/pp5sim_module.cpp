@@ -140,37 +140,82 @@ PyRun render(const py::object& scenario_given, const std::optional<PyMachine>& m
     return run;
 }
 
+// One recorded frame timed on a machine: what re-timing gives, as attributes.
+struct PyTiming {
+    std::string label;
+    std::string machine;       // the machine's name and the parameters set on it
+    double simulated_seconds = 0.0;
+    py::dict phases;           // name -> simulated seconds
+    py::dict metrics;          // the kernel's metrics this frame has
+    std::optional<double> frames_per_second() const {
+        return simulated_seconds > 0 ? std::optional<double>(1.0 / simulated_seconds) : std::nullopt;
+    }
+};
+
+// A recording's frames timed on one machine: a sequence of Timing, and a table of them.
+struct PyTimings {
+    std::vector<PyTiming> frames;
+
+    // One row a frame: label, machine, simulated seconds and rate, then each phase's seconds
+    // ("phase.<name>") and each metric, as pandas.DataFrame when pandas is installed.
+    py::object to_dataframe() const {
+        py::module_ pandas;
+        try {
+            pandas = py::module_::import("pandas");
+        } catch (const py::error_already_set&) {
+            throw py::import_error("to_dataframe needs pandas (Debian: apt install python3-pandas); the frames are also "
+                                   "a list of pp5sim.Timing with attributes");
+        }
+        py::list rows;
+        for (const PyTiming& t : frames) {
+            py::dict row;
+            row["label"] = t.label;
+            row["machine"] = t.machine;
+            row["simulated_seconds"] = t.simulated_seconds;
+            row["frames_per_second"] = t.frames_per_second();
+            for (const auto& [name, seconds] : t.phases) row[py::str("phase." + py::str(name).cast<std::string>())] = seconds;
+            for (const auto& [name, value] : t.metrics) row[name] = value;
+            rows.append(row);
+        }
+        return pandas.attr("DataFrame")(rows);
+    }
+};
+
+// The machine as a row names it: its name and what was set on it.
+std::string machine_label(const PyMachine& machine) {
+    std::string label = machine.config.machine_name();
+    for (const std::string& o : machine.overrides) label += " " + o;
+    return label;
+}
+
 // A scenario's frames recorded once, re-timed on any machine that differs only in timing.
 struct PyRecording {
     std::shared_ptr<RecordedScenario> recorded;
     MachineConfig functional;
 
-    py::list time_on(const PyMachine& machine) const {
+    PyTimings time_on(const PyMachine& machine) const {
         std::vector<FrameTiming> timings;
         {
             const py::gil_scoped_release unlocked;
             timings = recorded->time_on(machine.config);
         }
-        py::list frames;
+        PyTimings out;
         for (std::size_t i = 0; i < timings.size(); ++i) {
-            py::dict frame;
-            frame["label"] = recorded->frames()[i].label;
-            frame["simulated_seconds"] = ticks_to_seconds(timings[i].duration_ps());
-            py::dict phases;
-            for (const PhaseTiming& p : timings[i].phases) phases[py::str(p.name)] = ticks_to_seconds(p.duration_ps());
-            frame["phases"] = phases;
-            py::dict metrics;
+            PyTiming frame;
+            frame.label = recorded->frames()[i].label;
+            frame.machine = machine_label(machine);
+            frame.simulated_seconds = ticks_to_seconds(timings[i].duration_ps());
+            for (const PhaseTiming& p : timings[i].phases) frame.phases[py::str(p.name)] = ticks_to_seconds(p.duration_ps());
             for (const KernelMetric& m : recorded->kernel().metrics()) {
                 try {
-                    metrics[py::str(m.name)] = recorded->metric(m.name, i, timings[i]);
+                    frame.metrics[py::str(m.name)] = recorded->metric(m.name, i, timings[i]);
                 } catch (const std::domain_error&) {
                     // This frame cannot give it.
                 }
             }
-            frame["metrics"] = metrics;
-            frames.append(frame);
+            out.frames.push_back(std::move(frame));
         }
-        return frames;
+        return out;
     }
 };
 
@@ -294,9 +339,39 @@ PYBIND11_MODULE(pp5sim, m) {
     m.def("render", &render, py::arg("scenario"), py::arg("machine") = std::nullopt, py::arg("frames") = std::nullopt,
           "Render the scenario's frames (all, or the first `frames`) on the machine (default pxpl5)");
 
+    py::class_<PyTiming>(m, "Timing", "A recorded frame timed on a machine")
+        .def_readonly("label", &PyTiming::label)
+        .def_readonly("machine", &PyTiming::machine, "The machine's name and the parameters set on it")
+        .def_readonly("simulated_seconds", &PyTiming::simulated_seconds)
+        .def_property_readonly("frames_per_second", &PyTiming::frames_per_second, "1 / simulated_seconds (None for an untimed frame)")
+        .def_readonly("phases", &PyTiming::phases, "Each phase's simulated seconds, by name")
+        .def_readonly("metrics", &PyTiming::metrics, "The kernel's metrics this frame has (Levoy's crude_seconds, ...)")
+        // The dict these were before, for code written against it: timing["simulated_seconds"].
+        .def("__getitem__", [](const py::object& self, const std::string& key) {
+            if (key != "label" && key != "machine" && key != "simulated_seconds" && key != "frames_per_second" && key != "phases" &&
+                key != "metrics")
+                throw py::key_error(key);
+            return self.attr(key.c_str());
+        })
+        .def("__repr__", [](const PyTiming& t) {
+            return fmt::format("<pp5sim.Timing {} on {}: {:.6g} s>", t.label, t.machine, t.simulated_seconds);
+        });
+    py::class_<PyTimings>(m, "Timings", "A recording's frames timed on one machine: a sequence of Timing")
+        .def("__len__", [](const PyTimings& t) { return t.frames.size(); })
+        .def("__getitem__", [](const PyTimings& t, std::ptrdiff_t i) {
+            const auto n = static_cast<std::ptrdiff_t>(t.frames.size());
+            if (i < 0) i += n;
+            if (i < 0 || i >= n) throw py::index_error("frame " + std::to_string(i) + " of " + std::to_string(n));
+            return t.frames[static_cast<std::size_t>(i)];
+        })
+        .def("__iter__", [](const PyTimings& t) { return py::make_iterator(t.frames.begin(), t.frames.end()); }, py::keep_alive<0, 1>())
+        .def("to_dataframe", &PyTimings::to_dataframe,
+             "One row a frame (label, machine, simulated_seconds, frames_per_second, phase.<name>, the kernel's metrics) as a "
+             "pandas.DataFrame; pandas.concat of several machines' tables gives a sweep's");
     py::class_<PyRecording>(m, "Recording", "A scenario's frames recorded once, to time on other machines without rendering again")
         .def("time_on", &PyRecording::time_on, py::arg("machine"),
-             "Each frame's simulated seconds, phases and kernel metrics on `machine` (which may differ only in timing)");
+             "Each frame timed on `machine` (which may differ only in timing): Timings, a sequence of Timing with simulated_seconds, "
+             "frames_per_second, phases and the kernel's metrics, and to_dataframe()");
     m.def("record", &record, py::arg("scenario"), py::arg("machine") = std::nullopt,
           "Record the scenario's work on the machine (default pxpl5), for re-timing");
 

@@ -74,10 +74,34 @@ class ModuleTest(unittest.TestCase):
         fresh = pp5sim.render(scenario, machine=faster_ring)
         self.assertEqual(len(retimed), 2)
         for timed, rendered in zip(retimed, fresh.frames):
-            self.assertAlmostEqual(timed["simulated_seconds"], rendered.simulated_seconds, places=12)
-            self.assertIn("refined_seconds", timed["metrics"])
+            self.assertAlmostEqual(timed.simulated_seconds, rendered.simulated_seconds, places=12)
+            self.assertAlmostEqual(timed.frames_per_second, 1 / rendered.simulated_seconds)
+            self.assertIn("refined_seconds", timed.metrics)
+            self.assertEqual(timed["simulated_seconds"], timed.simulated_seconds)  # read as the dict it was, too
+            self.assertIn("gp.count=8", timed.machine)
+        self.assertEqual(retimed[-1].label, retimed[len(retimed) - 1].label)
+        with self.assertRaises(IndexError):
+            retimed[2]
+        with self.assertRaises(KeyError):
+            retimed[0]["no_such_field"]
         stock = recording.time_on(pp5sim.Machine())
-        self.assertGreater(retimed[0]["simulated_seconds"], stock[0]["simulated_seconds"])
+        self.assertGreater(retimed[0].simulated_seconds, stock[0].simulated_seconds)
+
+    def test_retimings_make_a_table(self):
+        try:
+            import pandas
+        except ImportError:
+            self.skipTest("no pandas (the setup script installs Debian's python3-pandas)")
+        recording = pp5sim.record(pp5sim.scenario_from_toml(SMALL))
+        tables = [recording.time_on(pp5sim.Machine("pxpl5", {"gp.count": g})).to_dataframe() for g in (4, 16)]
+        table = pandas.concat(tables, ignore_index=True)
+        self.assertEqual(len(table), 4)
+        self.assertEqual(list(table.columns[:4]), ["label", "machine", "simulated_seconds", "frames_per_second"])
+        self.assertIn("phase.ray_casting", table.columns)
+        self.assertIn("refined_seconds", table.columns)
+        four = table[table.machine.str.contains("gp.count=4")]
+        sixteen = table[table.machine.str.contains("gp.count=16")]
+        self.assertTrue((four.simulated_seconds.values > sixteen.simulated_seconds.values).all())
 
     def test_machines_set_parameters_and_refuse_bad_ones(self):
         machine = pp5sim.Machine("pxpl5", {"gp.count": 64, "ring.clock_mhz": 80.0})
