@@ -119,4 +119,60 @@ PlotSpec utilisation_over_time(const TraceRecorder& trace, Tick start, Tick end,
     return spec;
 }
 
+FrameTimeline frame_timeline(const TraceRecorder& trace, const FrameTiming& timing,
+                             const std::vector<std::pair<std::string, std::string>>& components, int bins) {
+    if (bins < 1) throw std::invalid_argument("frame_timeline: bins must be positive");
+    FrameTimeline out;
+    out.start_ps = timing.start_ps;
+    out.end_ps = timing.end_ps;
+    out.bins = bins;
+    out.activities = trace.slice_names();
+    out.slices_dropped = trace.slices_dropped();
+    const auto rank = [](const std::string& group) {
+        static const std::vector<std::string> order{"GPs", "renderers", "ring"};
+        return std::find(order.begin(), order.end(), group) - order.begin();
+    };
+    std::vector<std::pair<std::string, std::string>> wanted = components;
+    std::stable_sort(wanted.begin(), wanted.end(), [&](const auto& a, const auto& b) { return rank(a.first) < rank(b.first); });
+    std::map<std::pair<std::string, std::string>, int> track_of;
+    for (const TraceRecorder::Track& t : trace.tracks()) track_of[{t.group, t.name}] = t.id;
+    std::map<int, std::size_t> lane_of;
+    for (const auto& [group, name] : wanted) {
+        if (const auto t = track_of.find({group, name}); t != track_of.end()) lane_of[t->second] = out.lanes.size();
+        out.lanes.push_back({group, name, std::vector<float>(static_cast<std::size_t>(bins)), std::vector<int>(static_cast<std::size_t>(bins), -1)});
+    }
+    const Tick span = timing.end_ps - timing.start_ps;
+    if (span <= 0) return out;
+
+    // Busy time per lane, bin and activity, then each bin's share and its leading activity.
+    const std::size_t kinds = out.activities.size();
+    const auto waiting = std::find(out.activities.begin(), out.activities.end(), "waiting") - out.activities.begin();
+    std::vector<double> time(out.lanes.size() * static_cast<std::size_t>(bins) * kinds, 0.0);
+    const double bin_ps = static_cast<double>(span) / bins;
+    for (const TraceRecorder::Slice& s : trace.slices()) {
+        const auto lane = lane_of.find(s.track);
+        if (lane == lane_of.end() || s.what == waiting) continue;
+        const double from = static_cast<double>(std::max(s.start, timing.start_ps) - timing.start_ps);
+        const double to = static_cast<double>(std::min(s.end, timing.end_ps) - timing.start_ps);
+        if (to <= from) continue;
+        const int first = std::min(bins - 1, static_cast<int>(from / bin_ps)), last = std::min(bins - 1, static_cast<int>(to / bin_ps));
+        for (int b = first; b <= last; ++b) {
+            const double overlap = std::min(to, (b + 1) * bin_ps) - std::max(from, b * bin_ps);
+            if (overlap > 0) time[(lane->second * static_cast<std::size_t>(bins) + static_cast<std::size_t>(b)) * kinds + static_cast<std::size_t>(s.what)] += overlap;
+        }
+    }
+    for (std::size_t l = 0; l < out.lanes.size(); ++l)
+        for (std::size_t b = 0; b < static_cast<std::size_t>(bins); ++b) {
+            const double* by_kind = &time[(l * static_cast<std::size_t>(bins) + b) * kinds];
+            const auto leading = std::max_element(by_kind, by_kind + kinds);
+            double busy = 0.0;
+            for (std::size_t k = 0; k < kinds; ++k) busy += by_kind[k];
+            if (busy <= 0.0) continue;
+            // A component does one thing at a time, but slices of one track can overlap at their ends.
+            out.lanes[l].busy[b] = static_cast<float>(std::min(1.0, busy / bin_ps));
+            out.lanes[l].what[b] = static_cast<int>(leading - by_kind);
+        }
+    return out;
+}
+
 }  // namespace pp5

@@ -139,6 +139,7 @@ RenderSession::RenderSession(const Scenario& scenario, const MachineConfig& conf
       extension_(std::move(extension)),
       compare_with_reference_(compare_with_reference),
       machine_(config_),
+      trace_(trace),
       volume_(load_checked_volume(trace)) {
     // The kernel sets the scenario up on the machine first: a volume that does not fit stops here.
     const ScopedActivity activity(fmt::format("setting {} up on the machine for the {} kernel", scenario_.name, kernel_.name()));
@@ -160,9 +161,11 @@ RenderSession::Retimed RenderSession::retime_on(const MachineConfig& timing, con
     timing_machine_.reset();  // it refers to the configuration replaced next
     timing_config_ = timing;
     timing_machine_ = std::make_unique<Machine>(*timing_config_);
+    if (trace_ != nullptr) timing_machine_->attach_trace(trace_);
     Retimed last;
     if (!kernel_.runs_on_machine()) return last;
     for (const FrameWork* work : replay) {
+        if (trace_ != nullptr) trace_->forget_slices();
         const BusyTotals before = busy_totals(*timing_machine_);
         last.timing = time_frame(*timing_machine_, *work);
         last.activity = activity_between(before, busy_totals(*timing_machine_), *timing_machine_, last.timing.duration_ps());
@@ -211,6 +214,7 @@ SessionFrame RenderSession::render(FrameSpec frame) {
     const bool on_machine = kernel_.runs_on_machine();
     Machine& timed = timing_machine_ ? *timing_machine_ : machine_;
     const BusyTotals before = busy_totals(timed);
+    if (trace_ != nullptr) trace_->forget_slices();
     out.timing = on_machine ? time_frame(timed, recorded->work) : FrameTiming{};
     out.activity = activity_between(before, busy_totals(timed), timed, out.timing.duration_ps());
 

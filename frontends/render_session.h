@@ -80,7 +80,8 @@ public:
     // parameters (InputError naming the first key that does not), with caches starting cold, and first
     // times `replay` on it (the frames before, in order) so that what follows finds the caches as that
     // machine would have left them. Returns the last of replay's timings and activity. The recording
-    // machine stays as it was: what the kernels computed does not depend on timing.
+    // machine stays as it was: what the kernels computed does not depend on timing. The session's trace,
+    // if it has one, records the frames timed on `timing` from then on.
     struct Retimed {
         FrameTiming timing;
         FrameActivity activity;
@@ -108,6 +109,7 @@ private:
     std::string extension_;
     bool compare_with_reference_;
     Machine machine_;
+    TraceRecorder* trace_;  // the user's, or none; the slices it keeps are the last timed frame's
     Volume volume_;
     std::unique_ptr<KernelRun> run_;
     // After retime_on: the machine frames are timed on (the recording machine_ keeps the kernel's state).

@@ -1,6 +1,8 @@
 #include "frontends/serve/interactive_view.h"
 
 #include "calibration/timing_model.h"
+#include "frontends/compare_kernels.h"
+#include "frontends/lecture_pictures.h"
 #include "kernels/registry/registry.h"
 #include "kernels/scenario/scenario_inputs.h"
 #include "sim/core/input_error.h"
@@ -20,6 +22,14 @@ namespace pp5 {
 namespace {
 
 const char* const kRequest = "request";
+
+// A recorder with no trace-event window, keeping the slices of the frame being timed: a 512x512 frame
+// of the MR head makes about (measured in the tests) a few hundred thousand.
+std::unique_ptr<TraceRecorder> timeline_recorder() {
+    auto recorder = std::make_unique<TraceRecorder>(0, 0, 0);
+    recorder->keep_slices(2'000'000);
+    return recorder;
+}
 
 [[noreturn]] void refuse(const std::string& field, const std::string& reason) { throw InputError(kRequest, field, reason); }
 
@@ -50,6 +60,26 @@ glm::vec3 vector3(const nlohmann::json& value, const std::string& field, double 
 
 nlohmann::json to_json(glm::vec3 v) { return {v.x, v.y, v.z}; }
 
+// [{"direction": [x, y, z], "intensity": s}, ...]: the lights that stay put while the key light moves.
+std::vector<StationaryLight> stationary_lights(const nlohmann::json& value) {
+    if (!value.is_array()) refuse("light.stationary", "expected a list of {\"direction\": [x, y, z], \"intensity\": s}");
+    if (value.size() > kMaxStationaryLights) refuse("light.stationary", fmt::format("at most {} stationary lights", kMaxStationaryLights));
+    std::vector<StationaryLight> lights;
+    for (std::size_t i = 0; i < value.size(); ++i) {
+        const std::string field = fmt::format("light.stationary[{}]", i);
+        only_keys(value[i], field, {"direction", "intensity"});
+        if (!value[i].contains("direction")) refuse(field + ".direction", "is missing");
+        StationaryLight light;
+        light.direction = vector3(value[i]["direction"], field + ".direction", -1e3, 1e3);
+        if (glm::length(light.direction) < 1e-6f) refuse(field + ".direction", "a direction towards the light cannot be zero");
+        light.direction = glm::normalize(light.direction);
+        if (value[i].contains("intensity"))
+            light.intensity = static_cast<float>(number(value[i]["intensity"], field + ".intensity", 0.0, kMaxLightIntensity));
+        lights.push_back(light);
+    }
+    return lights;
+}
+
 // The parameters the page puts in front of a class, with their values and whether changing one only
 // re-times the frame.
 nlohmann::json machine_controls(const MachineConfig& config) {
@@ -79,9 +109,9 @@ nlohmann::json drag_basis(const FrameSpec& frame, const Volume& volume, const Im
 }  // namespace
 
 InteractiveView::InteractiveView(Scenario scenario, MachineConfig config)
-    : scenario_(std::move(scenario)), config_(std::move(config)), timing_(config_) {
+    : scenario_(std::move(scenario)), config_(std::move(config)), trace_(timeline_recorder()), timing_(config_) {
     current_ = scenario_.frames.front();
-    session_ = std::make_unique<RenderSession>(scenario_, config_);
+    session_ = std::make_unique<RenderSession>(scenario_, config_, trace_.get());
     render(current_);
 }
 
@@ -107,7 +137,7 @@ void InteractiveView::apply(const nlohmann::json& change) {
     }
     if (change.contains("light")) {
         const auto& l = change["light"];
-        only_keys(l, "light", {"direction", "headlight"});
+        only_keys(l, "light", {"direction", "headlight", "stationary"});
         if (l.contains("headlight")) {
             if (!l["headlight"].is_boolean()) refuse("light.headlight", "expected true or false");
             next.lighting.light_follows_camera = l["headlight"].get<bool>();
@@ -118,6 +148,7 @@ void InteractiveView::apply(const nlohmann::json& change) {
             next.lighting.light_direction = glm::normalize(d);
             if (!l.contains("headlight")) next.lighting.light_follows_camera = false;
         }
+        if (l.contains("stationary")) next.lighting.stationary_lights = stationary_lights(l["stationary"]);
         next.lighting_changed = !(next.lighting == current_.lighting);
     }
     if (change.contains("region")) {
@@ -158,26 +189,31 @@ void InteractiveView::apply(const nlohmann::json& change) {
         next.region_changed = next.region != current_.region;
     }
 
+    // Another kernel, or other stationary lights (which set how the kernel lays out what it keeps),
+    // start the run again on the view as it stands.
+    std::string kernel = scenario_.kernel;
     if (change.contains("kernel")) {
         if (!change["kernel"].is_string()) refuse("kernel", "expected a kernel's name");
-        const std::string name = change["kernel"].get<std::string>();
-        if (name != scenario_.kernel) {
-            Scenario other = scenario_;
-            other.kernel = name;
-            other.frames = {next};
-            try {
-                auto session = std::make_unique<RenderSession>(other, timing_);
-                scenario_ = std::move(other);
-                session_ = std::move(session);
-                config_ = timing_;
-                recent_.clear();
-                phase_names_.clear();
-            } catch (const InputError& e) {
-                refuse("kernel", fmt::format("{} cannot render this view: {}", name, e.what()));
-            }
-            next.camera_changed = next.lighting_changed = next.classification_changed = true;
-            next.region_changed = next.region.has_value();
+        kernel = change["kernel"].get<std::string>();
+    }
+    const bool other_lights = next.lighting.stationary_lights != current_.lighting.stationary_lights;
+    if (kernel != scenario_.kernel || other_lights) {
+        Scenario other = scenario_;
+        other.kernel = kernel;
+        other.frames = {next};
+        try {
+            auto session = std::make_unique<RenderSession>(other, timing_, trace_.get());
+            scenario_ = std::move(other);
+            session_ = std::move(session);
+            config_ = timing_;
+            recent_.clear();
+            phase_names_.clear();
+        } catch (const InputError& e) {
+            if (kernel != scenario_.kernel) refuse("kernel", fmt::format("{} cannot render this view: {}", kernel, e.what()));
+            refuse("light.stationary", fmt::format("{} cannot render these lights: {}", kernel, e.what()));
         }
+        next.camera_changed = next.lighting_changed = next.classification_changed = true;
+        next.region_changed = next.region.has_value();
     }
     if (!session_->kernel().runs_on_machine() || session_->frames_rendered() == 0 || next.camera_changed || next.lighting_changed ||
         next.classification_changed || next.region_changed)
@@ -194,6 +230,7 @@ void InteractiveView::render(FrameSpec frame) {
         if (image.kind == FrameImage::Kind::Pass) passes_.push_back(std::move(image.image));
     const Image* picture = rendered.find(FrameImage::Kind::Frame);
     frame_png_ = encode_png(*picture);
+    picture_ = *picture;
     ++version_;
 
     machine_change_ = nullptr;
@@ -223,6 +260,13 @@ void InteractiveView::describe(std::size_t index, const nlohmann::json& record, 
         const Tick duration = p != nullptr ? p->duration_ps() : 0;
         phases.push_back({{"name", name}, {"seconds", ticks_to_seconds(duration)}, {"ran", duration > 0}});
     }
+    // When each pass reached the frame buffer: the GP phase that ends a group of tiles per pass.
+    nlohmann::json ready = nlohmann::json::array();
+    for (const PhaseTiming& p : timing.phases)
+        if (passes_.size() > 1 && p.group_end_ps.size() == passes_.size())
+            for (const Tick end : p.group_end_ps) ready.push_back(ticks_to_seconds(end - timing.start_ps));
+    last_timing_ = timing;
+    tile_map_ = gp_tile_map(recorded.work, timing, session_->timing_machine().gps().size(), picture_);
     const double seconds = ticks_to_seconds(timing.duration_ps());
     last_ = {{"index", index},
              {"changed", record["changed"]},
@@ -231,6 +275,8 @@ void InteractiveView::describe(std::size_t index, const nlohmann::json& record, 
              {"metrics", metrics},
              {"phases", phases},
              {"passes", passes_.size()},
+             {"passes_ready_seconds", ready},
+             {"tile_map", tile_map_.has_value()},
              {"utilisation", {{"gps", activity.gps}, {"renderers", activity.renderers}, {"ring", activity.ring}}},
              {"psnr_db", record.contains("fidelity") ? record["fidelity"]["psnr_db"] : nlohmann::json(nullptr)},
              {"host_seconds", record["host_seconds"]},
@@ -287,7 +333,7 @@ void InteractiveView::change_machine(const nlohmann::json& change) {
     }
     // It changes what is computed (or there is nothing recorded to re-time): the frame is rendered again.
     try {
-        auto session = std::make_unique<RenderSession>(scenario_, wanted);
+        auto session = std::make_unique<RenderSession>(scenario_, wanted, trace_.get());
         session_ = std::move(session);
     } catch (const InputError& e) {
         refuse("machine", fmt::format("this machine cannot render the view: {}", e.what()));
@@ -330,6 +376,9 @@ nlohmann::json InteractiveView::state() const {
                   {"transition", r.transition},
                   {"cap", r.cap}};
     }
+    nlohmann::json stationary = nlohmann::json::array();
+    for (const StationaryLight& light : current_.lighting.stationary_lights)
+        stationary.push_back({{"direction", to_json(light.direction)}, {"intensity", light.intensity}});
     return {{"version", version_},
             {"scenario", scenario_.name},
             {"description", scenario_.description},
@@ -342,10 +391,60 @@ nlohmann::json InteractiveView::state() const {
             {"image", {{"width", scenario_.image.width}, {"height", scenario_.image.height}}},
             {"volume", {{"name", volume.name()}, {"dims", {volume.dims().x, volume.dims().y, volume.dims().z}}}},
             {"camera", {{"azimuth", current_.camera.azimuth_degrees}, {"elevation", current_.camera.elevation_degrees}, {"zoom", current_.camera.zoom}}},
-            {"light", {{"direction", to_json(current_.lighting.light_direction)}, {"headlight", current_.lighting.light_follows_camera}}},
+            {"light", {{"direction", to_json(current_.lighting.light_direction)},
+                       {"headlight", current_.lighting.light_follows_camera},
+                       {"stationary", stationary}}},
             {"region", region},
             {"region_drag", drag_basis(current_, volume, scenario_.image)},
             {"frame", last_}};
+}
+
+nlohmann::json InteractiveView::timeline(int bins) const {
+    const FrameTimeline t = frame_timeline(*trace_, last_timing_, session_->timing_machine().trace_track_names(), bins);
+    nlohmann::json phases = nlohmann::json::array();
+    for (const PhaseTiming& p : last_timing_.phases)
+        phases.push_back({{"name", p.name}, {"start", ticks_to_seconds(p.start_ps - t.start_ps)}, {"end", ticks_to_seconds(p.end_ps - t.start_ps)}});
+    nlohmann::json lanes = nlohmann::json::array();
+    for (const TimelineLane& lane : t.lanes) {
+        // Two decimals are all a pixel's shade can show, and keep the document small; a bin with any
+        // busy time at all stays above zero, so that it still shows.
+        std::vector<double> busy;
+        for (const float b : lane.busy) busy.push_back(b > 0.0f ? std::max(0.01, std::round(b * 100.0) / 100.0) : 0.0);
+        lanes.push_back({{"group", lane.group}, {"name", lane.name}, {"busy", busy}, {"what", lane.what}});
+    }
+    return {{"version", version_},
+            {"seconds", ticks_to_seconds(t.end_ps - t.start_ps)},
+            {"bins", t.bins},
+            {"phases", phases},
+            {"passes_ready_seconds", last_["passes_ready_seconds"]},
+            {"activities", t.activities},
+            {"lanes", lanes},
+            {"slices_dropped", t.slices_dropped}};
+}
+
+std::optional<std::string> InteractiveView::tile_map_png() const {
+    if (!tile_map_) return std::nullopt;
+    return encode_png(*tile_map_);
+}
+
+nlohmann::json InteractiveView::compare_kernels() {
+    Scenario view = scenario_;
+    FrameSpec frame = current_;
+    frame.label = "view";
+    view.frames = {frame};
+    const KernelComparison comparison = pp5::compare_kernels(view, timing_);
+    comparison_pictures_.clear();
+    for (const KernelComparisonRow& row : comparison.rows)
+        if (row.rendered()) comparison_pictures_.emplace_back(row.kernel, row.picture);
+    nlohmann::json report = to_json(comparison);
+    report["version"] = version_;  // the view it compared
+    return report;
+}
+
+std::optional<std::string> InteractiveView::comparison_png(const std::string& kernel) const {
+    for (const auto& [name, picture] : comparison_pictures_)
+        if (name == kernel) return encode_png(picture);
+    return std::nullopt;
 }
 
 }  // namespace pp5

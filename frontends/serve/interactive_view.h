@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,18 @@ public:
     std::size_t pass_count() const { return passes_.size(); }
     std::string pass_png(std::size_t pass) const { return encode_png(passes_.at(pass)); }
     std::size_t version() const { return version_; }
+    // Where the last frame's time went: its phases, the times its passes reached the frame buffer, and
+    // a lane of busy time per GP, renderer and ring channel of the machine that timed it, in `bins`
+    // slices of the frame (docs/serve.md).
+    nlohmann::json timeline(int bins = 480) const;
+    // The last frame's screen tiles tinted by the GP that cast each, as PNG bytes; nullopt when its
+    // kernel does not cast tiles on GPs.
+    std::optional<std::string> tile_map_png() const;
+    // Renders the view as it stands (its camera, light and region, on the machine frames are timed on)
+    // with every kernel that runs on the machine, as `pp5sim compare-kernels` does for one frame: its
+    // report (docs/serve.md). Each kernel's picture stays for comparison_png until the next comparison.
+    nlohmann::json compare_kernels();
+    std::optional<std::string> comparison_png(const std::string& kernel) const;
 
 private:
     void render(FrameSpec frame);
@@ -48,6 +61,8 @@ private:
 
     Scenario scenario_;
     MachineConfig config_;
+    // Keeps the last timed frame's slices for the timeline; made before, and outliving, every session.
+    std::unique_ptr<TraceRecorder> trace_;
     std::unique_ptr<RenderSession> session_;
     // The machine frames are timed on: config_ with the timing changes made since the session started
     // (config_ is the machine that records what the kernels compute).
@@ -61,6 +76,10 @@ private:
     std::vector<std::string> phase_names_;  // every phase the session has timed, in first-seen order
     std::string frame_png_;
     std::vector<Image> passes_;
+    Image picture_;            // the last frame, which the tile map is drawn over
+    FrameTiming last_timing_;  // the last frame's timing on the timing machine
+    std::optional<Image> tile_map_;
+    std::vector<std::pair<std::string, Image>> comparison_pictures_;  // by kernel, from the last comparison
     std::size_t version_ = 0;
 };
 

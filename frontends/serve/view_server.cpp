@@ -36,8 +36,12 @@ void no_caching(httplib::Response& response) { response.set_header("Cache-Contro
 // The methods each path answers (HEAD as GET); another method on one of them is a 405.
 const char* methods_of(const std::string& path) {
     static const std::regex pass_picture(R"(/api/pass/\d{1,3}\.png)");
-    if (path == "/" || path == "/api/state" || path == "/api/image.png" || std::regex_match(path, pass_picture)) return "GET, HEAD";
-    if (path == "/api/change") return "POST";
+    if (path == "/" || path == "/api/state" || path == "/api/image.png" || path == "/api/timeline.json" || path == "/api/tiles.png" ||
+        std::regex_match(path, pass_picture))
+        return "GET, HEAD";
+    static const std::regex compared_picture(R"(/api/compare/[a-z0-9_-]{1,64}\.png)");
+    if (std::regex_match(path, compared_picture)) return "GET, HEAD";
+    if (path == "/api/change" || path == "/api/compare") return "POST";
     return nullptr;
 }
 
@@ -95,6 +99,31 @@ struct ViewServer::Impl {
             no_caching(res);
             res.set_header("X-Version", std::to_string(view.version()));
             res.set_content(view.frame_png(), "image/png");
+        });
+        server.Get("/api/timeline.json", [this](const httplib::Request&, httplib::Response& res) {
+            const std::lock_guard lock(mutex);
+            no_caching(res);
+            send_json(res, 200, view.timeline());
+        });
+        server.Get("/api/tiles.png", [this](const httplib::Request&, httplib::Response& res) {
+            const std::lock_guard lock(mutex);
+            const std::optional<std::string> png = view.tile_map_png();
+            if (!png) return send_error(res, 404, "tiles", "the last frame's kernel casts no screen tiles on GPs");
+            no_caching(res);
+            res.set_content(*png, "image/png");
+        });
+        // Every kernel on the view as it stands: seconds of rendering, so it is asked for, not fetched.
+        server.Post("/api/compare", [this](const httplib::Request&, httplib::Response& res) {
+            const std::lock_guard lock(mutex);
+            no_caching(res);
+            send_json(res, 200, view.compare_kernels());
+        });
+        server.Get(R"(/api/compare/([a-z0-9_-]{1,64})\.png)", [this](const httplib::Request& req, httplib::Response& res) {
+            const std::lock_guard lock(mutex);
+            const std::optional<std::string> png = view.comparison_png(req.matches[1].str());
+            if (!png) return send_error(res, 404, "kernel", "the last comparison has no picture by " + req.matches[1].str());
+            no_caching(res);
+            res.set_content(*png, "image/png");
         });
         server.Get(R"(/api/pass/(\d{1,3})\.png)", [this](const httplib::Request& req, httplib::Response& res) {
             const std::lock_guard lock(mutex);

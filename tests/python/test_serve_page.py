@@ -147,6 +147,49 @@ class ServePageTest(unittest.TestCase):
         self.assertEqual(status, 200, state)
         self.assertEqual(state["machine_change"]["kind"], "rendered again")
 
+    def test_5_the_page_shows_the_passes_in_order_and_where_the_time_went(self):
+        state = json.loads(self.get("/api/state"))
+        timeline = json.loads(self.get("/api/timeline.json"))
+        self.assertEqual(timeline["version"], state["version"])
+        self.assertEqual(self.get("/api/tiles.png")[1:4], b"PNG")
+        browser = chromium()
+        if browser is None:
+            self.skipTest("no Chromium installed (the setup script installs Debian's chromium)")
+        profile = os.path.join(self.folder, "profile-where")
+        dom = subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--user-data-dir=" + profile,
+                              "--virtual-time-budget=10000", "--dump-dom", self.base + "/"],
+                             capture_output=True, text=True, timeout=120).stdout
+        passes = state["frame"]["passes"]
+        self.assertGreater(passes, 1)
+        # Each pass was loaded after the one before, and is captioned with the time it was ready.
+        shown = [int(p) for p in re.findall(r'data-pass="(\d+)"', dom)]
+        self.assertEqual(shown, list(range(passes)))
+        for p, seconds in enumerate(state["frame"]["passes_ready_seconds"]):
+            self.assertIn(f"pass {p + 1} of {passes} · {1000 * seconds:.1f} ms", dom)
+        self.assertIn(f'data-lanes="{len(timeline["lanes"])}"', dom)
+        self.assertIn(f'src="/api/tiles.png?v={state["version"]}"', dom)
+
+    def test_6_the_page_compares_every_kernel_on_the_view(self):
+        request = urllib.request.Request(self.base + "/api/compare", data=b"", method="POST")
+        with urllib.request.urlopen(request, timeout=120) as r:
+            report = json.loads(r.read())
+        rendered = [k["kernel"] for k in report["kernels"] if "refusal" not in k]
+        self.assertIn("levoy", rendered)
+        self.assertEqual(self.get(f"/api/compare/{rendered[0]}.png")[1:4], b"PNG")
+        browser = chromium()
+        if browser is None:
+            self.skipTest("no Chromium installed (the setup script installs Debian's chromium)")
+        profile = os.path.join(self.folder, "profile-compare")
+        dom = subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--user-data-dir=" + profile,
+                              "--virtual-time-budget=60000", "--dump-dom", self.base + "/#compare"],
+                             capture_output=True, text=True, timeout=180).stdout
+        # A row for every kernel on the machine, and a picture for each that rendered the view.
+        table = re.search(r'<table id="comparison-table">(.*?)</table>', dom, re.S)
+        self.assertIsNotNone(table, dom[:2000])
+        self.assertEqual(re.findall(r'<tr data-kernel="([^"]+)"', table.group(1)), [k["kernel"] for k in report["kernels"]])
+        for kernel in rendered:
+            self.assertIn(f'src="/api/compare/{kernel}.png?v=', dom)
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -3,6 +3,7 @@
 // it was; and the rate the page shows is the frame's simulated time.
 
 #include "frontends/serve/interactive_view.h"
+#include "kernels/registry/registry.h"
 #include "kernels/registry/run_config.h"
 #include "sim/core/input_error.h"
 
@@ -10,6 +11,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <unistd.h>
 
 namespace pp5 {
@@ -95,6 +97,91 @@ TEST(InteractiveView, AMachineChangeOfTimingOnlyRetimesTheFrameAndAnotherRenders
     EXPECT_EQ(view.version(), version);
 }
 
+// Where the time went: a lane per GP, renderer and ring channel of the machine that timed the frame,
+// whose busy time agrees with the utilisation the state reports (two books of the same quantity); the
+// passes reach the frame buffer in order within the frame; both follow a re-time on fewer GPs, as does
+// the tile map.
+TEST(InteractiveView, TheTimelineAndTileMapShowTheMachineThatTimedTheFrame) {
+    InteractiveView view(small_scenario(false), load_run_config("pxpl5", {}));
+    const auto check = [&](std::size_t gps, std::string& tile_map) {
+        const nlohmann::json state = view.state();
+        const nlohmann::json t = view.timeline(200);
+        EXPECT_EQ(t["version"], state["version"]);
+        EXPECT_DOUBLE_EQ(t["seconds"].get<double>(), state["frame"]["simulated_seconds"].get<double>());
+        std::map<std::string, std::size_t> lanes;
+        std::map<std::string, double> busy;  // summed over lanes and bins, in bins
+        for (const auto& lane : t["lanes"]) {
+            ++lanes[lane["group"]];
+            ASSERT_EQ(lane["busy"].size(), 200u);
+            ASSERT_EQ(lane["what"].size(), 200u);
+            for (std::size_t b = 0; b < 200; ++b) {
+                const double f = lane["busy"][b].get<double>();
+                EXPECT_GE(f, 0.0);
+                EXPECT_LE(f, 1.0);
+                EXPECT_EQ(f > 0.0, lane["what"][b].get<int>() >= 0);
+                if (f > 0.0) EXPECT_NE(t["activities"][lane["what"][b].get<std::size_t>()], "waiting");
+                busy[lane["group"]] += f;
+            }
+        }
+        EXPECT_EQ(lanes["GPs"], gps);
+        EXPECT_EQ(lanes["renderers"], static_cast<std::size_t>(control(state, "renderer.count")));
+        EXPECT_GE(lanes["ring"], 1u);
+        EXPECT_EQ(t["slices_dropped"], 0);
+        // The lanes' busy time over count x frame is the utilisation the frame reports (to the
+        // rounding of each bin's share to two decimals).
+        EXPECT_NEAR(busy["GPs"] / (200.0 * gps), state["frame"]["utilisation"]["gps"].get<double>(), 0.01);
+        EXPECT_NEAR(busy["ring"] / (200.0 * lanes["ring"]), state["frame"]["utilisation"]["ring"].get<double>(), 0.01);
+        // Each pass reaches the frame buffer after the one before, within the frame.
+        const auto& ready = state["frame"]["passes_ready_seconds"];
+        EXPECT_EQ(ready.size(), state["frame"]["passes"].get<std::size_t>());
+        for (std::size_t p = 0; p < ready.size(); ++p) {
+            EXPECT_GT(ready[p].get<double>(), p == 0 ? 0.0 : ready[p - 1].get<double>());
+            EXPECT_LE(ready[p].get<double>(), t["seconds"].get<double>() * (1 + 1e-12));
+        }
+        EXPECT_TRUE(state["frame"]["tile_map"].get<bool>());
+        const auto png = view.tile_map_png();
+        ASSERT_TRUE(png.has_value());
+        EXPECT_EQ(png->substr(1, 3), "PNG");
+        tile_map = *png;
+    };
+    const std::size_t gps = static_cast<std::size_t>(control(view.state(), "gp.count"));
+    ASSERT_GT(view.state()["frame"]["passes"].get<std::size_t>(), 1u);
+    std::string many, three;
+    check(gps, many);
+    view.apply({{"machine", {{"gp.count", 3}}}});
+    ASSERT_EQ(view.state()["machine_change"]["kind"], "re-timed");
+    check(3, three);
+    EXPECT_NE(three, many);  // the tiles are cast by other GPs
+}
+
+// The page's compare mode: every kernel that runs on the machine renders the view as it stands, on
+// the machine frames are timed on; Levoy's row is the view's own frame (a first frame either way).
+TEST(InteractiveView, ComparingKernelsRendersTheViewAsItStandsWithEach) {
+    InteractiveView view(small_scenario(false), load_run_config("pxpl5", {}));
+    view.apply({{"machine", {{"gp.count", 4}}}});
+    const nlohmann::json state = view.state();
+    const nlohmann::json report = view.compare_kernels();
+    EXPECT_EQ(report["version"], state["version"]);
+    EXPECT_EQ(report["frames"], 1);
+    std::size_t machine_kernels = 0;
+    for (const Kernel* k : kernels()) machine_kernels += k->runs_on_machine() ? 1 : 0;
+    ASSERT_EQ(report["kernels"].size(), machine_kernels);
+    std::size_t rendered = 0;
+    for (const auto& row : report["kernels"]) {
+        const std::string kernel = row["kernel"];
+        if (row.contains("refusal")) {
+            EXPECT_FALSE(view.comparison_png(kernel).has_value());
+            continue;
+        }
+        ++rendered;
+        EXPECT_EQ(view.comparison_png(kernel).value().substr(1, 3), "PNG");
+        if (kernel == "levoy") EXPECT_EQ(row["frame_seconds"][0].get<double>(), state["frame"]["simulated_seconds"].get<double>());
+    }
+    EXPECT_GE(rendered, 2u);
+    EXPECT_FALSE(view.comparison_png("no-such-kernel").has_value());
+    EXPECT_EQ(view.state()["version"], state["version"]);  // the view itself is unchanged
+}
+
 TEST(InteractiveView, ALightMoveReshadesAndCastsButKeepsTheClassificationAndPyramid) {
     InteractiveView view(small_scenario(false), load_run_config("pxpl5", {}));
     const std::string first = view.frame_png();
@@ -135,6 +222,30 @@ TEST(InteractiveView, ALightMoveKeepsTheStationaryLightsAndTheirStoredSum) {
     InteractiveView unlit(small_scenario(false), load_run_config("pxpl5", {}));
     unlit.apply({{"light", {{"direction", {-0.6, 1.0, 0.3}}}}});
     EXPECT_NE(unlit.frame_png(), view.frame_png());
+    const std::string unlit_picture = unlit.frame_png();
+
+    // Stationary lights given by a change light the view as the scenario's own do, and go again.
+    const nlohmann::json bat = {{"direction", {-1.0, 0.2, 0.3}}, {"intensity", 0.6}};
+    unlit.apply({{"light", {{"stationary", {bat}}}}});
+    EXPECT_EQ(unlit.frame_png(), view.frame_png());
+    EXPECT_EQ(unlit.state()["light"]["stationary"].size(), 1u);
+    EXPECT_FLOAT_EQ(unlit.state()["light"]["stationary"][0]["intensity"].get<float>(), 0.6f);
+    unlit.apply({{"light", {{"stationary", nlohmann::json::array()}}}});
+    EXPECT_EQ(unlit.frame_png(), unlit_picture);
+    for (const auto& [stationary, field] : std::vector<std::pair<nlohmann::json, std::string>>{
+             {nlohmann::json::array({bat, bat, bat, bat, bat, bat, bat, bat, bat}), "light.stationary"},
+             {{{{"direction", {1, 0, 0}}, {"intensity", 11}}}, "light.stationary[0].intensity"},
+             {{{{"direction", {0, 0, 0}}}}, "light.stationary[0].direction"},
+             {{{{"intensity", 1}}}, "light.stationary[0].direction"},
+             {{{{"direction", {1, 0, 0}}, {"colour", 1}}}, "light.stationary[0].colour"},
+             {"left", "light.stationary"}}) {
+        try {
+            unlit.apply({{"light", {{"stationary", stationary}}}});
+            ADD_FAILURE() << stationary.dump() << " accepted";
+        } catch (const InputError& e) {
+            EXPECT_EQ(e.field(), field) << e.what();
+        }
+    }
 }
 
 TEST(InteractiveView, AnOrbitCastsAgainWithoutReshadingAndAChangeOfNothingRendersNothing) {

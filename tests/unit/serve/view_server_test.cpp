@@ -76,6 +76,15 @@ TEST_F(ServerTest, ServesThePageTheStateAndThePicture) {
     auto pass = c.Get("/api/pass/0.png");
     ASSERT_TRUE(pass);
     EXPECT_EQ(pass->status, 200);
+    auto timeline = c.Get("/api/timeline.json");
+    ASSERT_TRUE(timeline);
+    EXPECT_EQ(timeline->status, 200);
+    EXPECT_EQ(nlohmann::json::parse(timeline->body), view->timeline());
+    auto tiles = c.Get("/api/tiles.png");
+    ASSERT_TRUE(tiles);
+    EXPECT_EQ(tiles->status, 200);
+    EXPECT_EQ(tiles->body, view->tile_map_png().value());
+    EXPECT_EQ(c.Post("/api/timeline.json", "", "text/plain")->status, 405);
 }
 
 TEST_F(ServerTest, AChangeAnswersWithTheNewFrameAndANewPicture) {
