@@ -161,6 +161,7 @@ FrameTimeline frame_timeline(const TraceRecorder& trace, const FrameTiming& timi
             if (overlap > 0) time[(lane->second * static_cast<std::size_t>(bins) + static_cast<std::size_t>(b)) * kinds + static_cast<std::size_t>(s.what)] += overlap;
         }
     }
+    std::map<std::string, bool> group_did_something;
     for (std::size_t l = 0; l < out.lanes.size(); ++l)
         for (std::size_t b = 0; b < static_cast<std::size_t>(bins); ++b) {
             const double* by_kind = &time[(l * static_cast<std::size_t>(bins) + b) * kinds];
@@ -171,7 +172,11 @@ FrameTimeline frame_timeline(const TraceRecorder& trace, const FrameTiming& timi
             // A component does one thing at a time, but slices of one track can overlap at their ends.
             out.lanes[l].busy[b] = static_cast<float>(std::min(1.0, busy / bin_ps));
             out.lanes[l].what[b] = static_cast<int>(leading - by_kind);
+            group_did_something[out.lanes[l].group] = true;
         }
+    // A kind of component the frame recorded nothing for (the host and the frame buffer only send
+    // and receive messages, which the ring's lanes show) has no lanes.
+    std::erase_if(out.lanes, [&](const TimelineLane& lane) { return !group_did_something[lane.group]; });
     return out;
 }
 

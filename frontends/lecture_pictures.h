@@ -43,7 +43,8 @@ struct FrameTimeline {
     std::size_t slices_dropped = 0;   // slices past the recorder's limit, not drawn
 };
 // `components` are the (group, name) of the lanes wanted (Machine::trace_track_names of the machine
-// that timed the frame): a lane for each, busy or not, grouped as above.
+// that timed the frame): a lane for each, busy or not, grouped as above; a group none of whose
+// components did anything in the frame is left out.
 FrameTimeline frame_timeline(const TraceRecorder& trace, const FrameTiming& timing,
                              const std::vector<std::pair<std::string, std::string>>& components, int bins = 480);
 

@@ -85,10 +85,16 @@ std::vector<StationaryLight> stationary_lights(const nlohmann::json& value) {
 nlohmann::json machine_controls(const MachineConfig& config) {
     nlohmann::json controls = nlohmann::json::array();
     const nlohmann::json parameters = config.to_json()["parameters"];
-    for (const char* key : {"gp.count", "renderer.count", "ring.clock_mhz", "ring.channels", "gp.cache_bits"}) {
-        if (!parameters.contains(key)) continue;
-        controls.push_back({{"key", key}, {"value", parameters[key]["value"]}, {"unit", parameters[key]["unit"]}, {"timing_only", is_timing_parameter(key)}});
-    }
+    const auto add = [&](const std::string& key, const char* group) {
+        if (!parameters.contains(key)) return;
+        const nlohmann::json& p = parameters[key];
+        controls.push_back({{"key", key}, {"value", p["value"]}, {"unit", p["unit"]}, {"timing_only", is_timing_parameter(key)},
+                            {"group", group}, {"origin", p.value("origin", "")}});
+    };
+    for (const char* key : {"gp.count", "renderer.count", "ring.clock_mhz", "ring.channels", "gp.cache_bits"}) add(key, "machine");
+    // The calibration in force: the fitted scales on the documented costs (1 where nothing was fitted).
+    for (const auto& [key, entry] : parameters.items())
+        if (key.starts_with("calibration.") && key.ends_with("_scale")) add(key, "calibration");
     return controls;
 }
 

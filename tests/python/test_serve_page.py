@@ -167,6 +167,10 @@ class ServePageTest(unittest.TestCase):
         for p, seconds in enumerate(state["frame"]["passes_ready_seconds"]):
             self.assertIn(f"pass {p + 1} of {passes} · {1000 * seconds:.1f} ms", dom)
         self.assertIn(f'data-lanes="{len(timeline["lanes"])}"', dom)
+        used = {timeline["activities"][w] for lane in timeline["lanes"] for w in lane["what"] if w >= 0}
+        legend = re.search(r'<div id="timeline-legend">(.*?)</div>', dom, re.S)
+        self.assertIsNotNone(legend, dom[:2000])
+        self.assertEqual(set(re.findall(r'data-activity="([^"]+)"', legend.group(1))), used)
         self.assertIn(f'src="/api/tiles.png?v={state["version"]}"', dom)
 
     def test_6_the_page_compares_every_kernel_on_the_view(self):

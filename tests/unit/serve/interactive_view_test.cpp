@@ -52,6 +52,13 @@ TEST(InteractiveView, AMachineChangeOfTimingOnlyRetimesTheFrameAndAnotherRenders
     const std::string picture = view.frame_png();
     const double gps = control(before, "gp.count");
     ASSERT_GT(gps, 4);
+    // The calibration in force is among the controls, and re-times like any timing parameter.
+    EXPECT_EQ(control(before, "calibration.gp_flops_scale"), 1.0);
+    view.apply({{"machine", {{"calibration.gp_flops_scale", 2.0}}}});
+    EXPECT_EQ(view.state()["machine_change"]["kind"], "re-timed");
+    EXPECT_GT(view.state()["frame"]["simulated_seconds"].get<double>(), before["frame"]["simulated_seconds"].get<double>());
+    view.apply({{"machine", {{"calibration.gp_flops_scale", 1.0}}}});
+    EXPECT_EQ(view.state()["frame"]["simulated_seconds"], before["frame"]["simulated_seconds"]);
 
     view.apply({{"machine", {{"gp.count", 4}}}});
     const nlohmann::json fewer = view.state();
