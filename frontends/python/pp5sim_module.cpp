@@ -394,5 +394,21 @@ PYBIND11_MODULE(pp5sim, m) {
         }, py::arg("change"), "Apply a change ({'camera': {'azimuth': 40}}, {'light': ...}, {'region': ...}, {'kernel': ...}, "
                "{'machine': {'gp.count': 64}}, which re-times the frame when only timing changes); docs/serve.md")
         .def_property_readonly("state", [](const InteractiveView& v) { return to_python(v.state()); })
-        .def_property_readonly("png", [](const InteractiveView& v) { return py::bytes(v.frame_png()); }, "The last frame as PNG bytes");
+        .def_property_readonly("png", [](const InteractiveView& v) { return py::bytes(v.frame_png()); }, "The last frame as PNG bytes")
+        .def("timeline", [](const InteractiveView& v, int bins) {
+            if (bins < 1 || bins > 100000) throw InputError("python", "bins", "a timeline has 1 to 100000 bins");
+            return to_python(v.timeline(bins));
+        }, py::arg("bins") = 480, "Where the last frame's time went: phases, pass times and a lane of busy time per component (docs/serve.md)")
+        .def_property_readonly("tile_map_png", [](const InteractiveView& v) -> py::object {
+            const auto png = v.tile_map_png();
+            return png ? py::object(py::bytes(*png)) : py::object(py::none());
+        }, "The GP tile map of the last frame as PNG bytes (None when its kernel casts no tiles on GPs)")
+        .def("compare_kernels", [](InteractiveView& v) {
+            nlohmann::json report;
+            {
+                const py::gil_scoped_release unlocked;
+                report = v.compare_kernels();
+            }
+            return to_python(report);
+        }, "Every kernel on the view as it stands, as the page's compare mode: the report as a dict");
 }

@@ -134,6 +134,22 @@ class ModuleTest(unittest.TestCase):
             view.apply({"camera": {"elevation": 120}})
         self.assertEqual(caught.exception.field, "camera.elevation")
 
+    def test_the_view_does_what_the_page_does(self):
+        view = pp5sim.View(pp5sim.scenario_from_toml(SMALL))
+        gps = next(c["value"] for c in view.state["machine_parameters"] if c["key"] == "gp.count")
+        timeline = view.timeline(bins=50)
+        self.assertEqual(sum(lane["group"] == "GPs" for lane in timeline["lanes"]), gps)
+        self.assertEqual(len(timeline["lanes"][0]["busy"]), 50)
+        self.assertEqual(view.tile_map_png[1:4], b"PNG")
+        view.apply({"machine": {"gp.count": 2}})  # re-timed: the timeline follows
+        self.assertEqual(sum(lane["group"] == "GPs" for lane in view.timeline()["lanes"]), 2)
+        view.apply({"light": {"stationary": [{"direction": [-1.0, 0.2, 0.3], "intensity": 0.6}]}})
+        self.assertEqual(len(view.state["light"]["stationary"]), 1)
+        report = view.compare_kernels()
+        self.assertIn("levoy", [row["kernel"] for row in report["kernels"]])
+        with self.assertRaises(pp5sim.InputError):
+            view.timeline(bins=0)
+
     def test_a_scenario_can_be_named_as_on_the_command_line(self):
         run = pp5sim.render("sphere")
         self.assertEqual(run.stats["summary"]["scenario"], "sphere")
