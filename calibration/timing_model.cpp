@@ -66,19 +66,21 @@ double RecordedScenario::metric(const std::string& name, std::size_t frame, cons
 
 std::vector<FrameTiming> RecordedScenario::time_on(const MachineConfig& machine, std::size_t frames) const {
     frames = std::min(frames, frames_.size());
-    const nlohmann::json recorded = functional_.to_json()["parameters"];
-    const nlohmann::json timing = machine.to_json()["parameters"];
-    for (const auto& [key, entry] : recorded.items()) {
-        if (!is_timing_parameter(key) && timing.contains(key) && timing[key]["value"] != entry["value"]) {
-            throw InputError(timing[key]["origin"].get<std::string>(), key,
-                             fmt::format("is {} but the work was recorded with {}: it changes what the kernels compute, and "
-                                         "calibration only re-times recorded work (render the scenario on that machine instead)",
-                                         timing[key]["value"].dump(), entry["value"].dump()));
-        }
-    }
+    check_only_timing_differs(functional_, machine, "calibration only re-times recorded work (render the scenario on that machine instead)");
     std::vector<const FrameWork*> work;
     for (std::size_t i = 0; i < frames; ++i) work.push_back(&frames_[i].frame->work);
     return time_recorded_work(machine, work);
+}
+
+void check_only_timing_differs(const MachineConfig& recorded, const MachineConfig& timing, const std::string& remedy) {
+    const nlohmann::json was = recorded.to_json()["parameters"];
+    const nlohmann::json now = timing.to_json()["parameters"];
+    for (const auto& [key, entry] : was.items())
+        if (!is_timing_parameter(key) && now.contains(key) && now[key]["value"] != entry["value"])
+            throw InputError(now[key]["origin"].get<std::string>(), key,
+                             fmt::format("is {} but the work was recorded with {}: it changes what the kernels compute, not only how "
+                                         "long it takes; {}",
+                                         now[key]["value"].dump(), entry["value"].dump(), remedy));
 }
 
 std::vector<FrameTiming> time_recorded_work(const MachineConfig& machine, const std::vector<const FrameWork*>& work) {

@@ -67,6 +67,10 @@ MachineConfig recording_machine(const TargetSet& targets);
 
 // Whether `key` only changes when things happen, never what is computed.
 bool is_timing_parameter(const std::string& key);
+// Recorded work can be re-timed on `timing` only if it computes what `recorded` did: an InputError
+// names the first parameter that differs and is not a timing one (and where `timing` got it), ending
+// with `remedy`.
+void check_only_timing_differs(const MachineConfig& recorded, const MachineConfig& timing, const std::string& remedy);
 
 // A functional parameter's value (one the workload step identified), set on every machine a model
 // records or times with.

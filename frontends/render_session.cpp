@@ -152,12 +152,7 @@ RenderSession::RenderSession(const Scenario& scenario, const MachineConfig& conf
 }
 
 RenderSession::Retimed RenderSession::retime_on(const MachineConfig& timing, const std::vector<const FrameWork*>& replay) {
-    const nlohmann::json recorded = config_.to_json()["parameters"];
-    const nlohmann::json wanted = timing.to_json()["parameters"];
-    for (const auto& [key, entry] : recorded.items())
-        if (!is_timing_parameter(key) && wanted.contains(key) && wanted[key]["value"] != entry["value"])
-            throw InputError(wanted[key]["origin"].get<std::string>(), key,
-                             "changes what the kernels compute, not only how long it takes: the frame must be rendered again");
+    check_only_timing_differs(config_, timing, "the frame must be rendered again");
     timing_machine_.reset();  // it refers to the configuration replaced next
     timing_config_ = timing;
     timing_machine_ = std::make_unique<Machine>(*timing_config_);
