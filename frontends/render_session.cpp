@@ -20,6 +20,11 @@ using Seconds = std::chrono::duration<double>;
 
 nlohmann::json psnr_json(double psnr_db) { return std::isfinite(psnr_db) ? nlohmann::json(psnr_db) : nlohmann::json("inf"); }
 
+// How far a picture is from the reference renderer's, as a frame record says it.
+nlohmann::json fidelity_json(const ImageDifference& d, const std::string& against) {
+    return {{"against", against}, {"psnr_db", psnr_json(d.psnr_db)}, {"rms_error", d.rms_error}, {"max_error", d.max_error}};
+}
+
 // One frame's record in stats.json: what changed, what the kernel and the machine did, how far the
 // picture is from the reference renderer's.
 nlohmann::json frame_record(std::size_t index, const FrameSpec& frame, const std::string& image_name, const FrameTiming& timing,
@@ -34,12 +39,7 @@ nlohmann::json frame_record(std::size_t index, const FrameSpec& frame, const std
         {"simulated_seconds", ticks_to_seconds(timing.duration_ps())},
         {"host_seconds", host_seconds}};
     for (auto& [key, value] : kernel_stats.items()) record[key] = std::move(value);
-    if (fidelity) {
-        record["fidelity"] = {{"against", against},
-                              {"psnr_db", psnr_json(fidelity->psnr_db)},
-                              {"rms_error", fidelity->rms_error},
-                              {"max_error", fidelity->max_error}};
-    }
+    if (fidelity) record["fidelity"] = fidelity_json(*fidelity, against);
     return record;
 }
 
@@ -191,17 +191,15 @@ std::string RenderSession::reference_includes(const FrameSpec& frame) const {
 SessionFrame RenderSession::render(FrameSpec frame) {
     if (frames_rendered_ == 0) frame.camera_changed = frame.lighting_changed = frame.classification_changed = true;
     const std::size_t index = frames_rendered_;
+    const bool with_reference = reference_ && !defer_reference_;
     const ScopedActivity activity(fmt::format("rendering frame {} ({}) of {}{}", index, frame.label, scenario_.name,
-                                              reference_ ? " and its reference picture" : ""));
+                                              with_reference ? " and its reference picture" : ""));
     const auto frame_start = std::chrono::steady_clock::now();
+    reference_classification_stale_ = reference_classification_stale_ || frame.classification_changed;
+    reference_lighting_stale_ = reference_lighting_stale_ || frame.lighting_changed;
     std::optional<Image> reference_image;
     RenderStats reference_counts;
-    if (reference_) {
-        if (frame.classification_changed) reference_->set_classification(frame.classification, frame.colors);
-        if (frame.lighting_changed) reference_->set_lighting(frame.lighting);
-        reference_->set_region(frame.region);
-        reference_image = reference_->render(frame_camera(frame, volume_), reference_render_settings(scenario_.image), &reference_counts);
-    }
+    if (with_reference) reference_image = render_reference(frame, &reference_counts);
 
     SessionFrame out;
     out.index = index;
@@ -235,7 +233,7 @@ SessionFrame RenderSession::render(FrameSpec frame) {
         }
     }
     nlohmann::json kernel_stats = run_->frame_stats(*recorded, out.timing, pass_names);
-    if (reference_) kernel_stats["reference"] = reference_stats(reference_counts);
+    if (with_reference) kernel_stats["reference"] = reference_stats(reference_counts);
     if (!pass_fidelity.empty()) kernel_stats["fidelity_by_pass"] = std::move(pass_fidelity);
     if (on_machine)
         kernel_stats["utilisation"] = {{"gps", out.activity.gps}, {"renderers", out.activity.renderers}, {"ring", out.activity.ring}};
@@ -248,6 +246,20 @@ SessionFrame RenderSession::render(FrameSpec frame) {
     out.recorded = std::move(recorded);
     ++frames_rendered_;
     return out;
+}
+
+Image RenderSession::render_reference(const FrameSpec& frame, RenderStats* counts) {
+    if (reference_classification_stale_) reference_->set_classification(frame.classification, frame.colors);
+    if (reference_lighting_stale_) reference_->set_lighting(frame.lighting);
+    reference_classification_stale_ = reference_lighting_stale_ = false;
+    reference_->set_region(frame.region);
+    return reference_->render(frame_camera(frame, volume_), reference_render_settings(scenario_.image), counts);
+}
+
+nlohmann::json RenderSession::compare_with_reference(const FrameSpec& frame, const Image& picture) {
+    if (!reference_) return nullptr;
+    const ScopedActivity activity("rendering the reference picture of " + scenario_.name);
+    return fidelity_json(compare_images(picture, render_reference(frame, nullptr)), reference_includes(frame));
 }
 
 nlohmann::json RenderSession::stats(const nlohmann::json& frames, double host_seconds) const {

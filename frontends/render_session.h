@@ -71,6 +71,15 @@ public:
     // frame of a session changes everything, whatever it says).
     SessionFrame render(FrameSpec frame);
 
+    // From now on frames are not compared with the reference as they are rendered (their records
+    // have no fidelity): compare_with_reference does it when asked, so that an interactive view shows
+    // a frame without waiting for its oracle. Without a reference (compare_with_reference false at
+    // construction) there is nothing to defer.
+    void defer_reference_comparison() { defer_reference_ = true; }
+    // The reference picture of `frame` (the last one rendered) against `picture`, as a frame record's
+    // `fidelity` (against, psnr_db, rms_error, max_error); null without a reference.
+    nlohmann::json compare_with_reference(const FrameSpec& frame, const Image& picture);
+
     // stats.json's document for the frames rendered so far (`frames`: their records, in order).
     nlohmann::json stats(const nlohmann::json& frames, double host_seconds) const;
     // A few lines for a terminal: the machine, the dataset, then one per frame record.
@@ -101,6 +110,8 @@ public:
 
 private:
     std::string reference_includes(const FrameSpec& frame) const;
+    // The reference picture of `frame`, after taking in what the frames since it last rendered changed.
+    Image render_reference(const FrameSpec& frame, RenderStats* counts);
     Volume load_checked_volume(TraceRecorder* trace);
 
     Scenario scenario_;
@@ -116,6 +127,11 @@ private:
     std::optional<MachineConfig> timing_config_;
     std::unique_ptr<Machine> timing_machine_;
     std::optional<ReferenceRenderer> reference_;
+    bool defer_reference_ = false;
+    // What the frames since the reference last rendered changed, which it must take in before it
+    // renders again (a deferred comparison may skip frames).
+    bool reference_classification_stale_ = false;
+    bool reference_lighting_stale_ = false;
     std::size_t frames_rendered_ = 0;
 };
 

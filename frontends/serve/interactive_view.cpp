@@ -117,7 +117,7 @@ nlohmann::json drag_basis(const FrameSpec& frame, const Volume& volume, const Im
 InteractiveView::InteractiveView(Scenario scenario, MachineConfig config)
     : scenario_(std::move(scenario)), config_(std::move(config)), trace_(timeline_recorder()), timing_(config_) {
     current_ = scenario_.frames.front();
-    session_ = std::make_unique<RenderSession>(scenario_, config_, trace_.get());
+    session_ = start_session(scenario_, config_);
     render(current_);
 }
 
@@ -208,7 +208,7 @@ void InteractiveView::apply(const nlohmann::json& change) {
         other.kernel = kernel;
         other.frames = {next};
         try {
-            auto session = std::make_unique<RenderSession>(other, timing_, trace_.get());
+            auto session = start_session(other, timing_);
             scenario_ = std::move(other);
             session_ = std::move(session);
             config_ = timing_;
@@ -226,6 +226,12 @@ void InteractiveView::apply(const nlohmann::json& change) {
         render(next);
 }
 
+std::unique_ptr<RenderSession> InteractiveView::start_session(const Scenario& scenario, const MachineConfig& config) {
+    auto session = std::make_unique<RenderSession>(scenario, config, trace_.get());
+    session->defer_reference_comparison();  // the picture first; its PSNR when the page asks
+    return session;
+}
+
 void InteractiveView::render(FrameSpec frame) {
     SessionFrame rendered = session_->render(frame);
     current_ = frame;
@@ -237,6 +243,7 @@ void InteractiveView::render(FrameSpec frame) {
     const Image* picture = rendered.find(FrameImage::Kind::Frame);
     frame_png_ = encode_png(*picture);
     picture_ = *picture;
+    fidelity_ = nullptr;  // a new picture: its distance from the reference is not known yet
     ++version_;
 
     machine_change_ = nullptr;
@@ -284,7 +291,8 @@ void InteractiveView::describe(std::size_t index, const nlohmann::json& record, 
              {"passes_ready_seconds", ready},
              {"tile_map", tile_map_.has_value()},
              {"utilisation", {{"gps", activity.gps}, {"renderers", activity.renderers}, {"ring", activity.ring}}},
-             {"psnr_db", record.contains("fidelity") ? record["fidelity"]["psnr_db"] : nlohmann::json(nullptr)},
+             {"psnr_db", fidelity_.is_null() ? nlohmann::json(nullptr) : fidelity_["psnr_db"]},
+             {"psnr_pending", fidelity_.is_null() && session_->kernel().runs_on_machine()},
              {"host_seconds", record["host_seconds"]},
              {"record", record}};
 }
@@ -339,7 +347,7 @@ void InteractiveView::change_machine(const nlohmann::json& change) {
     }
     // It changes what is computed (or there is nothing recorded to re-time): the frame is rendered again.
     try {
-        auto session = std::make_unique<RenderSession>(scenario_, wanted, trace_.get());
+        auto session = start_session(scenario_, wanted);
         session_ = std::move(session);
     } catch (const InputError& e) {
         refuse("machine", fmt::format("this machine cannot render the view: {}", e.what()));
@@ -451,6 +459,17 @@ std::optional<std::string> InteractiveView::comparison_png(const std::string& ke
     for (const auto& [name, picture] : comparison_pictures_)
         if (name == kernel) return encode_png(picture);
     return std::nullopt;
+}
+
+nlohmann::json InteractiveView::reference_fidelity() {
+    if (fidelity_.is_null() && session_->kernel().runs_on_machine()) {
+        fidelity_ = session_->compare_with_reference(current_, picture_);
+        if (!fidelity_.is_null()) {
+            last_["psnr_db"] = fidelity_["psnr_db"];
+            last_["psnr_pending"] = false;
+        }
+    }
+    return {{"version", version_}, {"fidelity", fidelity_}};
 }
 
 }  // namespace pp5

@@ -45,6 +45,11 @@ public:
     // The last frame's screen tiles tinted by the GP that cast each, as PNG bytes; nullopt when its
     // kernel does not cast tiles on GPs.
     std::optional<std::string> tile_map_png() const;
+    // How far the last frame's picture is from the reference renderer's (a frame record's `fidelity`:
+    // against, psnr_db, rms_error, max_error; null for a kernel not on the machine), with the view's
+    // version. Rendered when first asked for after each new picture, not with the frame, so that the
+    // frame is shown without waiting for its oracle.
+    nlohmann::json reference_fidelity();
     // Renders the view as it stands (its camera, light and region, on the machine frames are timed on)
     // with every kernel that runs on the machine, as `pp5sim compare-kernels` does for one frame: its
     // report (docs/serve.md). Each kernel's picture stays for comparison_png until the next comparison.
@@ -52,6 +57,8 @@ public:
     std::optional<std::string> comparison_png(const std::string& kernel) const;
 
 private:
+    // A session on the scenario and machine that keeps this view's trace and defers the reference.
+    std::unique_ptr<RenderSession> start_session(const Scenario& scenario, const MachineConfig& config);
     void render(FrameSpec frame);
     // A change to the machine: re-times the last frames when only timing changes, else renders again.
     void change_machine(const nlohmann::json& change);
@@ -79,6 +86,7 @@ private:
     Image picture_;            // the last frame, which the tile map is drawn over
     FrameTiming last_timing_;  // the last frame's timing on the timing machine
     std::optional<Image> tile_map_;
+    nlohmann::json fidelity_ = nullptr;  // the picture's against the reference, once asked for
     std::vector<std::pair<std::string, Image>> comparison_pictures_;  // by kernel, from the last comparison
     std::size_t version_ = 0;
 };

@@ -37,6 +37,7 @@ void no_caching(httplib::Response& response) { response.set_header("Cache-Contro
 const char* methods_of(const std::string& path) {
     static const std::regex pass_picture(R"(/api/pass/\d{1,3}\.png)");
     if (path == "/" || path == "/api/state" || path == "/api/image.png" || path == "/api/timeline.json" || path == "/api/tiles.png" ||
+        path == "/api/fidelity.json" ||
         std::regex_match(path, pass_picture))
         return "GET, HEAD";
     static const std::regex compared_picture(R"(/api/compare/[a-z0-9_-]{1,64}\.png)");
@@ -104,6 +105,11 @@ struct ViewServer::Impl {
             const std::lock_guard lock(mutex);
             no_caching(res);
             send_json(res, 200, view.timeline());
+        });
+        server.Get("/api/fidelity.json", [this](const httplib::Request&, httplib::Response& res) {
+            const std::lock_guard lock(mutex);
+            no_caching(res);
+            send_json(res, 200, view.reference_fidelity());
         });
         server.Get("/api/tiles.png", [this](const httplib::Request&, httplib::Response& res) {
             const std::lock_guard lock(mutex);

@@ -111,6 +111,9 @@ class ServePageTest(unittest.TestCase):
         shown = re.search(r'id="rate"[^>]*>([^<]+)<', dom).group(1)
         self.assertIn(f"{state['frame']['frames_per_second']:.1f} frames/s", shown)
         self.assertIn(f'src="/api/image.png?v={state["version"]}"', dom)
+        # The PSNR arrives after the frame, and is the reference's.
+        fidelity = json.loads(self.get("/api/fidelity.json"))["fidelity"]
+        self.assertIn(f'data-psnr="{fidelity["psnr_db"]}"', dom)
         for kind in ("gps", "renderers", "ring"):
             self.assertIn(f'data-utilisation="{kind}">{100 * state["frame"]["utilisation"][kind]:.0f}%', dom)
 

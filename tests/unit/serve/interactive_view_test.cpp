@@ -161,6 +161,39 @@ TEST(InteractiveView, TheTimelineAndTileMapShowTheMachineThatTimedTheFrame) {
     EXPECT_NE(three, many);  // the tiles are cast by other GPs
 }
 
+// The frame is shown before its oracle: the PSNR is pending until asked for, and then is what a
+// session comparing every frame as it renders gives, however many frames went by unasked.
+TEST(InteractiveView, TheReferenceIsRenderedWhenAskedForAndAgreesWithAComparingSession) {
+    const Scenario scenario = small_scenario(true);
+    InteractiveView every(scenario, load_run_config("pxpl5", {})), last(scenario, load_run_config("pxpl5", {}));
+    EXPECT_TRUE(every.state()["frame"]["psnr_pending"].get<bool>());
+    EXPECT_TRUE(every.state()["frame"]["psnr_db"].is_null());
+    const nlohmann::json first = every.reference_fidelity();
+    EXPECT_EQ(first["version"], every.state()["version"]);
+    EXPECT_FALSE(every.state()["frame"]["psnr_pending"].get<bool>());
+    EXPECT_EQ(every.state()["frame"]["psnr_db"], first["fidelity"]["psnr_db"]);
+
+    RenderSession comparing(scenario, load_run_config("pxpl5", {}));
+    const SessionFrame frame = comparing.render(scenario.frames.front());
+    EXPECT_EQ(first["fidelity"], frame.record["fidelity"]);
+
+    // A light move, a region move and a change of light again, the second view asking only at the end.
+    for (const nlohmann::json& change : {nlohmann::json{{"light", {{"direction", {-0.6, 1.0, 0.3}}}}},
+                                         nlohmann::json{{"region", {{"center", {14.0, 12.0, 16.0}}}}},
+                                         nlohmann::json{{"light", {{"direction", {0.2, 1.0, -0.3}}}}}}) {
+        every.apply(change);
+        last.apply(change);
+        EXPECT_TRUE(every.state()["frame"]["psnr_pending"].get<bool>());
+        (void)every.reference_fidelity();
+    }
+    EXPECT_EQ(last.frame_png(), every.frame_png());
+    EXPECT_EQ(last.reference_fidelity()["fidelity"], every.reference_fidelity()["fidelity"]);
+    // A re-time keeps the picture, and so its distance from the reference.
+    last.apply({{"machine", {{"gp.count", 4}}}});
+    EXPECT_FALSE(last.state()["frame"]["psnr_pending"].get<bool>());
+    EXPECT_EQ(last.state()["frame"]["psnr_db"], every.state()["frame"]["psnr_db"]);
+}
+
 // The page's compare mode: every kernel that runs on the machine renders the view as it stands, on
 // the machine frames are timed on; Levoy's row is the view's own frame (a first frame either way).
 TEST(InteractiveView, ComparingKernelsRendersTheViewAsItStandsWithEach) {

@@ -85,6 +85,10 @@ TEST_F(ServerTest, ServesThePageTheStateAndThePicture) {
     EXPECT_EQ(tiles->status, 200);
     EXPECT_EQ(tiles->body, view->tile_map_png().value());
     EXPECT_EQ(c.Post("/api/timeline.json", "", "text/plain")->status, 405);
+    auto fidelity = c.Get("/api/fidelity.json");
+    ASSERT_TRUE(fidelity);
+    EXPECT_EQ(fidelity->status, 200);
+    EXPECT_TRUE(nlohmann::json::parse(fidelity->body)["fidelity"]["psnr_db"].is_number());
 }
 
 TEST_F(ServerTest, AChangeAnswersWithTheNewFrameAndANewPicture) {
