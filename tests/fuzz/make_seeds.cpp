@@ -152,6 +152,13 @@ void http_seeds(const fs::path& dir) {
     write_plain(dir / "post-chunked", text("POST /api/change HTTP/1.1\r\nHost: localhost\r\nContent-Type: application/json\r\n"
                                            "Transfer-Encoding: chunked\r\nConnection: close\r\n\r\n2\r\n{}\r\n0\r\n\r\n"));
     write_plain(dir / "delete-state", text("DELETE /api/state HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"));
+    write_plain(dir / "get-timeline", text("GET /api/timeline.json HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"));
+    write_plain(dir / "get-fidelity", text("GET /api/fidelity.json HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"));
+    write_plain(dir / "get-tiles", text("GET /api/tiles.png HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"));
+    write_plain(dir / "get-compared", text("GET /api/compare/levoy.png HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"));
+    const std::string lights = R"({"light": {"stationary": [{"direction": [-1.0, 0.2, 0.3], "intensity": 0.6}]}})";
+    write_plain(dir / "post-lights", text("POST /api/change HTTP/1.1\r\nHost: localhost\r\nContent-Type: application/json\r\n"
+                                          "Content-Length: " + std::to_string(lights.size()) + "\r\nConnection: close\r\n\r\n" + lights));
 }
 
 // Every shipped file of a kind, as it is: the richest valid inputs there are.
