@@ -126,7 +126,9 @@ TEST(InteractiveView, TheTimelineAndTileMapShowTheMachineThatTimedTheFrame) {
                 EXPECT_GE(f, 0.0);
                 EXPECT_LE(f, 1.0);
                 EXPECT_EQ(f > 0.0, lane["what"][b].get<int>() >= 0);
-                if (f > 0.0) EXPECT_NE(t["activities"][lane["what"][b].get<std::size_t>()], "waiting");
+                if (f > 0.0) {
+                    EXPECT_NE(t["activities"][lane["what"][b].get<std::size_t>()], "waiting");
+                }
                 busy[lane["group"]] += f;
             }
         }
@@ -136,8 +138,8 @@ TEST(InteractiveView, TheTimelineAndTileMapShowTheMachineThatTimedTheFrame) {
         EXPECT_EQ(t["slices_dropped"], 0);
         // The lanes' busy time over count x frame is the utilisation the frame reports (to the
         // rounding of each bin's share to two decimals).
-        EXPECT_NEAR(busy["GPs"] / (200.0 * gps), state["frame"]["utilisation"]["gps"].get<double>(), 0.01);
-        EXPECT_NEAR(busy["ring"] / (200.0 * lanes["ring"]), state["frame"]["utilisation"]["ring"].get<double>(), 0.01);
+        EXPECT_NEAR(busy["GPs"] / (200.0 * static_cast<double>(gps)), state["frame"]["utilisation"]["gps"].get<double>(), 0.01);
+        EXPECT_NEAR(busy["ring"] / (200.0 * static_cast<double>(lanes["ring"])), state["frame"]["utilisation"]["ring"].get<double>(), 0.01);
         // Each pass reaches the frame buffer after the one before, within the frame.
         const auto& ready = state["frame"]["passes_ready_seconds"];
         EXPECT_EQ(ready.size(), state["frame"]["passes"].get<std::size_t>());
@@ -215,7 +217,9 @@ TEST(InteractiveView, ComparingKernelsRendersTheViewAsItStandsWithEach) {
         }
         ++rendered;
         EXPECT_EQ(view.comparison_png(kernel).value().substr(1, 3), "PNG");
-        if (kernel == "levoy") EXPECT_EQ(row["frame_seconds"][0].get<double>(), state["frame"]["simulated_seconds"].get<double>());
+        if (kernel == "levoy") {
+            EXPECT_EQ(row["frame_seconds"][0].get<double>(), state["frame"]["simulated_seconds"].get<double>());
+        }
     }
     EXPECT_GE(rendered, 2u);
     EXPECT_FALSE(view.comparison_png("no-such-kernel").has_value());

@@ -167,7 +167,9 @@ TEST_F(ServerTest, RefusesBadRequestsWithAReasonAndKeepsServing) {
     // Over the limit (4096 bytes here) reading stops: a 413, unless the connection is cut first while the
     // client still sends; either way the change is not applied (the version is checked below).
     auto large_chunked = send_chunked(R"({"camera": {"azimuth": 15}, "padding": ")" + std::string(6000, 'x') + "\"}");
-    if (large_chunked) EXPECT_EQ(large_chunked->status, 413) << large_chunked->body;
+    if (large_chunked) {
+        EXPECT_EQ(large_chunked->status, 413) << large_chunked->body;
+    }
     // Far more header lines than a browser sends.
     httplib::Headers many;
     for (int i = 0; i < 500; ++i) many.emplace("X-Filler-" + std::to_string(i), "x");

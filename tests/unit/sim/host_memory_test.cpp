@@ -20,7 +20,9 @@ TEST(HostMemory, IsNoMoreThanThePhysicalMemoryOrTheProcessLimits) {
     for (const int resource : {RLIMIT_AS, RLIMIT_DATA}) {
         rlimit limit{};
         ASSERT_EQ(::getrlimit(resource, &limit), 0);
-        if (limit.rlim_cur != RLIM_INFINITY) EXPECT_LE(memory.bytes, static_cast<double>(limit.rlim_cur));
+        if (limit.rlim_cur != RLIM_INFINITY) {
+            EXPECT_LE(memory.bytes, static_cast<double>(limit.rlim_cur));
+        }
     }
     EXPECT_FALSE(memory.limited_by.empty());
 }

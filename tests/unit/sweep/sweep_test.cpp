@@ -304,7 +304,9 @@ TEST(SweepRun, AKernelAxisRendersEachPointWithItsKernel) {
         // The kernel's own first metric is in its rows.
         const Kernel* k_ = find_kernel(kernel);
         ASSERT_NE(k_, nullptr);
-        if (!k_->metrics().empty()) EXPECT_TRUE(few.frames[0].values[column(k_->metrics().front().name)].has_value()) << kernel;
+        if (!k_->metrics().empty()) {
+            EXPECT_TRUE(few.frames[0].values[column(k_->metrics().front().name)].has_value()) << kernel;
+        }
     }
     EXPECT_GE(rendered, 2u);
     EXPECT_TRUE(swept.points[0].error.empty()) << swept.points[0].error;  // Levoy's own scenario
