@@ -1003,13 +1003,14 @@ void FrameRun::start_broadcast_phase(const BroadcastPhase& phase, PhaseTiming& t
     const GpCostModel& costs = machine_.gps().front()->costs();
     Tick taken_in = t;
     Tick receiving = 0;
-    std::vector<std::pair<Tick, Tick>> receives;  // when every GP takes each message in
+    TraceRecorder* const trace = machine_.trace();
+    std::vector<std::pair<Tick, Tick>> receives;  // when every GP takes each message in, for the trace
     for (const RingTransit& transit : transits) {
         const Tick receive = costs.message_receive + static_cast<Tick>(transit.words) * costs.receive_per_word;
         const Tick from = std::max(taken_in, transit.arrival);
         taken_in = from + receive;
         receiving += receive;
-        receives.emplace_back(from, taken_in);
+        if (trace != nullptr) receives.emplace_back(from, taken_in);
     }
     const std::vector<Tick> op_cost = gp_op_costs(machine_.config(), work_.op_kinds);
     Tick compute = 0;
@@ -1017,7 +1018,7 @@ void FrameRun::start_broadcast_phase(const BroadcastPhase& phase, PhaseTiming& t
     for (auto& gp : machine_.gps()) {
         gp->busy_ps += static_cast<std::uint64_t>(receiving + compute);
         for (const GpOp& op : phase.then_each_gp) gp->operations(work_.op_kinds[op.kind].name) += op.count;
-        if (TraceRecorder* trace = machine_.trace()) {
+        if (trace != nullptr) {
             const int track = trace->track("GPs", gp->name());
             for (const auto& [from, to] : receives) trace->slice(track, "taking a broadcast in", from, to);
             trace->slice(track, timing_.phases[current_].name, taken_in, taken_in + compute);

@@ -81,6 +81,13 @@ class ServePageTest(unittest.TestCase):
         except urllib.error.HTTPError as e:
             return e.code, json.loads(e.read())
 
+    def page_dom(self, browser, profile, path="/", budget_ms=10000):
+        """The page at `path` as headless Chromium leaves it after `budget_ms` of virtual time."""
+        return subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu",
+                               "--user-data-dir=" + os.path.join(self.folder, profile),
+                               f"--virtual-time-budget={budget_ms}", "--dump-dom", self.base + path],
+                              capture_output=True, text=True, timeout=120 + budget_ms // 1000).stdout
+
     def test_1_the_page_s_changes_render_new_pictures(self):
         first = self.get("/api/image.png")
         status, state = self.post({"light": {"direction": [-0.6, 1.0, 0.3]}})  # a light drag
@@ -101,10 +108,7 @@ class ServePageTest(unittest.TestCase):
         if browser is None:
             self.skipTest("no Chromium installed (the setup script installs Debian's chromium)")
         state = json.loads(self.get("/api/state"))
-        profile = os.path.join(self.folder, "profile")
-        dom = subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--user-data-dir=" + profile,
-                              "--virtual-time-budget=10000", "--dump-dom", self.base + "/"],
-                             capture_output=True, text=True, timeout=120).stdout
+        dom = self.page_dom(browser, "profile")
         match = re.search(r'id="rate"[^>]*data-frames-per-second="([^"]+)"', dom)
         self.assertIsNotNone(match, dom[:2000])
         self.assertAlmostEqual(float(match.group(1)), state["frame"]["frames_per_second"], places=6)
@@ -139,10 +143,7 @@ class ServePageTest(unittest.TestCase):
         self.assertEqual(self.get("/api/image.png"), picture)
         browser = chromium()
         if browser is not None:
-            profile = os.path.join(self.folder, "profile-machine")
-            dom = subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--user-data-dir=" + profile,
-                                  "--virtual-time-budget=10000", "--dump-dom", self.base + "/"],
-                                 capture_output=True, text=True, timeout=120).stdout
+            dom = self.page_dom(browser, "profile-machine")
             self.assertIn(f'data-key="gp.count" value="{max(1, gps // 8)}"', dom)
             self.assertIn("re-timed", dom)
             self.assertIn(f"{state['frame']['frames_per_second']:.1f} frames/s", dom)
@@ -158,10 +159,7 @@ class ServePageTest(unittest.TestCase):
         browser = chromium()
         if browser is None:
             self.skipTest("no Chromium installed (the setup script installs Debian's chromium)")
-        profile = os.path.join(self.folder, "profile-where")
-        dom = subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--user-data-dir=" + profile,
-                              "--virtual-time-budget=10000", "--dump-dom", self.base + "/"],
-                             capture_output=True, text=True, timeout=120).stdout
+        dom = self.page_dom(browser, "profile-where")
         passes = state["frame"]["passes"]
         self.assertGreater(passes, 1)
         # Each pass was loaded after the one before, and is captioned with the time it was ready.
@@ -186,10 +184,7 @@ class ServePageTest(unittest.TestCase):
         browser = chromium()
         if browser is None:
             self.skipTest("no Chromium installed (the setup script installs Debian's chromium)")
-        profile = os.path.join(self.folder, "profile-compare")
-        dom = subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--user-data-dir=" + profile,
-                              "--virtual-time-budget=60000", "--dump-dom", self.base + "/#compare"],
-                             capture_output=True, text=True, timeout=180).stdout
+        dom = self.page_dom(browser, "profile-compare", "/#compare", 60000)
         # A row for every kernel on the machine, and a picture for each that rendered the view.
         table = re.search(r'<table id="comparison-table">(.*?)</table>', dom, re.S)
         self.assertIsNotNone(table, dom[:2000])
