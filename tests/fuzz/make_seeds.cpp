@@ -146,9 +146,12 @@ void http_seeds(const fs::path& dir) {
     write_plain(dir / "get-state", text("GET /api/state HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"));
     write_plain(dir / "get-page", text("GET / HTTP/1.1\r\nHost: localhost\r\nAccept: text/html\r\nConnection: close\r\n\r\n"));
     write_plain(dir / "get-pass", text("GET /api/pass/0.png HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"));
-    const std::string change = R"({"camera": {"azimuth": 30}, "light": {"direction": [0.2, 1.0, 0.3]}})";
-    write_plain(dir / "post-change", text("POST /api/change HTTP/1.1\r\nHost: localhost\r\nContent-Type: application/json\r\n"
-                                          "Content-Length: " + std::to_string(change.size()) + "\r\nConnection: close\r\n\r\n" + change));
+    // A change as the page posts it.
+    const auto post_change = [](const std::string& body) {
+        return text("POST /api/change HTTP/1.1\r\nHost: localhost\r\nContent-Type: application/json\r\nContent-Length: " +
+                    std::to_string(body.size()) + "\r\nConnection: close\r\n\r\n" + body);
+    };
+    write_plain(dir / "post-change", post_change(R"({"camera": {"azimuth": 30}, "light": {"direction": [0.2, 1.0, 0.3]}})"));
     write_plain(dir / "post-chunked", text("POST /api/change HTTP/1.1\r\nHost: localhost\r\nContent-Type: application/json\r\n"
                                            "Transfer-Encoding: chunked\r\nConnection: close\r\n\r\n2\r\n{}\r\n0\r\n\r\n"));
     write_plain(dir / "delete-state", text("DELETE /api/state HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"));
@@ -156,9 +159,7 @@ void http_seeds(const fs::path& dir) {
     write_plain(dir / "get-fidelity", text("GET /api/fidelity.json HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"));
     write_plain(dir / "get-tiles", text("GET /api/tiles.png HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"));
     write_plain(dir / "get-compared", text("GET /api/compare/levoy.png HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"));
-    const std::string lights = R"({"light": {"stationary": [{"direction": [-1.0, 0.2, 0.3], "intensity": 0.6}]}})";
-    write_plain(dir / "post-lights", text("POST /api/change HTTP/1.1\r\nHost: localhost\r\nContent-Type: application/json\r\n"
-                                          "Content-Length: " + std::to_string(lights.size()) + "\r\nConnection: close\r\n\r\n" + lights));
+    write_plain(dir / "post-lights", post_change(R"({"light": {"stationary": [{"direction": [-1.0, 0.2, 0.3], "intensity": 0.6}]}})"));
 }
 
 // Every shipped file of a kind, as it is: the richest valid inputs there are.
