@@ -8,6 +8,8 @@
 #include <fstream>
 #include <string>
 
+#include <unistd.h>
+
 namespace pp5::test {
 
 struct CalibrationFiles {
@@ -19,7 +21,8 @@ struct CalibrationFiles {
 inline CalibrationFiles write_calibration_files(const std::string& name) {
     namespace fs = std::filesystem;
     CalibrationFiles files;
-    files.dir = fs::temp_directory_path() / ("pp5_calibration_test_" + name);
+    // The process id keeps tests that run side by side (ctest -j) out of each other's files.
+    files.dir = fs::temp_directory_path() / ("pp5_calibration_test_" + name + "_" + std::to_string(::getpid()));
     fs::remove_all(files.dir);
     fs::create_directories(files.dir);
     files.machine = files.dir / "tiny.toml";

@@ -5,6 +5,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
+
+#include <unistd.h>
 
 namespace pp5 {
 namespace {
@@ -14,7 +17,7 @@ namespace fs = std::filesystem;
 class NamedFile : public ::testing::Test {
 protected:
     void SetUp() override {
-        dir = fs::temp_directory_path() / "pp5_named_file_test";
+        dir = dir_text;
         fs::remove_all(dir);
         fs::create_directories(dir);
         std::ofstream(dir / "sphere.toml") << "# a preset\n";
@@ -29,7 +32,8 @@ protected:
         return "found";
     }
     fs::path dir;
-    std::string dir_text = (fs::temp_directory_path() / "pp5_named_file_test").string();
+    // Each test process its own folder: ctest -j runs this fixture's tests side by side.
+    std::string dir_text = (fs::temp_directory_path() / ("pp5_named_file_test_" + std::to_string(::getpid()))).string();
 };
 
 TEST_F(NamedFile, APresetByNameAMissOnlyWithASuggestionAndALoopAsUnreadable) {
