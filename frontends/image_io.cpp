@@ -1,15 +1,71 @@
 #include "frontends/image_io.h"
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
+#include "frontends/image_codec/image_codec.h"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
+
+#include <dlfcn.h>
 
 namespace pp5 {
+
+namespace {
+
+struct LoadedCodec {
+    const image_codec::Table* table = nullptr;
+    std::string why_not;  // when there is no table
+};
+
+LoadedCodec load_codec() {
+    void* module = ::dlopen(image_codec::module_path(), RTLD_NOW | RTLD_LOCAL);
+    if (module == nullptr) {
+        const char* why = ::dlerror();
+        return {nullptr, why != nullptr ? why : "dlopen failed"};
+    }
+    const auto entry = reinterpret_cast<const image_codec::Table* (*)()>(::dlsym(module, "pp5_image_codec_table"));
+    if (entry == nullptr) return {nullptr, "it has no codec table"};
+    const image_codec::Table* table = entry();
+    if (table->version != image_codec::kVersion) return {nullptr, "it was built for another version of pp5sim; rebuild it"};
+    return {table, {}};
+}
+
+// The codec module, loaded once per process on first use. A failure to load is reported whenever a
+// picture is asked for, not at start: the run may have other work that needs no pictures.
+const image_codec::Table& codec() {
+    static const LoadedCodec loaded = load_codec();
+    if (loaded.table == nullptr)
+        throw std::runtime_error(std::string("cannot load the image codec ") + image_codec::module_path() + ": " + loaded.why_not);
+    return *loaded.table;
+}
+
+image_codec::PixelsView view_of(const std::vector<unsigned char>& rgb, const Image& image) {
+    return {image.width, image.height, 3, false, rgb.data()};
+}
+
+// Colour clamped to [0, 1] as float RGB: what the comparison reads.
+std::vector<float> clamped_rgb(const Image& image) {
+    std::vector<float> rgb;
+    rgb.reserve(image.pixels.size() * 3);
+    for (const glm::vec4& p : image.pixels)
+        for (int c = 0; c < 3; ++c) rgb.push_back(std::clamp(p[c], 0.0f, 1.0f));
+    return rgb;
+}
+
+// Encodes `frames` (one, or several as an animation) in the format `extension` names, in memory.
+std::string encode_rgb8(const std::vector<const Image*>& frames, const char* extension, float frames_per_second) {
+    std::vector<std::vector<unsigned char>> bytes;
+    std::vector<image_codec::PixelsView> views;
+    bytes.reserve(frames.size());
+    for (const Image* frame : frames) {
+        bytes.push_back(to_rgb8(*frame));
+        views.push_back(view_of(bytes.back(), *frame));
+    }
+    return codec().encode(views, extension, frames_per_second);
+}
+
+}  // namespace
 
 std::vector<unsigned char> to_rgb8(const Image& image) {
     std::vector<unsigned char> bytes;
@@ -20,28 +76,13 @@ std::vector<unsigned char> to_rgb8(const Image& image) {
     return bytes;
 }
 
-namespace {
-
-OIIO::ImageBuf rgb_buffer(const Image& image) {
-    std::vector<float> rgb;
-    rgb.reserve(image.pixels.size() * 3);
-    for (const glm::vec4& p : image.pixels)
-        for (int c = 0; c < 3; ++c) rgb.push_back(std::clamp(p[c], 0.0f, 1.0f));
-    OIIO::ImageBuf buffer(OIIO::ImageSpec(image.width, image.height, 3, OIIO::TypeDesc::FLOAT));
-    buffer.set_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, rgb.data());
-    return buffer;
-}
-
-}  // namespace
-
 ImageDifference compare_images(const Image& image, const Image& reference) {
     if (image.width != reference.width || image.height != reference.height) {
         throw std::invalid_argument("compare_images: the images differ in size");
     }
-    const OIIO::ImageBuf a = rgb_buffer(image);
-    const OIIO::ImageBuf b = rgb_buffer(reference);
-    const auto result = OIIO::ImageBufAlgo::compare(a, b, 1.0f, 1.0f);
-    return {result.PSNR, result.rms_error, result.maxerror};
+    const std::vector<float> a = clamped_rgb(image);
+    const std::vector<float> b = clamped_rgb(reference);
+    return codec().compare({image.width, image.height, 3, true, a.data()}, {reference.width, reference.height, 3, true, b.data()});
 }
 
 Image inverted_difference(const Image& image, const Image& reference) {
@@ -59,49 +100,13 @@ Image inverted_difference(const Image& image, const Image& reference) {
 }
 
 void write_image(const Image& image, const std::filesystem::path& path, ImageFormat format) {
-    auto out = OIIO::ImageOutput::create(path.string());
-    if (!out) throw std::runtime_error("cannot write " + path.string() + ": " + OIIO::geterror());
-    bool ok = false;
     if (format == ImageFormat::Png) {
         const std::vector<unsigned char> rgb = to_rgb8(image);
-        const OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
-        ok = out->open(path.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, rgb.data());
+        codec().write_file(path, view_of(rgb, image));
     } else {
-        OIIO::ImageSpec spec(image.width, image.height, 4, OIIO::TypeDesc::FLOAT);
-        spec.channelnames = {"R", "G", "B", "A"};
-        ok = out->open(path.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data());
+        codec().write_file(path, {image.width, image.height, 4, true, image.pixels.data()});
     }
-    if (!ok) throw std::runtime_error("cannot write " + path.string() + ": " + out->geterror());
-    if (!out->close()) throw std::runtime_error("cannot finish " + path.string() + ": " + out->geterror());
 }
-
-namespace {
-
-// Encodes `frames` (one, or several as an animation) in the format `extension` names, in memory.
-std::string encode_rgb8(const std::vector<const Image*>& frames, const char* extension, float frames_per_second) {
-    const std::string name = std::string("memory.") + extension;
-    OIIO::Filesystem::IOVecOutput memory;
-    auto out = OIIO::ImageOutput::create(name, &memory);
-    if (!out) throw std::runtime_error(std::string("cannot encode ") + extension + ": " + OIIO::geterror());
-    if (frames.size() > 1 && !out->supports("multiimage"))
-        throw std::runtime_error(std::string("OpenImageIO cannot write animated ") + extension);
-    for (std::size_t f = 0; f < frames.size(); ++f) {
-        const Image& image = *frames[f];
-        OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
-        if (frames.size() > 1) spec.attribute("FramesPerSecond", OIIO::TypeRational, std::vector<int>{static_cast<int>(frames_per_second * 100), 100}.data());
-        void* proxy = &memory;  // the attribute holds a pointer, given by its address
-        spec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
-        const auto mode = f == 0 ? OIIO::ImageOutput::Create : OIIO::ImageOutput::AppendSubimage;
-        const std::vector<unsigned char> rgb = to_rgb8(image);
-        if (!out->open(name, spec, mode) || !out->write_image(OIIO::TypeDesc::UINT8, rgb.data()))
-            throw std::runtime_error(std::string("cannot encode ") + extension + ": " + out->geterror());
-    }
-    if (!out->close()) throw std::runtime_error(std::string("cannot encode ") + extension + ": " + out->geterror());
-    const std::vector<unsigned char>& bytes = memory.buffer();
-    return std::string(bytes.begin(), bytes.end());
-}
-
-}  // namespace
 
 std::string encode_png(const Image& image) { return encode_rgb8({&image}, "png", 0.0f); }
 
@@ -115,5 +120,7 @@ std::string encode_gif(const std::vector<Image>& frames, float frames_per_second
     }
     return encode_rgb8(pointers, "gif", frames_per_second);
 }
+
+Rgb8Picture read_rgb8(const std::filesystem::path& path) { return codec().read_rgb8(path); }
 
 }  // namespace pp5

@@ -1,5 +1,6 @@
 #pragma once
-// Writing images through OpenImageIO: 8-bit PNG for people, 32-bit float EXR for analysis.
+// Writing images through OpenImageIO: 8-bit PNG for people, 32-bit float EXR for analysis. OpenImageIO
+// is loaded the first time it is needed (frontends/image_codec/image_codec.h says why).
 
 #include "kernels/render/image.h"
 
@@ -35,5 +36,15 @@ std::string encode_gif(const std::vector<Image>& frames, float frames_per_second
 
 // The 8-bit RGB bytes a PNG of `image` holds, row 0 at the top: what tests compare.
 std::vector<unsigned char> to_rgb8(const Image& image);
+
+// A picture file decoded to 8 bits per channel, rows top to bottom.
+struct Rgb8Picture {
+    int width = 0;
+    int height = 0;
+    int channels = 0;
+    std::vector<unsigned char> bytes;  // width * height * channels
+};
+// Throws std::runtime_error naming the file when it cannot be read.
+Rgb8Picture read_rgb8(const std::filesystem::path& path);
 
 }  // namespace pp5

@@ -6,7 +6,7 @@
 // Refresh: PP5_GOLDEN_REFRESH=1 build/tests/golden/test_golden   (writes the files in the source tree)
 // PP5SIM=path runs another pp5sim binary (an older build, to record what it gave).
 
-#include <OpenImageIO/imageio.h>
+#include "frontends/image_io.h"
 #include "tests/support/run_files.h"
 #include "tests/support/source_dir.h"
 
@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <stdexcept>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -25,6 +26,8 @@
 namespace {
 
 namespace fs = std::filesystem;
+using pp5::Rgb8Picture;
+using pp5::read_rgb8;
 using pp5::test::read_file;
 using pp5::test::without_host_fields;
 
@@ -46,20 +49,20 @@ bool refreshing() {
 // FNV-1a over an image's size and decoded 8-bit pixels: the same picture gives the same digest
 // whatever the PNG encoder's choices.
 std::string pixel_digest(const fs::path& path) {
-    auto in = OIIO::ImageInput::open(path.string());
-    if (!in) return "unreadable";
-    const OIIO::ImageSpec& spec = in->spec();
-    std::vector<unsigned char> pixels(static_cast<std::size_t>(spec.width) * static_cast<std::size_t>(spec.height) *
-                                      static_cast<std::size_t>(spec.nchannels));
-    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, pixels.data())) return "unreadable";
+    Rgb8Picture picture;
+    try {
+        picture = read_rgb8(path);
+    } catch (const std::runtime_error&) {
+        return "unreadable";
+    }
     std::uint64_t h = 1469598103934665603ull;
     const auto mix = [&h](std::uint64_t byte) {
         h ^= byte;
         h *= 1099511628211ull;
     };
-    for (const int v : {spec.width, spec.height, spec.nchannels})
+    for (const int v : {picture.width, picture.height, picture.channels})
         for (int b = 0; b < 4; ++b) mix(static_cast<std::uint64_t>((v >> (8 * b)) & 0xff));
-    for (const unsigned char p : pixels) mix(p);
+    for (const unsigned char p : picture.bytes) mix(p);
     char text[17];
     std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
     return text;
