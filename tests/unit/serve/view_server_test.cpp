@@ -144,7 +144,7 @@ TEST_F(ServerTest, RefusesBadRequestsWithAReasonAndKeepsServing) {
     auto not_utf8 = change("{\"light\": \"\xff\xfe\"}");
     ASSERT_TRUE(not_utf8);
     EXPECT_EQ(not_utf8->status, 400) << not_utf8->body;
-    EXPECT_NO_THROW((void)nlohmann::json::parse(not_utf8->body)) << not_utf8->body;
+    EXPECT_TRUE(nlohmann::json::accept(not_utf8->body)) << not_utf8->body;
     // A body sent in chunks is read up to the same limit: a small change is served, a large one refused.
     const auto send_chunked = [&](const std::string& body) {
         return client().Post(

@@ -142,7 +142,7 @@ nlohmann::json hand_written_shard(std::size_t index) {
         shard["results"].push_back({{"index", point},
                                     {"scenario", point < 2 ? "a b" : "a_b"},
                                     {"varied", {{"gp.count", gps}}},
-                                    {"frames", {{{"frame", 0}, {"label", "f"}, {"metrics", {{"frame_ms", 10.0 + point}}}}}},
+                                    {"frames", {{{"frame", 0}, {"label", "f"}, {"metrics", {{"frame_ms", 10.0 + static_cast<double>(point)}}}}}},
                                     {"parameters", {{"gp.count", std::stoi(gps)}}}});
     }
     shard["shard"] = {{"index", index}, {"count", 2}};
