@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <vector>
 
 namespace pp5 {
 
@@ -59,17 +60,24 @@ PermRecordShading::PermRecordShading(Machine& machine, const PermStructure& stru
     pp5::parallel_for(std::size_t{0}, renderers.size(), [&](std::size_t r) {
         PpArray& array = renderers[r]->array();
         const auto pps = static_cast<std::uint64_t>(array.size());
+        // The record fields of the slot being filled: value, then the gradient's three axes.
+        std::vector<PpBackingWriter> fields;
         std::uint64_t e = 0;
         for (const std::uint32_t candidate : records_[r])
             for (int position = 0; position < per_record_; ++position, ++e) {
                 const PermStructure::Sample s = structure_.at_density_position(candidate, position);
                 const int pp = static_cast<int>(e % pps);
-                const int base = static_cast<int>(e / pps) * layout_.bits();
-                array.write_backing(pp, base + layout_.value_offset(), layout_.value_bits,
-                                    static_cast<std::uint64_t>(quantization_.value_code(s.value)));
+                if (pp == 0) {
+                    const int base = static_cast<int>(e / pps) * layout_.bits();
+                    fields = {array.backing_writer(base + layout_.value_offset(), layout_.value_bits),
+                              array.backing_writer(base + layout_.gradient_offset(0), layout_.gradient_bits),
+                              array.backing_writer(base + layout_.gradient_offset(1), layout_.gradient_bits),
+                              array.backing_writer(base + layout_.gradient_offset(2), layout_.gradient_bits)};
+                }
+                fields[0].write(pp, static_cast<std::uint64_t>(quantization_.value_code(s.value)));
                 for (int axis = 0; axis < 3; ++axis)
-                    array.write_backing(pp, base + layout_.gradient_offset(axis), layout_.gradient_bits,
-                                        static_cast<std::uint64_t>(quantization_.gradient_code(s.gradient[axis])) & mask(layout_.gradient_bits));
+                    fields[static_cast<std::size_t>(axis) + 1].write(
+                        pp, static_cast<std::uint64_t>(quantization_.gradient_code(s.gradient[axis])) & mask(layout_.gradient_bits));
             }
         renderers[r]->set_backing_store_bits_used(static_cast<std::uint64_t>(slots_[r]) * static_cast<std::uint64_t>(layout_.bits()));
     });
@@ -114,15 +122,22 @@ void PermRecordShading::read_back() {
     pp5::parallel_for(std::size_t{0}, renderers.size(), [&](std::size_t r) {
         const PpArray& array = renderers[r]->array();
         const auto pps = static_cast<std::uint64_t>(array.size());
+        // The shaded fields of the slot being read: red, green, blue, opacity.
+        std::vector<PpBackingReader> channels;
         std::uint64_t e = 0;
         for (const std::uint32_t candidate : records_[r])
             for (int position = 0; position < per_record_; ++position, ++e) {
                 const int pp = static_cast<int>(e % pps);
-                const int base = static_cast<int>(e / pps) * layout_.bits();
+                if (pp == 0) {
+                    const int base = static_cast<int>(e / pps) * layout_.bits();
+                    channels = {array.backing_reader(base + layout_.color_offset(0), layout_.color_bits),
+                                array.backing_reader(base + layout_.color_offset(1), layout_.color_bits),
+                                array.backing_reader(base + layout_.color_offset(2), layout_.color_bits),
+                                array.backing_reader(base + layout_.opacity_offset(), layout_.opacity_bits)};
+                }
                 std::uint16_t* out = &results_[(static_cast<std::uint64_t>(candidate) * static_cast<std::uint64_t>(per_record_) +
                                                 static_cast<std::uint64_t>(position)) * 4];
-                for (int c = 0; c < 3; ++c) out[c] = static_cast<std::uint16_t>(array.read_backing(pp, base + layout_.color_offset(c), layout_.color_bits));
-                out[3] = static_cast<std::uint16_t>(array.read_backing(pp, base + layout_.opacity_offset(), layout_.opacity_bits));
+                for (std::size_t c = 0; c < 4; ++c) out[c] = static_cast<std::uint16_t>(channels[c].read(pp));
             }
     });
 }

@@ -101,14 +101,17 @@ void PpShading::load_volume(const Volume& volume) {
             const SlotFrame frame = placement_.frame(renderer, slot);
             if (!frame.used) continue;
             const int base = slot * record_bits;
+            const PpBackingWriter value = array.backing_writer(base + layout.value_offset(), layout.value_bits);
+            const PpBackingWriter gradient[3] = {array.backing_writer(base + layout.gradient_offset(0), layout.gradient_bits),
+                                                 array.backing_writer(base + layout.gradient_offset(1), layout.gradient_bits),
+                                                 array.backing_writer(base + layout.gradient_offset(2), layout.gradient_bits)};
             for_each_voxel(frame, dims_, placement_.shape(), [&](int pp, glm::ivec3 v) {
                 const std::size_t i = volume.index(v.x, v.y, v.z);
-                array.write_backing(pp, base + layout.value_offset(), layout.value_bits,
-                                    static_cast<std::uint64_t>(quantization_.value_code(volume.samples()[i])));
+                value.write(pp, static_cast<std::uint64_t>(quantization_.value_code(volume.samples()[i])));
                 const glm::vec3 g = central_difference(volume, v);
                 for (int axis = 0; axis < 3; ++axis) {
                     const auto code = static_cast<std::uint64_t>(quantization_.gradient_code(g[axis]));
-                    array.write_backing(pp, base + layout.gradient_offset(axis), layout.gradient_bits, code & mask(layout.gradient_bits));
+                    gradient[axis].write(pp, code & mask(layout.gradient_bits));
                 }
             });
         }
@@ -225,11 +228,13 @@ void PpShading::read_shaded_codes(ShadedCodes& shaded) const {
             const SlotFrame frame = placement_.frame(static_cast<int>(r), slot);
             if (!frame.used) continue;
             const int base = slot * record_bits;
+            const PpBackingReader channel[4] = {array.backing_reader(base + layout.color_offset(0), layout.color_bits),
+                                                array.backing_reader(base + layout.color_offset(1), layout.color_bits),
+                                                array.backing_reader(base + layout.color_offset(2), layout.color_bits),
+                                                array.backing_reader(base + layout.opacity_offset(), layout.opacity_bits)};
             for_each_voxel(frame, dims_, placement_.shape(), [&](int pp, glm::ivec3 v) {
                 glm::u16vec4 code;
-                for (int c = 0; c < 3; ++c)
-                    code[c] = static_cast<std::uint16_t>(array.read_backing(pp, base + layout.color_offset(c), layout.color_bits));
-                code.a = static_cast<std::uint16_t>(array.read_backing(pp, base + layout.opacity_offset(), layout.opacity_bits));
+                for (int c = 0; c < 4; ++c) code[c] = static_cast<std::uint16_t>(channel[c].read(pp));
                 shaded.set(static_cast<std::size_t>(v.x) + static_cast<std::size_t>(dims_.x) *
                                (static_cast<std::size_t>(v.y) + static_cast<std::size_t>(dims_.y) * static_cast<std::size_t>(v.z)), code);
             });

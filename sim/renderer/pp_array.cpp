@@ -49,35 +49,6 @@ std::int64_t add64(std::int64_t a, std::int64_t b) { return static_cast<std::int
 std::int64_t sub64(std::int64_t a, std::int64_t b) { return static_cast<std::int64_t>(static_cast<std::uint64_t>(a) - static_cast<std::uint64_t>(b)); }
 std::int64_t mul64(std::int64_t a, std::int64_t b) { return static_cast<std::int64_t>(static_cast<std::uint64_t>(a) * static_cast<std::uint64_t>(b)); }
 
-// A bit range of every PP's backing store, the same for all PPs of a run: which word it starts in,
-// where in the word, and whether it spills into the next.
-struct BitWindow {
-    int word;
-    int shift;
-    int bits;
-    std::uint64_t mask;
-
-    BitWindow(int offset, int width)
-        : word(offset / 64), shift(offset % 64), bits(width), mask(width >= 64 ? ~0ull : (1ull << width) - 1) {}
-    bool straddles() const { return shift + bits > 64; }
-    std::uint64_t high_mask() const { return (1ull << (shift + bits - 64)) - 1; }
-
-    // The store is word-major (word w of PP p at store[w * pps + p]), so one window over all PPs
-    // reads memory in order.
-    std::uint64_t read(const std::uint64_t* store, std::size_t pps, std::size_t p) const {
-        const std::uint64_t* low = store + static_cast<std::size_t>(word) * pps + p;
-        std::uint64_t v = *low >> shift;
-        if (straddles()) v |= low[pps] << (64 - shift);
-        return v & mask;
-    }
-    void write(std::uint64_t* store, std::size_t pps, std::size_t p, std::uint64_t value) const {
-        std::uint64_t* low = store + static_cast<std::size_t>(word) * pps + p;
-        value &= mask;
-        *low = (*low & ~(mask << shift)) | (value << shift);
-        if (straddles()) low[pps] = (low[pps] & ~high_mask()) | (value >> (64 - shift));
-    }
-};
-
 // dst[p] = wrap(value(p)) on every enabled PP; a disabled PP keeps its value. Both loops are plain
 // loops over contiguous arrays that GCC vectorises.
 template <class WrapTo, class Value>
@@ -190,19 +161,24 @@ PpArray::PpArray(int columns, int rows, int local_memory_bits, int backing_store
 }
 
 void PpArray::write_backing(int pp, int bit_offset, int bits, std::uint64_t value) {
-    check_backing_access(pp, bit_offset, bits);
-    BitWindow(bit_offset, bits).write(backing_.get(), static_cast<std::size_t>(size()), static_cast<std::size_t>(pp), value);
+    backing_writer(bit_offset, bits).write(pp, value);
 }
 
-std::uint64_t PpArray::read_backing(int pp, int bit_offset, int bits) const {
-    check_backing_access(pp, bit_offset, bits);
-    return BitWindow(bit_offset, bits).read(backing_.get(), static_cast<std::size_t>(size()), static_cast<std::size_t>(pp));
+std::uint64_t PpArray::read_backing(int pp, int bit_offset, int bits) const { return backing_reader(bit_offset, bits).read(pp); }
+
+PpBackingReader PpArray::backing_reader(int bit_offset, int bits) const {
+    check_backing_range(bit_offset, bits);
+    return {backing_.get(), static_cast<std::size_t>(size()), bit_offset, bits};
 }
 
-void PpArray::check_backing_access(int pp, int bit_offset, int bits) const {
-    if (pp < 0 || pp >= size() || bits < 1 || bits > 64 || bit_offset < 0 || bit_offset > backing_store_bits_ - bits) {
-        throw std::out_of_range(fmt::format("PP backing store: {} bits at {} of PP {} (store of {} bits, {} PPs)", bits,
-                                            bit_offset, pp, backing_store_bits_, size()));
+PpBackingWriter PpArray::backing_writer(int bit_offset, int bits) {
+    check_backing_range(bit_offset, bits);
+    return {backing_.get(), static_cast<std::size_t>(size()), bit_offset, bits};
+}
+
+void PpArray::check_backing_range(int bit_offset, int bits) const {
+    if (bits < 1 || bits > 64 || bit_offset < 0 || bit_offset > backing_store_bits_ - bits) {
+        throw std::out_of_range(fmt::format("PP backing store: {} bits at {} (store of {} bits)", bits, bit_offset, backing_store_bits_));
     }
 }
 
@@ -423,7 +399,7 @@ PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context)
                     break;
                 case PpOp::Load: {
                     // dst.bits bits at record_base_bit + record_offset; sign-extended by the wrap when signed.
-                    const BitWindow window(context.record_base_bit + in.record_offset, dst_field->bits);
+                    const PpBitWindow window(context.record_base_bit + in.record_offset, dst_field->bits);
                     for_enabled(n, en, all, dst, wrap, [&](std::size_t p) {
                         return static_cast<std::int64_t>(window.read(store, total, first + p));
                     });
@@ -431,7 +407,7 @@ PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context)
                 }
                 case PpOp::Store: {
                     // The low a.bits bits of a; a disabled PP's backing store is left as it was.
-                    const BitWindow window(context.record_base_bit + in.record_offset,
+                    const PpBitWindow window(context.record_base_bit + in.record_offset,
                                            program.fields[static_cast<std::size_t>(in.a)].bits);
                     std::uint64_t* low = store + static_cast<std::size_t>(window.word) * total + first;
                     const std::uint64_t low_mask = window.mask << window.shift;

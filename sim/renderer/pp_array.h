@@ -7,6 +7,7 @@
 // Every write is masked by the enable bit, as on the hardware: a PP that is disabled keeps its old
 // field values.
 
+#include "sim/renderer/pp_backing_window.h"
 #include "sim/renderer/pp_program.h"
 
 #include <cstdint>
@@ -52,6 +53,10 @@ public:
     // Throws std::out_of_range past the store's end; bits in 1..64.
     void write_backing(int pp, int bit_offset, int bits, std::uint64_t value);
     std::uint64_t read_backing(int pp, int bit_offset, int bits) const;
+    // The same bits of every PP, checked once, for reading or writing PP after PP. Throws
+    // std::out_of_range past the store's end; bits in 1..64.
+    PpBackingReader backing_reader(int bit_offset, int bits) const;
+    PpBackingWriter backing_writer(int bit_offset, int bits);
 
     // Runs the program once over every PP (the enable bit starts set on every PP). Throws
     // std::invalid_argument if the program needs more local memory than the array has, more QEE
@@ -62,7 +67,7 @@ public:
     std::span<const std::int64_t> field_values(const PpField& field) const;
 
 private:
-    void check_backing_access(int pp, int bit_offset, int bits) const;
+    void check_backing_range(int bit_offset, int bits) const;
 
     int columns_;
     int rows_;

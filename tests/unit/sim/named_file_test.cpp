@@ -1,13 +1,12 @@
 #include "sim/core/input_error.h"
 #include "sim/core/named_file.h"
+#include "tests/support/temp_dir.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 #include <string>
-
-#include <unistd.h>
 
 namespace pp5 {
 namespace {
@@ -16,12 +15,7 @@ namespace fs = std::filesystem;
 
 class NamedFile : public ::testing::Test {
 protected:
-    void SetUp() override {
-        dir = dir_text;
-        fs::remove_all(dir);
-        fs::create_directories(dir);
-        std::ofstream(dir / "sphere.toml") << "# a preset\n";
-    }
+    void SetUp() override { std::ofstream(dir / "sphere.toml") << "# a preset\n"; }
     std::string why(const std::string& name) const {
         const NamedFileSearch search{"PP5_NAMED_FILE_TEST_UNSET", dir_text.c_str(), "scenario", "the test's folder"};
         try {
@@ -31,9 +25,9 @@ protected:
         }
         return "found";
     }
-    fs::path dir;
-    // Each test process its own folder: ctest -j runs this fixture's tests side by side.
-    std::string dir_text = (fs::temp_directory_path() / ("pp5_named_file_test_" + std::to_string(::getpid()))).string();
+    test::TempDir scratch;
+    fs::path dir = scratch.path();
+    std::string dir_text = dir.string();
 };
 
 TEST_F(NamedFile, APresetByNameAMissOnlyWithASuggestionAndALoopAsUnreadable) {
