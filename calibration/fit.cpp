@@ -14,8 +14,8 @@
 #include <fstream>
 #include <limits>
 #include <map>
-#include <set>
 #include <mutex>
+#include <set>
 #include <sstream>
 
 namespace pp5 {
@@ -57,8 +57,8 @@ CalibrationScales scales_from(const std::map<std::string, double>& values, const
 // One machine's fit: its fitted targets and which scales are free.
 class MachineFit {
 public:
-    MachineFit(const CalibrationModel& model, std::string machine, std::vector<const Target*> targets, CalibrationScales start,
-               std::vector<int> free, std::vector<ScaleBounds> bounds)
+    MachineFit(const CalibrationModel& model, std::string machine, std::vector<const Target*> targets,
+               CalibrationScales start, std::vector<int> free, std::vector<ScaleBounds> bounds)
         : model_(model),
           machine_(std::move(machine)),
           targets_(std::move(targets)),
@@ -89,11 +89,13 @@ public:
     // (a robust loss's down-weighting would otherwise inflate the standard errors of a poor fit twice).
     std::unique_ptr<ceres::Problem> problem(std::vector<double>& x, bool robust) const {
         auto problem = std::make_unique<ceres::Problem>();
-        problem->AddResidualBlock(new Residuals(*this, static_cast<int>(x.size())), robust ? new ceres::CauchyLoss(kLossScale) : nullptr,
-                                  x.data());
+        problem->AddResidualBlock(new Residuals(*this, static_cast<int>(x.size())),
+                                  robust ? new ceres::CauchyLoss(kLossScale) : nullptr, x.data());
         for (std::size_t i = 0; i < x.size(); ++i) {
-            problem->SetParameterLowerBound(x.data(), static_cast<int>(i), std::log(bounds_[static_cast<std::size_t>(free_[i])].lower));
-            problem->SetParameterUpperBound(x.data(), static_cast<int>(i), std::log(bounds_[static_cast<std::size_t>(free_[i])].upper));
+            problem->SetParameterLowerBound(x.data(), static_cast<int>(i),
+                                            std::log(bounds_[static_cast<std::size_t>(free_[i])].lower));
+            problem->SetParameterUpperBound(x.data(), static_cast<int>(i),
+                                            std::log(bounds_[static_cast<std::size_t>(free_[i])].upper));
         }
         return problem;
     }
@@ -162,7 +164,8 @@ private:
             {
                 const std::lock_guard<std::mutex> lock(last_mutex_);
                 if (last_x_ == x)
-                    for (std::size_t p = 0; p < values.size() && p < last_values_.size(); ++p) values[p] = last_values_[p];
+                    for (std::size_t p = 0; p < values.size() && p < last_values_.size(); ++p)
+                        values[p] = last_values_[p];
             }
             pp5::parallel_for(std::size_t{0}, points.size(), [&](std::size_t p) {
                 if (values[p].empty()) values[p] = fit_.residuals(fit_.scales(points[p].data()));
@@ -196,7 +199,7 @@ private:
     std::vector<const Target*> targets_;
     CalibrationScales start_;
     std::vector<int> free_;
-    std::vector<ScaleBounds> bounds_;  // every scale's, in kScales' order
+    std::vector<ScaleBounds> bounds_;          // every scale's, in kScales' order
     mutable std::atomic<int> simulations_{0};  // the targets simulated so far (a Jacobian's run side by side)
 };
 
@@ -229,8 +232,9 @@ std::vector<ScaleBounds> bounds_of(const MachineConfig& config) {
 }
 
 // `provenance` overrides the bounds' own source (for scales that are given, not fitted).
-std::vector<FittedParameter> initial_parameters(const std::string& machine, const MachineConfig& config, const CalibrationScales& start,
-                                                bool free, const std::string& provenance = {}) {
+std::vector<FittedParameter> initial_parameters(const std::string& machine, const MachineConfig& config,
+                                                const CalibrationScales& start, bool free,
+                                                const std::string& provenance = {}) {
     const std::vector<ScaleBounds> bounds = bounds_of(config);
     std::vector<FittedParameter> params;
     for (std::size_t i = 0; i < std::size(kScales); ++i) {
@@ -273,14 +277,16 @@ void evaluate_all(const CalibrationModel& model, FitReport& report) {
     }
 }
 
-
-bool ratio_uses(const WorkloadSpec& spec, const std::string& id) { return spec.numerator == id || spec.denominator == id; }
+bool ratio_uses(const WorkloadSpec& spec, const std::string& id) {
+    return spec.numerator == id || spec.denominator == id;
+}
 
 // The workload parameters the model's recording was made with that came from `machine`'s rows.
 int workload_parameters_from(const CalibrationModel& model, const std::string& machine) {
     int count = 0;
     for (const WorkloadSpec& spec : model.targets().workload) {
-        const bool identified = std::any_of(model.workload().begin(), model.workload().end(), [&](const WorkloadSetting& w) { return w.key == spec.key; });
+        const bool identified = std::any_of(model.workload().begin(), model.workload().end(),
+                                            [&](const WorkloadSetting& w) { return w.key == spec.key; });
         const Target* row = model.targets().find(spec.numerator);
         count += identified && row != nullptr && row->machine == machine;
     }
@@ -290,8 +296,8 @@ int workload_parameters_from(const CalibrationModel& model, const std::string& m
 // A fitted row predicted by a fit that never saw it. When the workload step used the row, the step runs
 // again without it: parameters identified from its ratio keep the machine file's value, the others are
 // identified afresh, and the machine's rows are recorded anew with what that gives.
-TargetResult predict_left_out(const CalibrationModel& model, const MachineFit& full, std::size_t k, const FitOptions& options,
-                              const std::function<void(const std::string&)>& say) {
+TargetResult predict_left_out(const CalibrationModel& model, const MachineFit& full, std::size_t k,
+                              const FitOptions& options, const std::function<void(const std::string&)>& say) {
     const std::vector<const Target*>& targets = full.targets();
     const Target& left = *targets[k];
     TargetResult result;
@@ -300,14 +306,15 @@ TargetResult predict_left_out(const CalibrationModel& model, const MachineFit& f
     for (std::size_t i = 0; i < targets.size(); ++i)
         if (i != k) rest.push_back(targets[i]);
     if (rest.size() < full.free().size()) {
-        result.leave_one_out_note = fmt::format("not possible: {} targets left for {} scales", rest.size(), full.free().size());
+        result.leave_one_out_note =
+            fmt::format("not possible: {} targets left for {} scales", rest.size(), full.free().size());
         return result;
     }
     say(fmt::format("{}: leave-one-out: refitting without {}", full.machine(), left.id));
 
-    const bool workload_row = !model.workload().empty() &&
-                              std::any_of(model.targets().workload.begin(), model.targets().workload.end(),
-                                          [&](const WorkloadSpec& spec) { return ratio_uses(spec, left.id); });
+    const bool workload_row =
+        !model.workload().empty() && std::any_of(model.targets().workload.begin(), model.targets().workload.end(),
+                                                 [&](const WorkloadSpec& spec) { return ratio_uses(spec, left.id); });
     std::unique_ptr<CalibrationModel> rerecorded;
     const CalibrationModel* basis = &model;
     if (workload_row) {
@@ -326,11 +333,13 @@ TargetResult predict_left_out(const CalibrationModel& model, const MachineFit& f
         rows.file = model.targets().file;
         rows.name = model.targets().name;
         for (const Target* t : targets) rows.targets.push_back(*t);
-        rerecorded = std::make_unique<CalibrationModel>(rows, recording_machine(model.targets()), workload_settings(again));
+        rerecorded =
+            std::make_unique<CalibrationModel>(rows, recording_machine(model.targets()), workload_settings(again));
         basis = rerecorded.get();
         std::string note = "workload step rerun without it:";
         for (const IdentifiedWorkload& w : again) note += fmt::format(" {} = {:.4g};", w.spec.key, w.value);
-        for (const std::string& key : fallen) note += fmt::format(" {} at the machine file's value (its ratio needs this row);", key);
+        for (const std::string& key : fallen)
+            note += fmt::format(" {} at the machine file's value (its ratio needs this row);", key);
         note.pop_back();
         result.leave_one_out_note = note;
         // The rows as the re-recorded model holds them (the same rows, its own copies).
@@ -341,17 +350,18 @@ TargetResult predict_left_out(const CalibrationModel& model, const MachineFit& f
     const MachineFit partial = full.on(*basis, rest);
     std::vector<double> y = partial.log_start();
     const ceres::Solver::Summary refit = partial.solve(y, options.max_iterations);
-    say(fmt::format("{}: leave-one-out without {}: {} iterations, {} simulations; {}", full.machine(), left.id, refit.iterations.size(),
-                    partial.simulations(), refit.termination_type == ceres::CONVERGENCE ? "converged" : "not converged: " + refit.message));
+    say(fmt::format("{}: leave-one-out without {}: {} iterations, {} simulations; {}", full.machine(), left.id,
+                    refit.iterations.size(), partial.simulations(),
+                    refit.termination_type == ceres::CONVERGENCE ? "converged" : "not converged: " + refit.message));
     const Target* predicted_row = basis->targets().find(left.id);
     const double predicted = basis->simulate(full.machine(), partial.scales(y.data()), {predicted_row}).front();
     result.leave_one_out = predicted;
     result.leave_one_out_error = (predicted - left.reported) / left.reported;
     if (rest.size() == full.free().size())
-        result.leave_one_out_note += (result.leave_one_out_note.empty() ? "" : "; ") + std::string("the rest determine the scales exactly");
+        result.leave_one_out_note +=
+            (result.leave_one_out_note.empty() ? "" : "; ") + std::string("the rest determine the scales exactly");
     return result;
 }
-
 
 // Each simulated row's 95% interval from the fitted scales' covariance: var(ln y) = J C J^T, with J the
 // row's elasticities to the free scales (central differences of 5% in the logarithm, as the fit's own
@@ -364,13 +374,15 @@ void add_fit_intervals(const CalibrationModel& model, FitReport& report) {
         std::vector<TargetResult*> rows;
         std::vector<const Target*> targets;
         for (TargetResult& r : report.results)
-            if (!r.target.is_formula() && r.target.machine == f.machine) rows.push_back(&r), targets.push_back(&r.target);
+            if (!r.target.is_formula() && r.target.machine == f.machine)
+                rows.push_back(&r), targets.push_back(&r.target);
         const CalibrationScales at = report.scales(f.machine);
         const std::size_t n = f.free_keys.size();
         std::vector<std::vector<double>> runs(2 * n);
         pp5::parallel_for(std::size_t{0}, runs.size(), [&](std::size_t run) {
             CalibrationScales moved = at;
-            const auto spec = std::find_if(std::begin(kScales), std::end(kScales), [&](const ScaleSpec& s) { return key_of(s) == f.free_keys[run / 2]; });
+            const auto spec = std::find_if(std::begin(kScales), std::end(kScales),
+                                           [&](const ScaleSpec& s) { return key_of(s) == f.free_keys[run / 2]; });
             moved.*spec->member *= std::exp(run % 2 == 0 ? kLogStep : -kLogStep);
             runs[run] = model.simulate(f.machine, moved, targets);
         });
@@ -432,7 +444,8 @@ std::string_view describe(RowGroup group) {
 }
 
 bool FitReport::used_by_workload(const Target& target) const {
-    return std::any_of(workload.begin(), workload.end(), [&](const IdentifiedWorkload& w) { return ratio_uses(w.spec, target.id); });
+    return std::any_of(workload.begin(), workload.end(),
+                       [&](const IdentifiedWorkload& w) { return ratio_uses(w.spec, target.id); });
 }
 
 RowGroup FitReport::group_of(const Target& target) const {
@@ -482,8 +495,10 @@ FitReport evaluate_targets(const CalibrationModel& model, const std::map<std::st
         if (!t.is_formula()) machines.insert(t.machine);
     for (const std::string& machine : machines) {
         const auto it = scales.find(machine);
-        const CalibrationScales s = it != scales.end() ? it->second : CalibrationScales::from(model.base_config(machine));
-        const std::vector<FittedParameter> given = initial_parameters(machine, model.base_config(machine), s, false, "given, not fitted");
+        const CalibrationScales s =
+            it != scales.end() ? it->second : CalibrationScales::from(model.base_config(machine));
+        const std::vector<FittedParameter> given =
+            initial_parameters(machine, model.base_config(machine), s, false, "given, not fitted");
         report.parameters.insert(report.parameters.end(), given.begin(), given.end());
     }
     evaluate_all(model, report);
@@ -535,8 +550,10 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
             const std::vector<double>& sim = runs[static_cast<std::size_t>(j) + 1];
             for (std::size_t i = 0; i < targets.size(); ++i) {
                 const double elasticity = std::log(sim[i] / base[i]) / std::log(1.1);
-                columns[static_cast<std::size_t>(j)].push_back(elasticity / relative_uncertainty(targets[i]->exactness));
-                max_elasticity[static_cast<std::size_t>(j)] = std::max(max_elasticity[static_cast<std::size_t>(j)], std::abs(elasticity));
+                columns[static_cast<std::size_t>(j)].push_back(elasticity /
+                                                               relative_uncertainty(targets[i]->exactness));
+                max_elasticity[static_cast<std::size_t>(j)] =
+                    std::max(max_elasticity[static_cast<std::size_t>(j)], std::abs(elasticity));
             }
         }
         std::vector<int> free;
@@ -545,7 +562,8 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
                 params[static_cast<std::size_t>(j)].free = false;
                 params[static_cast<std::size_t>(j)].note = fmt::format(
                     "not identifiable: a 10% change moves no fitted target by more than {:.2f}%; held at {}",
-                    100.0 * (std::pow(1.1, max_elasticity[static_cast<std::size_t>(j)]) - 1.0), params[static_cast<std::size_t>(j)].value);
+                    100.0 * (std::pow(1.1, max_elasticity[static_cast<std::size_t>(j)]) - 1.0),
+                    params[static_cast<std::size_t>(j)].value);
                 continue;
             }
             free.push_back(j);
@@ -565,8 +583,9 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
         };
         for (std::size_t a = 0; a < free.size(); ++a)
             for (std::size_t b = a + 1; b < free.size(); ++b)
-                report.notes.push_back(fmt::format("{}: {} and {} move the fitted targets alike with cosine {:.3f} (at the start)", machine,
-                                                   key_of(kScales[free[a]]), key_of(kScales[free[b]]), cosine_of(free[a], free[b])));
+                report.notes.push_back(fmt::format(
+                    "{}: {} and {} move the fitted targets alike with cosine {:.3f} (at the start)", machine,
+                    key_of(kScales[free[a]]), key_of(kScales[free[b]]), cosine_of(free[a], free[b])));
         for (bool dropped = true; dropped;) {  // drop the weaker of the most nearly parallel pair, until none is
             dropped = false;
             double worst = kCollinearCosine;
@@ -576,7 +595,8 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
                     const double cosine = std::abs(cosine_of(free[a], free[b]));
                     if (cosine < worst) continue;
                     worst = cosine;
-                    const bool a_weaker = norm(columns[static_cast<std::size_t>(free[a])]) < norm(columns[static_cast<std::size_t>(free[b])]);
+                    const bool a_weaker = norm(columns[static_cast<std::size_t>(free[a])]) <
+                                          norm(columns[static_cast<std::size_t>(free[b])]);
                     weaker = a_weaker ? a : b;
                     stronger = a_weaker ? b : a;
                     dropped = true;
@@ -585,18 +605,20 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
             if (!dropped) break;
             FittedParameter& p = params[static_cast<std::size_t>(free[weaker])];
             p.free = false;
-            p.note = fmt::format("not identifiable apart from {}: the targets respond to both alike (cosine {:.3f}); held at {}",
-                                 key_of(kScales[free[stronger]]), worst, p.value);
+            p.note = fmt::format(
+                "not identifiable apart from {}: the targets respond to both alike (cosine {:.3f}); held at {}",
+                key_of(kScales[free[stronger]]), worst, p.value);
             free.erase(free.begin() + static_cast<std::ptrdiff_t>(weaker));
         }
         // Fewer free scales than half the fitted targets, so no scale is pinned by one figure alone: while
         // there are more, the one that moves the targets least is held.
         const std::size_t allowed = (targets.size() - 1) / 2;
         if (!free.empty() && allowed == 0) {
-            throw InputError(model.targets().file.string(), "targets",
-                             fmt::format("machine {} has {} fitted target(s); a fit frees fewer scales than half its targets, so it "
-                                         "needs at least 3 (mark more rows use = \"fit\")",
-                                         machine, targets.size()));
+            throw InputError(
+                model.targets().file.string(), "targets",
+                fmt::format("machine {} has {} fitted target(s); a fit frees fewer scales than half its targets, so it "
+                            "needs at least 3 (mark more rows use = \"fit\")",
+                            machine, targets.size()));
         }
         while (free.size() > allowed) {
             const auto weakest = std::min_element(free.begin(), free.end(), [&](int a, int b) {
@@ -604,9 +626,10 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
             });
             FittedParameter& p = params[static_cast<std::size_t>(*weakest)];
             p.free = false;
-            p.note = fmt::format("held at {}: {} fitted targets allow at most {} free scale(s) (fewer than half), and this one moves "
-                                 "them least",
-                                 p.value, targets.size(), allowed);
+            p.note = fmt::format(
+                "held at {}: {} fitted targets allow at most {} free scale(s) (fewer than half), and this one moves "
+                "them least",
+                p.value, targets.size(), allowed);
             free.erase(weakest);
         }
         if (free.empty()) {
@@ -619,9 +642,10 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
         say(fmt::format("{}: fitting {} scales to {} targets", machine, free.size(), targets.size()));
         const ceres::Solver::Summary summary = fit.solve(x, options.max_iterations);
         const std::unique_ptr<ceres::Problem> plain = fit.problem(x, false);
-        report.notes.push_back(fmt::format("{}: {} iterations, {} residual evaluations, final cost {:.4g} (from {:.4g}); {}", machine,
-                                           summary.iterations.size(), summary.num_residual_evaluations, summary.final_cost,
-                                           summary.initial_cost, summary.message));
+        report.notes.push_back(
+            fmt::format("{}: {} iterations, {} residual evaluations, final cost {:.4g} (from {:.4g}); {}", machine,
+                        summary.iterations.size(), summary.num_residual_evaluations, summary.final_cost,
+                        summary.initial_cost, summary.message));
 
         // Standard errors: Ceres' covariance at the solution, widened when the residuals spread more than
         // their sources' stated uncertainty (reduced chi-square above 1). The rows the workload step
@@ -629,8 +653,13 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
         const std::vector<double> r = fit.residuals(fit.scales(x.data()));
         double chi2 = 0;
         for (double v : r) chi2 += v * v;
-        MachineFreedom freedom{machine, static_cast<int>(targets.size()), static_cast<int>(free.size()), workload_parameters_from(model, machine),
-                               std::numeric_limits<double>::quiet_NaN(), {}, {}};
+        MachineFreedom freedom{machine,
+                               static_cast<int>(targets.size()),
+                               static_cast<int>(free.size()),
+                               workload_parameters_from(model, machine),
+                               std::numeric_limits<double>::quiet_NaN(),
+                               {},
+                               {}};
         if (freedom.degrees_of_freedom() > 0) freedom.reduced_chi_square = chi2 / freedom.degrees_of_freedom();
         const double spread = std::isfinite(freedom.reduced_chi_square) ? freedom.reduced_chi_square : 1.0;
         ceres::Covariance::Options cov_options;
@@ -639,7 +668,8 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
         ceres::Covariance covariance(cov_options);
         std::vector<double> cov(x.size() * x.size(), std::numeric_limits<double>::quiet_NaN());
         const std::vector<std::pair<const double*, const double*>> blocks{{x.data(), x.data()}};
-        const bool have_cov = covariance.Compute(blocks, plain.get()) && covariance.GetCovarianceBlock(x.data(), x.data(), cov.data());
+        const bool have_cov =
+            covariance.Compute(blocks, plain.get()) && covariance.GetCovarianceBlock(x.data(), x.data(), cov.data());
         if (have_cov) {
             for (const int j : free) freedom.free_keys.push_back(key_of(kScales[j]));
             for (const double c : cov) freedom.log_covariance.push_back(c * std::max(1.0, spread));
@@ -649,30 +679,37 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
             FittedParameter& p = params[static_cast<std::size_t>(free[i])];
             // The covariance is of the logarithm; to first order the scale's error is the value times it.
             p.value = std::exp(x[i]);
-            p.standard_error =
-                have_cov ? p.value * std::sqrt(cov[i * x.size() + i] * std::max(1.0, spread)) : std::numeric_limits<double>::quiet_NaN();
+            p.standard_error = have_cov ? p.value * std::sqrt(cov[i * x.size() + i] * std::max(1.0, spread))
+                                        : std::numeric_limits<double>::quiet_NaN();
             p.at_bound = std::abs(p.value - p.lower) < 1e-6 * p.lower || std::abs(p.value - p.upper) < 1e-6 * p.upper;
             // A scale held by its physical range is a finding about the model, not a fitted value: the
             // targets want a machine the hardware could not be.
             if (p.at_bound)
-                p.note = fmt::format("at its {} bound, a finding: the targets ask for a machine {} than this range allows ({}); its "
-                                     "standard error means little",
-                                     p.value <= p.lower * (1 + 1e-6) ? "lower" : "upper",
-                                     p.value <= p.lower * (1 + 1e-6) ? "faster" : "slower", p.provenance);
+                p.note = fmt::format(
+                    "at its {} bound, a finding: the targets ask for a machine {} than this range allows ({}); its "
+                    "standard error means little",
+                    p.value <= p.lower * (1 + 1e-6) ? "lower" : "upper",
+                    p.value <= p.lower * (1 + 1e-6) ? "faster" : "slower", p.provenance);
             else if (std::isfinite(p.standard_error) && p.standard_error > 0.5 * p.value)
-                p.note = fmt::format("poorly determined: the standard error is {:.0f}% of the value", 100.0 * p.standard_error / p.value);
-            if (!have_cov) p.note += (p.note.empty() ? "" : "; ") + std::string("covariance not computable (rank-deficient Jacobian)");
+                p.note = fmt::format("poorly determined: the standard error is {:.0f}% of the value",
+                                     100.0 * p.standard_error / p.value);
+            if (!have_cov)
+                p.note +=
+                    (p.note.empty() ? "" : "; ") + std::string("covariance not computable (rank-deficient Jacobian)");
         }
         report.notes.push_back(
             freedom.degrees_of_freedom() > 0
-                ? fmt::format("{}: residual spread (reduced chi-square) {:.3g} on {} degrees of freedom ({} rows, {} free scales, {} workload "
+                ? fmt::format("{}: residual spread (reduced chi-square) {:.3g} on {} degrees of freedom ({} rows, {} "
+                              "free scales, {} workload "
                               "parameters)",
-                              machine, freedom.reduced_chi_square, freedom.degrees_of_freedom(), freedom.rows, freedom.free_scales,
-                              freedom.workload_parameters)
-                : fmt::format("{}: no degrees of freedom ({} rows, {} free scales, {} workload parameters): the rows determine the "
-                              "parameters exactly, so they test nothing, and the standard errors come from the rows' stated "
-                              "uncertainties alone",
-                              machine, freedom.rows, freedom.free_scales, freedom.workload_parameters));
+                              machine, freedom.reduced_chi_square, freedom.degrees_of_freedom(), freedom.rows,
+                              freedom.free_scales, freedom.workload_parameters)
+                : fmt::format(
+                      "{}: no degrees of freedom ({} rows, {} free scales, {} workload parameters): the rows determine "
+                      "the "
+                      "parameters exactly, so they test nothing, and the standard errors come from the rows' stated "
+                      "uncertainties alone",
+                      machine, freedom.rows, freedom.free_scales, freedom.workload_parameters));
 
         // Leave one out: refit without each fitted target, from the same start as the full fit (not from
         // its answer, which has seen the target), and predict it. The refits are independent: they run
@@ -696,7 +733,8 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
     add_fit_intervals(model, report);
     // The uncalibrated value beside each fitted one: what the documented costs alone give.
     const FitReport given = evaluate_targets(model, {});
-    for (std::size_t i = 0; i < report.results.size() && i < given.results.size(); ++i) report.results[i].uncalibrated = given.results[i].simulated;
+    for (std::size_t i = 0; i < report.results.size() && i < given.results.size(); ++i)
+        report.results[i].uncalibrated = given.results[i].simulated;
     report.host_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     return report;
 }
@@ -705,28 +743,37 @@ nlohmann::json FitReport::to_json() const {
     const auto nan_to_null = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
     nlohmann::json params = nlohmann::json::array();
     for (const FittedParameter& p : parameters) {
-        params.push_back({{"machine", p.machine}, {"key", p.key}, {"value", p.value}, {"standard_error", nan_to_null(p.standard_error)},
-                          {"lower", p.lower}, {"upper", p.upper}, {"free", p.free}, {"at_bound", p.at_bound},
-                          {"provenance", p.provenance}, {"note", p.note}});
+        params.push_back({{"machine", p.machine},
+                          {"key", p.key},
+                          {"value", p.value},
+                          {"standard_error", nan_to_null(p.standard_error)},
+                          {"lower", p.lower},
+                          {"upper", p.upper},
+                          {"free", p.free},
+                          {"at_bound", p.at_bound},
+                          {"provenance", p.provenance},
+                          {"note", p.note}});
     }
     nlohmann::json rows = nlohmann::json::array();
     for (const TargetResult& r : results) {
-        nlohmann::json row{{"id", r.target.id},
-                           {"source", r.target.source},
-                           {"quote", r.target.quote},
-                           {"scenario", r.target.scenario},
-                           {"frame", r.target.frame},
-                           {"machine", r.target.machine},
-                           {"metric", r.target.metric},
-                           {"divided_by_frame", r.target.divided_by_frame >= 0 ? nlohmann::json(r.target.divided_by_frame) : nlohmann::json(nullptr)},
-                           {"unit", r.target.unit},
-                           {"reported", r.target.reported},
-                           {"exactness", std::string(to_string(r.target.exactness))},
-                           {"simulated", r.simulated},
-                           {"relative_error", r.relative_error},
-                           {"use", std::string(to_string(r.target.use))},
-                           {"group", std::string(to_string(group_of(r.target)))},
-                           {"used_by_workload_step", used_by_workload(r.target)}};
+        nlohmann::json row{
+            {"id", r.target.id},
+            {"source", r.target.source},
+            {"quote", r.target.quote},
+            {"scenario", r.target.scenario},
+            {"frame", r.target.frame},
+            {"machine", r.target.machine},
+            {"metric", r.target.metric},
+            {"divided_by_frame",
+             r.target.divided_by_frame >= 0 ? nlohmann::json(r.target.divided_by_frame) : nlohmann::json(nullptr)},
+            {"unit", r.target.unit},
+            {"reported", r.target.reported},
+            {"exactness", std::string(to_string(r.target.exactness))},
+            {"simulated", r.simulated},
+            {"relative_error", r.relative_error},
+            {"use", std::string(to_string(r.target.use))},
+            {"group", std::string(to_string(group_of(r.target)))},
+            {"used_by_workload_step", used_by_workload(r.target)}};
         if (r.target.is_formula()) {
             row["kernel"] = r.target.kernel;
             row["formula"] = r.target.formula;
@@ -739,7 +786,8 @@ nlohmann::json FitReport::to_json() const {
         row["simulated_low"] = r.low ? nlohmann::json(*r.low) : nlohmann::json(nullptr);
         row["simulated_high"] = r.high ? nlohmann::json(*r.high) : nlohmann::json(nullptr);
         row["leave_one_out"] = r.leave_one_out ? nlohmann::json(*r.leave_one_out) : nlohmann::json(nullptr);
-        row["leave_one_out_error"] = r.leave_one_out_error ? nlohmann::json(*r.leave_one_out_error) : nlohmann::json(nullptr);
+        row["leave_one_out_error"] =
+            r.leave_one_out_error ? nlohmann::json(*r.leave_one_out_error) : nlohmann::json(nullptr);
         if (!r.leave_one_out_note.empty()) row["leave_one_out_note"] = r.leave_one_out_note;
         rows.push_back(row);
     }
@@ -753,13 +801,24 @@ nlohmann::json FitReport::to_json() const {
     };
     nlohmann::json identified = nlohmann::json::array();
     for (const IdentifiedWorkload& w : workload) {
-        identified.push_back({{"parameter", w.spec.key}, {"value", w.value}, {"machine_file_value", format_param_value(w.machine_value)},
-                              {"bounds", {w.spec.lower, w.spec.upper}}, {"ratio_of", {w.spec.numerator, w.spec.denominator}},
-                              {"reported_ratio", w.reported_ratio}, {"simulated_ratio", w.simulated_ratio}, {"trials", w.trials},
-                              {"at_bound", w.at_bound}, {"why", w.spec.why}, {"note", w.note}});
+        identified.push_back({{"parameter", w.spec.key},
+                              {"value", w.value},
+                              {"machine_file_value", format_param_value(w.machine_value)},
+                              {"bounds", {w.spec.lower, w.spec.upper}},
+                              {"ratio_of", {w.spec.numerator, w.spec.denominator}},
+                              {"reported_ratio", w.reported_ratio},
+                              {"simulated_ratio", w.simulated_ratio},
+                              {"trials", w.trials},
+                              {"at_bound", w.at_bound},
+                              {"why", w.spec.why},
+                              {"note", w.note}});
     }
-    return {{"targets", targets_name}, {"workload", identified}, {"parameters", params}, {"rows", rows},
-            {"summary", [&] {
+    return {{"targets", targets_name},
+            {"workload", identified},
+            {"parameters", params},
+            {"rows", rows},
+            {"summary",
+             [&] {
                  // Each group apart: only "predicted" holds predictions (see RowGroup).
                  nlohmann::json groups = nlohmann::json::object();
                  for (const RowGroup g : kRowGroups) groups[std::string(to_string(g))] = summary_json(summary(g));
@@ -768,53 +827,67 @@ nlohmann::json FitReport::to_json() const {
                  groups["by_unit"] = units;
                  return groups;
              }()},
-            {"degrees_of_freedom", [&] {
+            {"degrees_of_freedom",
+             [&] {
                  nlohmann::json machines = nlohmann::json::array();
                  for (const MachineFreedom& f : freedom)
-                     machines.push_back({{"machine", f.machine}, {"fitted_rows", f.rows}, {"free_scales", f.free_scales},
-                                         {"workload_parameters", f.workload_parameters}, {"degrees_of_freedom", f.degrees_of_freedom()},
+                     machines.push_back({{"machine", f.machine},
+                                         {"fitted_rows", f.rows},
+                                         {"free_scales", f.free_scales},
+                                         {"workload_parameters", f.workload_parameters},
+                                         {"degrees_of_freedom", f.degrees_of_freedom()},
                                          {"reduced_chi_square", nan_to_null(f.reduced_chi_square)}});
                  return machines;
              }()},
-            {"notes", notes}, {"host_seconds", host_seconds}};
+            {"notes", notes},
+            {"host_seconds", host_seconds}};
 }
 
 std::string FitReport::to_markdown() const {
     std::ostringstream md;
     md << "# Calibration against " << targets_name << "\n\n";
     if (!workload.empty()) {
-        md << "## Workload step\n\nParameters the paper does not give, identified before the fit from the ratio of two measured rows on "
+        md << "## Workload step\n\nParameters the paper does not give, identified before the fit from the ratio of two "
+              "measured rows on "
               "one machine (its speed cancels). The fit and every row below use these values.\n\n"
-           << "| parameter | identified | machine file | from the ratio | reported | simulated | trials | why |\n|---|---|---|---|---|---|---|---|\n";
+           << "| parameter | identified | machine file | from the ratio | reported | simulated | trials | why "
+              "|\n|---|---|---|---|---|---|---|---|\n";
         for (const IdentifiedWorkload& w : workload) {
-            md << fmt::format("| `{}` | {:.4g}{} | {} | {} / {} | {:.4g} | {:.4g} | {} | {}{} |\n", w.spec.key, w.value, w.at_bound ? " (at bound)" : "",
-                              format_param_value(w.machine_value), w.spec.numerator, w.spec.denominator, w.reported_ratio, w.simulated_ratio,
-                              w.trials, w.spec.why, w.note.empty() ? "" : " *" + w.note + "*");
+            md << fmt::format("| `{}` | {:.4g}{} | {} | {} / {} | {:.4g} | {:.4g} | {} | {}{} |\n", w.spec.key, w.value,
+                              w.at_bound ? " (at bound)" : "", format_param_value(w.machine_value), w.spec.numerator,
+                              w.spec.denominator, w.reported_ratio, w.simulated_ratio, w.trials, w.spec.why,
+                              w.note.empty() ? "" : " *" + w.note + "*");
         }
         md << "\n";
     }
     md << "## Parameters\n\n"
        << "| machine | parameter | value | standard error | bounds | status |\n|---|---|---|---|---|---|\n";
     for (const FittedParameter& p : parameters) {
-        md << fmt::format("| {} | `{}` | {:.4g} | {} | [{:g}, {:g}] | {} |\n", p.machine, p.key, p.value, number(p.standard_error), p.lower,
-                          p.upper, p.free ? (p.note.empty() ? "fitted" : "fitted; " + p.note) : p.note);
+        md << fmt::format("| {} | `{}` | {:.4g} | {} | [{:g}, {:g}] | {} |\n", p.machine, p.key, p.value,
+                          number(p.standard_error), p.lower, p.upper,
+                          p.free ? (p.note.empty() ? "fitted" : "fitted; " + p.note) : p.note);
     }
     md << "\nWhere each fitted scale's bounds come from (the machine file's `<scale>_bounds_why`):\n\n";
     for (const FittedParameter& p : parameters)
         if (p.free) md << fmt::format("- {} `{}` [{:g}, {:g}]: {}\n", p.machine, p.key, p.lower, p.upper, p.provenance);
-    const bool any_uncalibrated = std::any_of(results.begin(), results.end(), [](const TargetResult& r) { return r.uncalibrated.has_value(); });
+    const bool any_uncalibrated =
+        std::any_of(results.begin(), results.end(), [](const TargetResult& r) { return r.uncalibrated.has_value(); });
     md << "\n## Targets\n\n";
     if (std::any_of(results.begin(), results.end(), [](const TargetResult& r) { return r.low.has_value(); }))
-        md << "Intervals on simulated values cover the fitted scales' uncertainty (their covariance, linearised by re-timing).";
+        md << "Intervals on simulated values cover the fitted scales' uncertainty (their covariance, linearised by "
+              "re-timing).";
     if (std::any_of(results.begin(), results.end(), [](const TargetResult& r) { return r.plausible_low.has_value(); }))
-        md << " Intervals on uncalibrated values cover the documented guesses' plausible ranges (`pp5sim params`), each spread "
-              "evenly over its range, at the processor rates the machine file states (the rates are what the fit's scales measure).";
+        md << " Intervals on uncalibrated values cover the documented guesses' plausible ranges (`pp5sim params`), "
+              "each spread "
+              "evenly over its range, at the processor rates the machine file states (the rates are what the fit's "
+              "scales measure).";
     md << "\n\n";
     md << "| id | machine | metric | reported | " << (any_uncalibrated ? "uncalibrated | " : "")
        << "simulated [95% interval from the fit] | error | use | leave-one-out prediction |\n"
        << (any_uncalibrated ? "|---|---|---|---|---|---|---|---|---|\n" : "|---|---|---|---|---|---|---|---|\n");
     for (const TargetResult& r : results) {
-        std::string loo = r.leave_one_out ? fmt::format("{} ({})", number(*r.leave_one_out), percent(*r.leave_one_out_error)) : "";
+        std::string loo =
+            r.leave_one_out ? fmt::format("{} ({})", number(*r.leave_one_out), percent(*r.leave_one_out_error)) : "";
         if (!r.leave_one_out_note.empty()) loo += (loo.empty() ? "" : "; ") + r.leave_one_out_note;
         const std::string unit = r.target.divided_by_frame >= 0
                                      ? fmt::format("frame {} / frame {}", r.target.frame, r.target.divided_by_frame)
@@ -822,15 +895,19 @@ std::string FitReport::to_markdown() const {
         const bool formula = r.target.is_formula();
         const std::string uncalibrated =
             !any_uncalibrated ? ""
-            : r.uncalibrated  ? fmt::format("{}{} ({}) | ", number(*r.uncalibrated),
-                                            r.plausible_low && r.plausible_high
-                                                ? fmt::format(" [{}, {}]", number(*r.plausible_low), number(*r.plausible_high))
-                                                : std::string(),
-                                            percent((*r.uncalibrated - r.target.reported) / r.target.reported))
-                              : " | ";
-        md << fmt::format("| {} | {} | {} ({}) | {} | {}{} | {} | {} | {} |\n", r.target.id, formula ? "(formula: " + r.target.kernel + ")" : r.target.machine,
+            : r.uncalibrated
+                ? fmt::format("{}{} ({}) | ", number(*r.uncalibrated),
+                              r.plausible_low && r.plausible_high
+                                  ? fmt::format(" [{}, {}]", number(*r.plausible_low), number(*r.plausible_high))
+                                  : std::string(),
+                              percent((*r.uncalibrated - r.target.reported) / r.target.reported))
+                : " | ";
+        md << fmt::format("| {} | {} | {} ({}) | {} | {}{} | {} | {} | {} |\n", r.target.id,
+                          formula ? "(formula: " + r.target.kernel + ")" : r.target.machine,
                           formula ? r.target.formula : r.target.metric, unit, number(r.target.reported), uncalibrated,
-                          r.low && r.high ? fmt::format("{} [{}, {}]", number(r.simulated), number(*r.low), number(*r.high)) : number(r.simulated),
+                          r.low && r.high
+                              ? fmt::format("{} [{}, {}]", number(r.simulated), number(*r.low), number(*r.high))
+                              : number(r.simulated),
                           percent(r.relative_error), describe(group_of(r.target)), loo);
     }
     std::size_t banded = 0, inside = 0;
@@ -840,34 +917,41 @@ std::string FitReport::to_markdown() const {
             inside += r.target.reported >= *r.plausible_low && r.target.reported <= *r.plausible_high;
         }
     if (banded > 0)
-        md << fmt::format("\nThe reported figure lies within the uncalibrated interval for {} of {} simulated rows. Where it does not, the "
-                          "documented guesses alone cannot account for the difference: the processors' rates (the fit's to find) or "
-                          "work the model leaves out must.\n",
-                          inside, banded);
-    md << "\n## Fit quality\n\nEach kind of row apart: only the predicted rows test the model on figures it never saw. Rows the "
-          "workload step matched have spent their freedom on its parameters; arithmetic checks, rows matched by construction and "
+        md << fmt::format(
+            "\nThe reported figure lies within the uncalibrated interval for {} of {} simulated rows. Where it does "
+            "not, the "
+            "documented guesses alone cannot account for the difference: the processors' rates (the fit's to find) or "
+            "work the model leaves out must.\n",
+            inside, banded);
+    md << "\n## Fit quality\n\nEach kind of row apart: only the predicted rows test the model on figures it never saw. "
+          "Rows the "
+          "workload step matched have spent their freedom on its parameters; arithmetic checks, rows matched by "
+          "construction and "
           "comparisons with another machine test something else.\n\n"
        << "| rows | count | mean abs. error | max abs. error | within 10% | within 25% | r (log) |\n"
        << "|---|---|---|---|---|---|---|\n";
     for (const RowGroup group : kRowGroups) {
         const ErrorSummary s = summary(group);
         if (s.count == 0) continue;
-        md << fmt::format("| {} | {} | {:.1f}% | {:.1f}% | {} | {} | {} |\n", describe(group), s.count, 100.0 * s.mean_absolute_error,
-                          100.0 * s.max_absolute_error, s.within_10, s.within_25, number(s.log_correlation));
+        md << fmt::format("| {} | {} | {:.1f}% | {:.1f}% | {} | {} | {} |\n", describe(group), s.count,
+                          100.0 * s.mean_absolute_error, 100.0 * s.max_absolute_error, s.within_10, s.within_25,
+                          number(s.log_correlation));
     }
     if (!freedom.empty()) {
-        md << "\n| machine | fitted rows | free scales | workload parameters | degrees of freedom | reduced chi-square |\n|---|---|---|---|---|---|\n";
+        md << "\n| machine | fitted rows | free scales | workload parameters | degrees of freedom | reduced chi-square "
+              "|\n|---|---|---|---|---|---|\n";
         for (const MachineFreedom& f : freedom)
-            md << fmt::format("| {} | {} | {} | {} | {} | {} |\n", f.machine, f.rows, f.free_scales, f.workload_parameters, f.degrees_of_freedom(),
-                              number(f.reduced_chi_square));
+            md << fmt::format("| {} | {} | {} | {} | {} | {} |\n", f.machine, f.rows, f.free_scales,
+                              f.workload_parameters, f.degrees_of_freedom(), number(f.reduced_chi_square));
     }
     const auto units = by_unit();
     if (units.size() > 1) {
-        md << "\nBy the metric's unit (fitted, workload and predicted rows together):\n\n| unit | count | mean abs. error | max abs. error | within 10% | within 25% |\n"
+        md << "\nBy the metric's unit (fitted, workload and predicted rows together):\n\n| unit | count | mean abs. "
+              "error | max abs. error | within 10% | within 25% |\n"
            << "|---|---|---|---|---|---|\n";
         for (const auto& [unit, s] : units)
-            md << fmt::format("| {} | {} | {:.1f}% | {:.1f}% | {} | {} |\n", unit, s.count, 100.0 * s.mean_absolute_error, 100.0 * s.max_absolute_error,
-                              s.within_10, s.within_25);
+            md << fmt::format("| {} | {} | {:.1f}% | {:.1f}% | {} | {} |\n", unit, s.count,
+                              100.0 * s.mean_absolute_error, 100.0 * s.max_absolute_error, s.within_10, s.within_25);
     }
     md << "\n## Outliers (more than 25% off)\n\n";
     bool any = false;
@@ -898,15 +982,19 @@ std::string fitted_machine_file(const CalibrationModel& model, const FitReport& 
     std::ostringstream out;
     // Its own header first: what this file is and how well it fits, before the preset's description.
     const std::string stem = std::filesystem::path(machine).stem().string();
-    out << fmt::format("# {}-fitted: the {} machine with its calibration.* scales fitted by `pp5sim fit` to the targets of {}\n",
-                       stem, stem, model.targets().file.string());
+    out << fmt::format(
+        "# {}-fitted: the {} machine with its calibration.* scales fitted by `pp5sim fit` to the targets of {}\n", stem,
+        stem, model.targets().file.string());
     const ErrorSummary fitted = report.summary(RowGroup::Fitted);
     const ErrorSummary workload_rows = report.summary(RowGroup::Workload);
     const ErrorSummary predicted = report.summary(RowGroup::Predicted);
-    out << fmt::format("# ({}). Targets within 10%: {} of {} fitted, {} of {} workload rows, {} of {} predicted; mean error {:.1f}% fitted, "
-                       "{:.1f}% predicted.\n",
-                       model.targets().name, fitted.within_10, fitted.count, workload_rows.within_10, workload_rows.count, predicted.within_10,
-                       predicted.count, 100.0 * fitted.mean_absolute_error, 100.0 * predicted.mean_absolute_error);
+    out << fmt::format(
+        "# ({}). Targets within 10%: {} of {} fitted, {} of {} workload rows, {} of {} predicted; mean error {:.1f}% "
+        "fitted, "
+        "{:.1f}% predicted.\n",
+        model.targets().name, fitted.within_10, fitted.count, workload_rows.within_10, workload_rows.count,
+        predicted.within_10, predicted.count, 100.0 * fitted.mean_absolute_error,
+        100.0 * predicted.mean_absolute_error);
     out << "# The fit's report (fit.md, fit.json) is beside this file; below are the preset as it was and the fitted\n"
            "# [calibration] table. Use it with: pp5sim render --machine <this file>\n\n";
     // The workload step's values go into their tables ("levoy.refinement_threshold": [levoy]), replacing
@@ -916,9 +1004,10 @@ std::string fitted_machine_file(const CalibrationModel& model, const FitReport& 
         const auto dot = w.spec.key.rfind('.');
         const std::string name = w.spec.key.substr(dot + 1);
         workload_lines[w.spec.key.substr(0, dot)].emplace_back(
-            name, fmt::format("{} = {}    # identified by the workload step from {} / {} (the file had {})", name,
-                              w.spec.integer ? fmt::format("{}", std::llround(w.value)) : fmt::format("{:.6g}", w.value), w.spec.numerator,
-                              w.spec.denominator, format_param_value(w.machine_value)));
+            name,
+            fmt::format("{} = {}    # identified by the workload step from {} / {} (the file had {})", name,
+                        w.spec.integer ? fmt::format("{}", std::llround(w.value)) : fmt::format("{:.6g}", w.value),
+                        w.spec.numerator, w.spec.denominator, format_param_value(w.machine_value)));
     }
     std::string line;
     bool skipping = false;
@@ -943,13 +1032,16 @@ std::string fitted_machine_file(const CalibrationModel& model, const FitReport& 
         if (skipping) {
             // The fitted values replace the scales; the rest (their bounds and sources) carries over.
             const std::string key = trim(bare.substr(0, bare.find('=')));
-            const bool scale = std::any_of(std::begin(kScales), std::end(kScales), [&](const ScaleSpec& spec) { return key == spec.name; });
+            const bool scale = std::any_of(std::begin(kScales), std::end(kScales),
+                                           [&](const ScaleSpec& spec) { return key == spec.name; });
             if (!bare.empty() && !scale) kept_calibration_lines.push_back(line);
             continue;
         }
         if (const auto it = workload_lines.find(table); it != workload_lines.end()) {
             const std::string key = trim(bare.substr(0, bare.find('=')));
-            if (std::any_of(it->second.begin(), it->second.end(), [&](const auto& entry) { return entry.first == key; })) continue;
+            if (std::any_of(it->second.begin(), it->second.end(),
+                            [&](const auto& entry) { return entry.first == key; }))
+                continue;
         }
         if (in_machine && bare.rfind("name", 0) == 0 && trim(bare.substr(4)).rfind("=", 0) == 0) {
             const auto close = line.find('"', line.find('"') + 1);
@@ -962,7 +1054,8 @@ std::string fitted_machine_file(const CalibrationModel& model, const FitReport& 
         out << "\n[" << name << "]\n";
         for (const auto& [key, setting] : lines) out << setting << "\n";
     }
-    out << "\n[calibration]                 # fitted by `pp5sim fit` to " << model.targets().name << "; standard errors in comments\n";
+    out << "\n[calibration]                 # fitted by `pp5sim fit` to " << model.targets().name
+        << "; standard errors in comments\n";
     for (const FittedParameter& p : report.parameters) {
         if (p.machine != machine) continue;
         const std::string key = p.key.substr(std::string("calibration.").size());

@@ -37,24 +37,24 @@ struct FittedParameter {
     double standard_error = 0.0;  // NaN when not computable
     double lower = 0.0;
     double upper = 0.0;
-    bool free = true;             // fitted; false: held at its value, `note` says why
+    bool free = true;  // fitted; false: held at its value, `note` says why
     bool at_bound = false;
-    std::string provenance;       // what the bounds come from
+    std::string provenance;  // what the bounds come from
     std::string note;
 };
 
 struct TargetResult {
     Target target;
     double simulated = 0.0;
-    double relative_error = 0.0;                   // (simulated - reported) / reported
-    std::optional<double> uncalibrated;            // at the machine file's own scales, beside the fit
+    double relative_error = 0.0;         // (simulated - reported) / reported
+    std::optional<double> uncalibrated;  // at the machine file's own scales, beside the fit
     // The uncalibrated value's 95% band over the documented guesses' plausible ranges
     // (calibration/uncertainty_report.h); absent until measured.
     std::optional<double> plausible_low, plausible_high;
     // The 95% interval the fitted scales' covariance gives the simulated value (linearised: the row's
     // elasticities to the free scales, measured by re-timing); absent when no scale of its machine is fitted.
     std::optional<double> low, high;
-    std::optional<double> leave_one_out;           // predicted without this target (fitted targets only)
+    std::optional<double> leave_one_out;  // predicted without this target (fitted targets only)
     std::optional<double> leave_one_out_error;
     std::string leave_one_out_note;
 };
@@ -62,17 +62,17 @@ struct TargetResult {
 // Where a row's error is counted: fitted rows, rows the workload step matched (whatever their use),
 // predictions, and the rows that test something other than the model (TargetUse).
 enum class RowGroup { Fitted, Workload, Predicted, Check, ByConstruction, Comparison };
-inline constexpr RowGroup kRowGroups[] = {RowGroup::Fitted, RowGroup::Workload, RowGroup::Predicted,
-                                          RowGroup::Check, RowGroup::ByConstruction, RowGroup::Comparison};
+inline constexpr RowGroup kRowGroups[] = {RowGroup::Fitted, RowGroup::Workload,       RowGroup::Predicted,
+                                          RowGroup::Check,  RowGroup::ByConstruction, RowGroup::Comparison};
 std::string_view to_string(RowGroup group);  // "fitted", "workload", "predicted", "check", ...
 std::string_view describe(RowGroup group);   // a heading for the report
 
 // How freely one machine's fit is determined.
 struct MachineFreedom {
     std::string machine;
-    int rows = 0;                 // its fitted rows, the workload step's among them
+    int rows = 0;  // its fitted rows, the workload step's among them
     int free_scales = 0;
-    int workload_parameters = 0;  // identified from its rows' ratios
+    int workload_parameters = 0;      // identified from its rows' ratios
     double reduced_chi_square = 0.0;  // NaN without degrees of freedom
     // The free scales' keys and the covariance of their logarithms (row-major), widened by the spread
     // as the standard errors are; empty when Ceres could not compute it.
@@ -87,7 +87,7 @@ struct ErrorSummary {
     double max_absolute_error = 0.0;
     int within_10 = 0;
     int within_25 = 0;
-    double log_correlation = 0.0;      // Pearson r of log(simulated) against log(reported)
+    double log_correlation = 0.0;  // Pearson r of log(simulated) against log(reported)
 };
 
 struct FitReport {

@@ -1,18 +1,18 @@
 #include "calibration/host_check.h"
 
-#include "kernels/registry/run_config.h"
-#include "kernels/scenario/scenario_inputs.h"
-#include "kernels/scenario/scenario.h"
-#include "kernels/reference/reference_renderer.h"
 #include "kernels/reference/reference_costs.h"
+#include "kernels/reference/reference_renderer.h"
+#include "kernels/registry/run_config.h"
+#include "kernels/scenario/scenario.h"
+#include "kernels/scenario/scenario_inputs.h"
 #include "sim/components/gp_cost_model.h"
-#include "sim/timing/frame_engine.h"
 #include "sim/core/time.h"
+#include "sim/timing/frame_engine.h"
 
 #include <ceres/ceres.h>
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -77,11 +77,13 @@ HostCheckReport run_host_check(const MachineConfig& host, const HostCheckOptions
             c.rays = stats.composite.rays;
             c.samples = stats.composite.samples;
             c.samples_skipped = stats.composite.samples_skipped;
-            c.flop_seconds = ticks_to_seconds(static_cast<Tick>(c.rays) * loop_costs[0] + static_cast<Tick>(c.samples) * loop_costs[1]);
+            c.flop_seconds = ticks_to_seconds(static_cast<Tick>(c.rays) * loop_costs[0] +
+                                              static_cast<Tick>(c.samples) * loop_costs[1]);
             c.voxels = static_cast<std::uint64_t>(volume.voxel_count());
             c.cycle_seconds = ticks_to_seconds(static_cast<Tick>(c.voxels) * costs.receive_per_word);
             if (options.progress)
-                options.progress(fmt::format("host check: {} at {}x{}: {:.1f} ms, {} samples", name, size, size, 1e3 * c.measured_seconds, c.samples));
+                options.progress(fmt::format("host check: {} at {}x{}: {:.1f} ms, {} samples", name, size, size,
+                                             1e3 * c.measured_seconds, c.samples));
             report.cases.push_back(c);
         }
     }
@@ -95,7 +97,8 @@ void fit_host_cases(HostCheckReport& report) {
     ceres::Problem problem;
     for (const HostCase& c : report.cases) {
         if (!c.fitted) continue;
-        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<HostResidual, 1, 2>(new HostResidual{c.flop_seconds, c.cycle_seconds, c.measured_seconds}),
+        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<HostResidual, 1, 2>(
+                                     new HostResidual{c.flop_seconds, c.cycle_seconds, c.measured_seconds}),
                                  nullptr, scales);
     }
     problem.SetParameterLowerBound(scales, 0, 1e-3);
@@ -105,7 +108,8 @@ void fit_host_cases(HostCheckReport& report) {
     solver.logging_type = ceres::SILENT;
     ceres::Solver::Summary summary;
     ceres::Solve(solver, &problem, &summary);
-    report.solver = fmt::format("{} iterations, final cost {:.4g}; {}", summary.iterations.size(), summary.final_cost, summary.message);
+    report.solver = fmt::format("{} iterations, final cost {:.4g}; {}", summary.iterations.size(), summary.final_cost,
+                                summary.message);
     report.gp_flops_scale = scales[0];
     report.gp_cycles_scale = scales[1];
 
@@ -139,15 +143,23 @@ void fit_host_cases(HostCheckReport& report) {
 nlohmann::json HostCheckReport::to_json() const {
     nlohmann::json rows = nlohmann::json::array();
     for (const HostCase& c : cases) {
-        rows.push_back({{"scenario", c.scenario}, {"image_size", c.image_size}, {"use", c.fitted ? "fitted" : "held-out"},
-                        {"rays", c.rays}, {"samples", c.samples}, {"samples_skipped", c.samples_skipped}, {"voxels", c.voxels},
-                        {"measured_seconds", c.measured_seconds}, {"predicted_seconds", c.predicted_seconds},
+        rows.push_back({{"scenario", c.scenario},
+                        {"image_size", c.image_size},
+                        {"use", c.fitted ? "fitted" : "held-out"},
+                        {"rays", c.rays},
+                        {"samples", c.samples},
+                        {"samples_skipped", c.samples_skipped},
+                        {"voxels", c.voxels},
+                        {"measured_seconds", c.measured_seconds},
+                        {"predicted_seconds", c.predicted_seconds},
                         {"relative_error", c.relative_error()}});
     }
     const auto finite = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
     return {{"parameters",
-             {{"calibration.gp_flops_scale", {{"value", gp_flops_scale}, {"standard_error", finite(gp_flops_standard_error)}}},
-              {"calibration.gp_cycles_scale", {{"value", gp_cycles_scale}, {"standard_error", finite(gp_cycles_standard_error)}}}}},
+             {{"calibration.gp_flops_scale",
+               {{"value", gp_flops_scale}, {"standard_error", finite(gp_flops_standard_error)}}},
+              {"calibration.gp_cycles_scale",
+               {{"value", gp_cycles_scale}, {"standard_error", finite(gp_cycles_standard_error)}}}}},
             {"cases", rows},
             {"median_abs_error_fitted", median_fitted_error},
             {"median_abs_error_held_out", median_held_out_error},
@@ -158,18 +170,24 @@ nlohmann::json HostCheckReport::to_json() const {
 std::string HostCheckReport::to_markdown() const {
     std::ostringstream md;
     md << "# The model against this machine (host preset)\n\n"
-       << "pp5sim's reference renderer, one thread, best of several runs, priced by the GP cost model's operation counts: "
+       << "pp5sim's reference renderer, one thread, best of several runs, priced by the GP cost model's operation "
+          "counts: "
           "ray setup per ray and step, interpolation and compositing per sample (flops), and each voxel of the volume "
-          "brought through the memory hierarchy once a frame, priced as a GP copies a received word into its cache (cycles).\n\n"
-       << fmt::format("Fitted on half the cases: `calibration.gp_flops_scale` = {:.4g} +/- {:.2g}, `calibration.gp_cycles_scale` = {:.4g} +/- {:.2g} ({}).\n\n",
-                      gp_flops_scale, gp_flops_standard_error, gp_cycles_scale, gp_cycles_standard_error, solver)
-       << fmt::format("**Median absolute error: {:.1f}% on the fitted half, {:.1f}% on the held-out half (max {:.1f}%).**\n\n",
-                      100 * median_fitted_error, 100 * median_held_out_error, 100 * max_held_out_error)
-       << "| scenario | image | use | voxels | samples | measured (ms) | predicted (ms) | error |\n|---|---|---|---|---|---|---|---|\n";
+          "brought through the memory hierarchy once a frame, priced as a GP copies a received word into its cache "
+          "(cycles).\n\n"
+       << fmt::format(
+              "Fitted on half the cases: `calibration.gp_flops_scale` = {:.4g} +/- {:.2g}, "
+              "`calibration.gp_cycles_scale` = {:.4g} +/- {:.2g} ({}).\n\n",
+              gp_flops_scale, gp_flops_standard_error, gp_cycles_scale, gp_cycles_standard_error, solver)
+       << fmt::format(
+              "**Median absolute error: {:.1f}% on the fitted half, {:.1f}% on the held-out half (max {:.1f}%).**\n\n",
+              100 * median_fitted_error, 100 * median_held_out_error, 100 * max_held_out_error)
+       << "| scenario | image | use | voxels | samples | measured (ms) | predicted (ms) | error "
+          "|\n|---|---|---|---|---|---|---|---|\n";
     for (const HostCase& c : cases) {
-        md << fmt::format("| {} | {}x{} | {} | {} | {} | {:.2f} | {:.2f} | {:+.1f}% |\n", c.scenario, c.image_size, c.image_size,
-                          c.fitted ? "fitted" : "held out", c.voxels, c.samples, 1e3 * c.measured_seconds, 1e3 * c.predicted_seconds,
-                          100 * c.relative_error());
+        md << fmt::format("| {} | {}x{} | {} | {} | {} | {:.2f} | {:.2f} | {:+.1f}% |\n", c.scenario, c.image_size,
+                          c.image_size, c.fitted ? "fitted" : "held out", c.voxels, c.samples, 1e3 * c.measured_seconds,
+                          1e3 * c.predicted_seconds, 100 * c.relative_error());
     }
     return md.str();
 }

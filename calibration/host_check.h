@@ -3,9 +3,9 @@
 // is timed on a set of cases (volumes, image sizes, transfer functions), one thread, best of a few
 // runs. The cost model that times the GPs (on the `host` preset's rates) prices each case's counted
 // work: a ray's setup per ray; a sample's step, interpolation and compositing per sample (flops,
-// gp_cost.reference.*, whose defaults are Levoy's ray caster's counts); and, as a GP pays to copy each received word into its cache, each voxel of the
-// volume brought through the host's memory hierarchy once a frame (cycles; a small image of a large
-// volume touches as much memory as a large one). Skipped empty space is left unpriced: the reference
+// gp_cost.reference.*, whose defaults are Levoy's ray caster's counts); and, as a GP pays to copy each received word
+// into its cache, each voxel of the volume brought through the host's memory hierarchy once a frame (cycles; a small
+// image of a large volume touches as much memory as a large one). Skipped empty space is left unpriced: the reference
 // renderer leaps whole empty blocks. Ceres fits the host's two scales (flops and cycles) to half the
 // cases; the other half are predicted and their errors reported.
 

@@ -31,27 +31,33 @@ std::vector<std::pair<std::string, double>> operations(const FrameWork& work, co
 
 PhaseAccount account_of(const FrameWork& work, const PhaseTiming& timing) {
     PhaseAccount a{timing.name, ticks_to_seconds(timing.duration_ps()), {}};
-    const auto phase = std::find_if(work.phases.begin(), work.phases.end(), [&](const Phase& p) { return p.name == timing.name; });
+    const auto phase =
+        std::find_if(work.phases.begin(), work.phases.end(), [&](const Phase& p) { return p.name == timing.name; });
     if (phase == work.phases.end()) return a;
     if (const auto* pp = std::get_if<PpPhase>(&phase->work)) {
         a.work.emplace_back("PP programs", static_cast<double>(pp->passes.size()));
         double cycles_per_slot = 0.0;
         for (const PpPassTiming& pass : timing.passes)
-            if (pass.slots > 0) cycles_per_slot += static_cast<double>(pass.busiest.total) / static_cast<double>(pass.slots);
+            if (pass.slots > 0)
+                cycles_per_slot += static_cast<double>(pass.busiest.total) / static_cast<double>(pass.slots);
         if (cycles_per_slot > 0.0) a.work.emplace_back("PP cycles per voxel slot", cycles_per_slot);
         if (timing.passes.empty()) {  // one processor: the same work as operations
             std::vector<GpOp> ops;
-            for (const PpPhase::Pass& pass : pp->passes) ops.insert(ops.end(), pass.on_one_processor.begin(), pass.on_one_processor.end());
+            for (const PpPhase::Pass& pass : pp->passes)
+                ops.insert(ops.end(), pass.on_one_processor.begin(), pass.on_one_processor.end());
             for (auto& kind : operations(work, ops)) a.work.push_back(std::move(kind));
         }
     } else if (const auto* gp = std::get_if<GpPhase>(&phase->work)) {
         a.work.emplace_back("items (rays, batches)", static_cast<double>(gp->items.size()));
         for (auto& kind : operations(work, gp->ops)) a.work.push_back(std::move(kind));
-        if (timing.gp.fetch_requests > 0) a.work.emplace_back("fetch requests", static_cast<double>(timing.gp.fetch_requests));
-        if (timing.gp.cache_misses > 0) a.work.emplace_back("cache misses", static_cast<double>(timing.gp.cache_misses));
+        if (timing.gp.fetch_requests > 0)
+            a.work.emplace_back("fetch requests", static_cast<double>(timing.gp.fetch_requests));
+        if (timing.gp.cache_misses > 0)
+            a.work.emplace_back("cache misses", static_cast<double>(timing.gp.cache_misses));
         // The crude pass's rows end with the first group (refinement pass), not the phase.
         if (timing.group_end_ps.size() > 1)
-            a.work.emplace_back("seconds from its start to the end of its first pass", ticks_to_seconds(timing.group_end_ps.front() - timing.start_ps));
+            a.work.emplace_back("seconds from its start to the end of its first pass",
+                                ticks_to_seconds(timing.group_end_ps.front() - timing.start_ps));
         const double busy = static_cast<double>(timing.gp.gp_busy), wait = static_cast<double>(timing.gp.gp_wait);
         if (busy + wait > 0.0) a.work.emplace_back("GP busy fraction", busy / (busy + wait));
     } else if (const auto* broadcast = std::get_if<BroadcastPhase>(&phase->work)) {
@@ -66,7 +72,8 @@ std::vector<PhaseAccount> accounts_of(const FrameWork& work, const FrameTiming& 
     return accounts;
 }
 
-std::vector<std::pair<std::string, std::pair<double, double>>> phase_pairs(const FrameTiming& here, const FrameTiming& there) {
+std::vector<std::pair<std::string, std::pair<double, double>>> phase_pairs(const FrameTiming& here,
+                                                                           const FrameTiming& there) {
     std::vector<std::pair<std::string, std::pair<double, double>>> pairs;
     for (const PhaseTiming& p : here.phases) pairs.push_back({p.name, {ticks_to_seconds(p.duration_ps()), 0.0}});
     for (const PhaseTiming& p : there.phases) {
@@ -90,13 +97,16 @@ std::string signed_percent(double relative) { return fmt::format("{:+.1f}%", 100
 
 }  // namespace
 
-std::vector<ResidualAccount> explain_residuals(const CalibrationModel& model, const FitReport& report, double threshold) {
+std::vector<ResidualAccount> explain_residuals(const CalibrationModel& model, const FitReport& report,
+                                               double threshold) {
     std::vector<ResidualAccount> accounts;
     std::map<std::string, std::vector<const TargetResult*>> by_machine;
     for (const TargetResult& r : report.results)
         if (!r.target.is_formula()) by_machine[r.target.machine].push_back(&r);
     for (const auto& [machine, results] : by_machine) {
-        if (std::none_of(results.begin(), results.end(), [&](const TargetResult* r) { return std::abs(r->relative_error) > threshold; })) continue;
+        if (std::none_of(results.begin(), results.end(),
+                         [&](const TargetResult* r) { return std::abs(r->relative_error) > threshold; }))
+            continue;
         std::vector<const Target*> rows;
         for (const TargetResult* r : results) rows.push_back(&r->target);
         const CalibrationScales scales = report.scales(machine);
@@ -106,10 +116,12 @@ std::vector<ResidualAccount> explain_residuals(const CalibrationModel& model, co
         std::map<std::string, std::size_t> frames_read;
         for (const TargetResult* r : results) {
             std::size_t& frames = frames_read[r->target.scenario];
-            frames = std::max(frames, static_cast<std::size_t>(std::max(r->target.frame, r->target.divided_by_frame)) + 1);
+            frames =
+                std::max(frames, static_cast<std::size_t>(std::max(r->target.frame, r->target.divided_by_frame)) + 1);
         }
         std::map<std::string, std::vector<FrameTiming>> timed;
-        for (const auto& [scenario, frames] : frames_read) timed[scenario] = model.recording(scenario).time_on(config, frames);
+        for (const auto& [scenario, frames] : frames_read)
+            timed[scenario] = model.recording(scenario).time_on(config, frames);
         for (std::size_t i = 0; i < results.size(); ++i) {
             const TargetResult& r = *results[i];
             if (std::abs(r.relative_error) <= threshold) continue;
@@ -125,12 +137,14 @@ std::vector<ResidualAccount> explain_residuals(const CalibrationModel& model, co
                 a.phases = accounts_of(recording.frames()[frame].frame->work, timings[frame]);
             } else {
                 const auto by = static_cast<std::size_t>(r.target.divided_by_frame);
-                a.against.push_back({fmt::format("frame {}", by), r.target.reported, r.simulated, phase_pairs(timings[frame], timings[by])});
+                a.against.push_back({fmt::format("frame {}", by), r.target.reported, r.simulated,
+                                     phase_pairs(timings[frame], timings[by])});
             }
             // The other frames of the same scenario the paper timed by the same measure.
             for (const TargetResult* o : results) {
                 if (o == &r || o->target.scenario != r.target.scenario || o->target.metric != r.target.metric ||
-                    o->target.divided_by_frame >= 0 || r.target.divided_by_frame >= 0 || o->target.frame == r.target.frame)
+                    o->target.divided_by_frame >= 0 || r.target.divided_by_frame >= 0 ||
+                    o->target.frame == r.target.frame)
                     continue;
                 a.against.push_back({o->target.id, r.target.reported / o->target.reported, r.simulated / o->simulated,
                                      phase_pairs(timings[frame], timings[static_cast<std::size_t>(o->target.frame)])});
@@ -149,41 +163,53 @@ std::vector<ResidualAccount> explain_residuals(const CalibrationModel& model, co
 }
 
 std::string residuals_markdown(const std::vector<ResidualAccount>& accounts) {
-    std::string md = "\n## Why rows miss\n\nEvery simulated row more than 10% off, explained from this run: where its simulated time goes, what "
-                     "the paper's figure would need, how it stands against the other frames the paper timed alike, the paper's own "
-                     "assumption where the target file quotes it, and the one documented timing parameter whose change would reconcile "
-                     "it (found by re-timing, moving the machine's other rows least), with what that change does to them.\n";
+    std::string md =
+        "\n## Why rows miss\n\nEvery simulated row more than 10% off, explained from this run: where its simulated "
+        "time goes, what "
+        "the paper's figure would need, how it stands against the other frames the paper timed alike, the paper's own "
+        "assumption where the target file quotes it, and the one documented timing parameter whose change would "
+        "reconcile "
+        "it (found by re-timing, moving the machine's other rows least), with what that change does to them.\n";
     if (accounts.empty()) return md + "\nNo row is more than 10% off.\n";
     for (const ResidualAccount& a : accounts) {
-        md += fmt::format("\n### `{}`: {} off; the figure needs {:.3g}x the simulated value\n\n", a.id, signed_percent(a.relative_error), a.needed_factor);
+        md += fmt::format("\n### `{}`: {} off; the figure needs {:.3g}x the simulated value\n\n", a.id,
+                          signed_percent(a.relative_error), a.needed_factor);
         if (!a.assumption.empty()) md += fmt::format("- The paper assumes: {}\n", a.assumption);
         if (!a.phases.empty()) {
             double total = 0.0;
             for (const PhaseAccount& p : a.phases) total += p.seconds;
             md += "- Where the frame's simulated time goes:";
             for (const PhaseAccount& p : a.phases) {
-                md += fmt::format(" {} {:.4g} s ({:.0f}%", p.name, p.seconds, total > 0 ? 100.0 * p.seconds / total : 0.0);
-                for (const auto& [what, value] : p.work) md += fmt::format("; {} {}", what, what == "GP busy fraction" ? fmt::format("{:.0f}%", 100 * value) : amount(value));
+                md += fmt::format(" {} {:.4g} s ({:.0f}%", p.name, p.seconds,
+                                  total > 0 ? 100.0 * p.seconds / total : 0.0);
+                for (const auto& [what, value] : p.work)
+                    md += fmt::format("; {} {}", what,
+                                      what == "GP busy fraction" ? fmt::format("{:.0f}%", 100 * value) : amount(value));
                 md += ");";
             }
             md.back() = '\n';
         }
         for (const FrameComparison& c : a.against) {
-            md += fmt::format("- Against `{}`: reported ratio {:.3g}, simulated {:.3g}; by phase (this frame / that one):", c.other, c.reported_ratio,
-                              c.simulated_ratio);
-            for (const auto& [phase, s] : c.phase_seconds) md += fmt::format(" {} {:.4g} / {:.4g} s;", phase, s.first, s.second);
+            md += fmt::format(
+                "- Against `{}`: reported ratio {:.3g}, simulated {:.3g}; by phase (this frame / that one):", c.other,
+                c.reported_ratio, c.simulated_ratio);
+            for (const auto& [phase, s] : c.phase_seconds)
+                md += fmt::format(" {} {:.4g} / {:.4g} s;", phase, s.first, s.second);
             md.back() = '\n';
         }
         if (a.what_if) {
             const WhatIf& w = *a.what_if;
             const double left = (w.reached - a.reported) / a.reported;
-            md += fmt::format("- What-if: `{}` from {:.4g} to {:.4g}{} gives {:.4g} ({}{}). The other rows then:", w.key, w.from, w.to,
-                              w.within_range ? "" : " (the edge of its declared range)", w.reached, signed_percent(left),
-                              std::abs(left) <= kReconciledWithin ? ", reconciled"
-                                                                  : ": the nearest one change gets, so no single documented parameter accounts for it");
+            md += fmt::format(
+                "- What-if: `{}` from {:.4g} to {:.4g}{} gives {:.4g} ({}{}). The other rows then:", w.key, w.from,
+                w.to, w.within_range ? "" : " (the edge of its declared range)", w.reached, signed_percent(left),
+                std::abs(left) <= kReconciledWithin
+                    ? ", reconciled"
+                    : ": the nearest one change gets, so no single documented parameter accounts for it");
             for (std::size_t k = 0; k < a.other_rows.size() && k < w.others.size(); ++k)
                 if (a.other_rows[k] != a.id)
-                    md += fmt::format(" `{}` {}{};", a.other_rows[k], signed_percent((w.others[k] - a.other_reported[k]) / a.other_reported[k]),
+                    md += fmt::format(" `{}` {}{};", a.other_rows[k],
+                                      signed_percent((w.others[k] - a.other_reported[k]) / a.other_reported[k]),
                                       std::abs(w.others[k] / a.before[k] - 1.0) < 0.005 ? " (unchanged)" : "");
             md.back() = '\n';
         } else {
@@ -209,7 +235,9 @@ nlohmann::json residuals_json(const std::vector<ResidualAccount>& accounts) {
         for (const FrameComparison& c : a.against) {
             nlohmann::json by_phase = nlohmann::json::object();
             for (const auto& [phase, s] : c.phase_seconds) by_phase[phase] = {s.first, s.second};
-            against.push_back({{"other", c.other}, {"reported_ratio", c.reported_ratio}, {"simulated_ratio", c.simulated_ratio},
+            against.push_back({{"other", c.other},
+                               {"reported_ratio", c.reported_ratio},
+                               {"simulated_ratio", c.simulated_ratio},
                                {"phase_seconds", by_phase}});
         }
         row["against"] = against;
@@ -217,9 +245,11 @@ nlohmann::json residuals_json(const std::vector<ResidualAccount>& accounts) {
             const WhatIf& w = *a.what_if;
             nlohmann::json others = nlohmann::json::object();
             for (std::size_t k = 0; k < a.other_rows.size() && k < w.others.size(); ++k)
-                others[a.other_rows[k]] = {{"simulated", w.others[k]}, {"relative_error", (w.others[k] - a.other_reported[k]) / a.other_reported[k]}};
-            row["what_if"] = {{"parameter", w.key}, {"from", w.from}, {"to", w.to}, {"within_range", w.within_range}, {"reached", w.reached},
-                              {"rows", others}};
+                others[a.other_rows[k]] = {
+                    {"simulated", w.others[k]},
+                    {"relative_error", (w.others[k] - a.other_reported[k]) / a.other_reported[k]}};
+            row["what_if"] = {{"parameter", w.key},   {"from", w.from}, {"to", w.to}, {"within_range", w.within_range},
+                              {"reached", w.reached}, {"rows", others}};
         } else {
             row["what_if"] = nullptr;
         }

@@ -25,8 +25,8 @@ struct PhaseAccount {
 
 // The row against another row of the same scenario, machine and metric at another frame.
 struct FrameComparison {
-    std::string other;  // its id
-    double reported_ratio = 0.0;   // this row's reported value over the other's
+    std::string other;            // its id
+    double reported_ratio = 0.0;  // this row's reported value over the other's
     double simulated_ratio = 0.0;
     std::vector<std::pair<std::string, std::pair<double, double>>> phase_seconds;  // phase -> (this frame, the other)
 };
@@ -35,7 +35,7 @@ struct ResidualAccount {
     std::string id;
     double reported = 0.0;
     double relative_error = 0.0;
-    double needed_factor = 1.0;  // reported over simulated: what the figure asks of the simulated value
+    double needed_factor = 1.0;        // reported over simulated: what the figure asks of the simulated value
     std::vector<PhaseAccount> phases;  // the row's frame on its machine (not for ratio rows)
     std::vector<FrameComparison> against;
     std::string assumption;  // the paper's, when the target file quotes it (Target::assumes)
@@ -46,7 +46,8 @@ struct ResidualAccount {
 };
 
 // Every simulated row more than `threshold` off (relative), at the report's scales.
-std::vector<ResidualAccount> explain_residuals(const CalibrationModel& model, const FitReport& report, double threshold = 0.10);
+std::vector<ResidualAccount> explain_residuals(const CalibrationModel& model, const FitReport& report,
+                                               double threshold = 0.10);
 
 std::string residuals_markdown(const std::vector<ResidualAccount>& accounts);
 nlohmann::json residuals_json(const std::vector<ResidualAccount>& accounts);

@@ -12,10 +12,10 @@ namespace pp5 {
 namespace {
 
 constexpr double kStep = 1.1;
-constexpr double kMovesNothing = 1e-3;    // an elasticity below this moves no row measurably
-constexpr double kWeakestLever = 0.02;    // a what-if needs at least this elasticity on its row
-constexpr double kLargestChange = 20.0;   // nor a change of more than this factor, where a line says little
-constexpr double kReconciled = 0.01;      // within 1% of the reported value (in log units)
+constexpr double kMovesNothing = 1e-3;   // an elasticity below this moves no row measurably
+constexpr double kWeakestLever = 0.02;   // a what-if needs at least this elasticity on its row
+constexpr double kLargestChange = 20.0;  // nor a change of more than this factor, where a line says little
+constexpr double kReconciled = 0.01;     // within 1% of the reported value (in log units)
 constexpr int kMostRefinements = 4;
 
 struct Candidate {
@@ -49,15 +49,17 @@ double admissible(const Candidate& c, double value) {
     return value;
 }
 
-bool outside_range(const Candidate& c, double value) { return (c.lower && value < *c.lower) || (c.upper && value > *c.upper); }
+bool outside_range(const Candidate& c, double value) {
+    return (c.lower && value < *c.lower) || (c.upper && value > *c.upper);
+}
 
 ParamValue param_value(const Candidate& c, double value) {
     return c.integer ? ParamValue(static_cast<std::int64_t>(std::llround(value))) : ParamValue(value);
 }
 
 // The rows re-timed with one parameter at `value`; nullopt when the machine cannot take it.
-std::optional<std::vector<double>> retimed(const CalibrationModel& model, const MachineConfig& base, const Candidate& c, double value,
-                                           const std::vector<const Target*>& rows) {
+std::optional<std::vector<double>> retimed(const CalibrationModel& model, const MachineConfig& base, const Candidate& c,
+                                           double value, const std::vector<const Target*>& rows) {
     MachineConfig config = base;
     try {
         config.set(c.key, param_value(c, value), "what-if");
@@ -71,8 +73,8 @@ std::optional<std::vector<double>> retimed(const CalibrationModel& model, const 
 
 }  // namespace
 
-MachineSensitivity measure_sensitivity(const CalibrationModel& model, const std::string& machine, const CalibrationScales& scales,
-                                       std::vector<const Target*> rows) {
+MachineSensitivity measure_sensitivity(const CalibrationModel& model, const std::string& machine,
+                                       const CalibrationScales& scales, std::vector<const Target*> rows) {
     MachineSensitivity s;
     s.machine = machine;
     s.scales = scales;
@@ -83,7 +85,8 @@ MachineSensitivity measure_sensitivity(const CalibrationModel& model, const std:
     std::vector<std::optional<ParameterElasticity>> measured(candidates.size());
     pp5::parallel_for(std::size_t{0}, candidates.size(), [&](std::size_t i) {
         const Candidate& c = candidates[i];
-        double moved = admissible(c, c.integer ? std::max(c.value + 1.0, std::round(c.value * kStep)) : c.value * kStep);
+        double moved =
+            admissible(c, c.integer ? std::max(c.value + 1.0, std::round(c.value * kStep)) : c.value * kStep);
         if (moved == c.value) moved = admissible(c, c.integer ? c.value - 1.0 : c.value / kStep);  // at its upper bound
         if (moved == c.value || !(moved > 0.0)) return;
         const std::optional<std::vector<double>> values = retimed(model, base, c, moved, s.rows);
@@ -138,7 +141,8 @@ std::optional<WhatIf> reconcile(const CalibrationModel& model, const MachineSens
         if (std::abs(g1) < kReconciled || !what.within_range || g1 == g0) break;
         // Never further than the largest change a what-if considers.
         const double reach = std::log(kLargestChange);
-        const double next = std::clamp(x1 - g1 * (x1 - x0) / (g1 - g0), std::log(best->value) - reach, std::log(best->value) + reach);
+        const double next =
+            std::clamp(x1 - g1 * (x1 - x0) / (g1 - g0), std::log(best->value) - reach, std::log(best->value) + reach);
         if (next == x1) break;
         x0 = x1, g0 = g1, x1 = next;
         if (c.integer && std::llround(std::exp(x1)) == std::llround(value)) break;

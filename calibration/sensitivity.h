@@ -24,24 +24,24 @@ struct ParameterElasticity {
 
 struct MachineSensitivity {
     std::string machine;
-    CalibrationScales scales;       // applied throughout (fitted or given)
+    CalibrationScales scales;  // applied throughout (fitted or given)
     std::vector<const Target*> rows;
-    std::vector<double> simulated;  // each row at the configuration
+    std::vector<double> simulated;                // each row at the configuration
     std::vector<ParameterElasticity> parameters;  // only those that move some row
 };
 
 // Every numeric timing parameter of `machine` but the calibration's own scales (the fit's to move),
 // each moved up by 10% (a whole step at least, for a count), the runs side by side.
-MachineSensitivity measure_sensitivity(const CalibrationModel& model, const std::string& machine, const CalibrationScales& scales,
-                                       std::vector<const Target*> rows);
+MachineSensitivity measure_sensitivity(const CalibrationModel& model, const std::string& machine,
+                                       const CalibrationScales& scales, std::vector<const Target*> rows);
 
 // One documented parameter moved until a row matches its reported value.
 struct WhatIf {
     std::string key;
     double from = 0.0;
     double to = 0.0;
-    bool within_range = true;   // `to` inside the parameter's declared range (else held at its edge)
-    double reached = 0.0;       // the row's simulated value with the change
+    bool within_range = true;    // `to` inside the parameter's declared range (else held at its edge)
+    double reached = 0.0;        // the row's simulated value with the change
     std::vector<double> others;  // every row's simulated value with the change (MachineSensitivity::rows' order)
 };
 

@@ -13,15 +13,16 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 #include <set>
+#include <stdexcept>
 
 namespace pp5 {
 
 namespace {
 
 // Reads one string field of a target, naming it in errors.
-std::string text_field(const toml::table& row, const std::string& file, const std::string& prefix, const char* key, bool required) {
+std::string text_field(const toml::table& row, const std::string& file, const std::string& prefix, const char* key,
+                       bool required) {
     const toml::node* node = row.get(key);
     if (!node) {
         if (required) throw InputError(file, prefix + key, "is missing");
@@ -35,8 +36,8 @@ std::string text_field(const toml::table& row, const std::string& file, const st
 // Calls read(row, prefix) for each table of the optional array `name` ("figures[2]." its prefix), after
 // refusing a key outside `known` ("unknown field; <what> has a, b and c").
 template <typename Read>
-void for_each_row(const toml::table& root, const std::string& file, const char* name, std::initializer_list<std::string_view> known,
-                  const char* what, Read read) {
+void for_each_row(const toml::table& root, const std::string& file, const char* name,
+                  std::initializer_list<std::string_view> known, const char* what, Read read) {
     const toml::array* rows = root[name].as_array();
     if (rows == nullptr) return;
     std::string listed;
@@ -48,7 +49,8 @@ void for_each_row(const toml::table& root, const std::string& file, const char* 
         if (!row) throw InputError(file, prefix.substr(0, prefix.size() - 1), "must be a table");
         for (const auto& [k, v] : *row)
             if (std::find(known.begin(), known.end(), k.str()) == known.end())
-                throw InputError(file, prefix + std::string(k.str()), fmt::format("unknown field; {} has {}", what, listed));
+                throw InputError(file, prefix + std::string(k.str()),
+                                 fmt::format("unknown field; {} has {}", what, listed));
         read(*row, prefix);
     }
 }
@@ -64,81 +66,101 @@ Scenario scenario_named(const std::string& name, const std::string& file, const 
 
 // [[figures]]: name, scenario, frame, picture ("final" or "first").
 void read_figures(const toml::table& root, const std::string& file, TargetSet& set) {
-    for_each_row(root, file, "figures", {"name", "scenario", "frame", "picture"}, "a figure", [&](const toml::table& row, const std::string& prefix) {
-        Figure f;
-        f.name = text_field(row, file, prefix, "name", true);
-        if (f.name.empty() || f.name.find_first_of("/\\.") != std::string::npos)
-            throw InputError(file, prefix + "name", "must be a plain file name without slashes or dots");
-        f.scenario = text_field(row, file, prefix, "scenario", true);
-        if (const toml::node* frame = row.get("frame")) {
-            const auto index = frame->value<std::int64_t>();
-            if (!index || *index < 0) throw InputError(file, prefix + "frame", "must be a frame index from 0");
-            f.frame = static_cast<int>(*index);
-        }
-        const std::string picture = text_field(row, file, prefix, "picture", false);
-        if (!picture.empty() && picture != "final" && picture != "first")
-            throw InputError(file, prefix + "picture", "must be final (the finished frame) or first (its first stage)");
-        f.final = picture != "first";
-        // Any scenario with that frame: a figure of a scenario no row times is recorded for the picture alone.
-        const Scenario scenario = scenario_named(f.scenario, file, prefix);
-        if (f.frame >= static_cast<int>(scenario.frames.size()))
-            throw InputError(file, prefix + "frame", fmt::format("must be a frame of \"{}\": 0 to {}", f.scenario, scenario.frames.size() - 1));
-        set.figures.push_back(f);
-    });
+    for_each_row(root, file, "figures", {"name", "scenario", "frame", "picture"}, "a figure",
+                 [&](const toml::table& row, const std::string& prefix) {
+                     Figure f;
+                     f.name = text_field(row, file, prefix, "name", true);
+                     if (f.name.empty() || f.name.find_first_of("/\\.") != std::string::npos)
+                         throw InputError(file, prefix + "name", "must be a plain file name without slashes or dots");
+                     f.scenario = text_field(row, file, prefix, "scenario", true);
+                     if (const toml::node* frame = row.get("frame")) {
+                         const auto index = frame->value<std::int64_t>();
+                         if (!index || *index < 0)
+                             throw InputError(file, prefix + "frame", "must be a frame index from 0");
+                         f.frame = static_cast<int>(*index);
+                     }
+                     const std::string picture = text_field(row, file, prefix, "picture", false);
+                     if (!picture.empty() && picture != "final" && picture != "first")
+                         throw InputError(file, prefix + "picture",
+                                          "must be final (the finished frame) or first (its first stage)");
+                     f.final = picture != "first";
+                     // Any scenario with that frame: a figure of a scenario no row times is recorded for the picture
+                     // alone.
+                     const Scenario scenario = scenario_named(f.scenario, file, prefix);
+                     if (f.frame >= static_cast<int>(scenario.frames.size()))
+                         throw InputError(
+                             file, prefix + "frame",
+                             fmt::format("must be a frame of \"{}\": 0 to {}", f.scenario, scenario.frames.size() - 1));
+                     set.figures.push_back(f);
+                 });
 }
 
 // [[workload]]: parameter, bounds, ratio_of (two measured rows on one machine) and why.
 void read_workload(const toml::table& root, const std::string& file, TargetSet& set) {
     const MachineConfig declared(run_param_groups());  // every machine and kernel parameter, to look keys up in
-    for_each_row(root, file, "workload", {"parameter", "bounds", "ratio_of", "why"}, "a workload parameter",
-                 [&](const toml::table& row, const std::string& prefix) {
-        WorkloadSpec w;
-        w.key = text_field(row, file, prefix, "parameter", true);
-        w.why = text_field(row, file, prefix, "why", true);
-        const ParamSpec* spec = declared.find_spec(w.key);
-        if (spec == nullptr) throw InputError(file, prefix + "parameter", "\"" + w.key + "\" is not a machine or kernel parameter (see `pp5sim params`)");
-        if (is_timing_parameter(w.key))
-            throw InputError(file, prefix + "parameter",
-                             "\"" + w.key + "\" only changes timing: the fit's scales cover timing, the workload step what is computed");
-        if (spec->type != ParamType::Integer && spec->type != ParamType::Real)
-            throw InputError(file, prefix + "parameter", "\"" + w.key + "\" is not a number, so it cannot be searched for");
-        w.integer = spec->type == ParamType::Integer;
-        for (const auto& other : set.workload)
-            if (other.key == w.key) throw InputError(file, prefix + "parameter", "\"" + w.key + "\" is identified by an earlier [[workload]]");
+    for_each_row(
+        root, file, "workload", {"parameter", "bounds", "ratio_of", "why"}, "a workload parameter",
+        [&](const toml::table& row, const std::string& prefix) {
+            WorkloadSpec w;
+            w.key = text_field(row, file, prefix, "parameter", true);
+            w.why = text_field(row, file, prefix, "why", true);
+            const ParamSpec* spec = declared.find_spec(w.key);
+            if (spec == nullptr)
+                throw InputError(file, prefix + "parameter",
+                                 "\"" + w.key + "\" is not a machine or kernel parameter (see `pp5sim params`)");
+            if (is_timing_parameter(w.key))
+                throw InputError(
+                    file, prefix + "parameter",
+                    "\"" + w.key +
+                        "\" only changes timing: the fit's scales cover timing, the workload step what is computed");
+            if (spec->type != ParamType::Integer && spec->type != ParamType::Real)
+                throw InputError(file, prefix + "parameter",
+                                 "\"" + w.key + "\" is not a number, so it cannot be searched for");
+            w.integer = spec->type == ParamType::Integer;
+            for (const auto& other : set.workload)
+                if (other.key == w.key)
+                    throw InputError(file, prefix + "parameter",
+                                     "\"" + w.key + "\" is identified by an earlier [[workload]]");
 
-        const toml::array* bounds = row.get_as<toml::array>("bounds");
-        const auto lower = bounds && bounds->size() == 2 ? (*bounds)[0].value<double>() : std::nullopt;
-        const auto upper = bounds && bounds->size() == 2 ? (*bounds)[1].value<double>() : std::nullopt;
-        if (!lower || !upper || !std::isfinite(*lower) || !std::isfinite(*upper) || !(*lower < *upper))
-            throw InputError(file, prefix + "bounds", "must be two numbers [lower, upper] with lower < upper");
-        if ((spec->min && *lower < *spec->min) || (spec->max && *upper > *spec->max))
-            throw InputError(file, prefix + "bounds",
-                             fmt::format("must lie inside the parameter's own range [{}, {}]", spec->min.value_or(-INFINITY), spec->max.value_or(INFINITY)));
-        if (w.integer && (*lower != std::floor(*lower) || *upper != std::floor(*upper)))
-            throw InputError(file, prefix + "bounds", "must be whole numbers for an integer parameter");
-        w.lower = *lower;
-        w.upper = *upper;
+            const toml::array* bounds = row.get_as<toml::array>("bounds");
+            const auto lower = bounds && bounds->size() == 2 ? (*bounds)[0].value<double>() : std::nullopt;
+            const auto upper = bounds && bounds->size() == 2 ? (*bounds)[1].value<double>() : std::nullopt;
+            if (!lower || !upper || !std::isfinite(*lower) || !std::isfinite(*upper) || !(*lower < *upper))
+                throw InputError(file, prefix + "bounds", "must be two numbers [lower, upper] with lower < upper");
+            if ((spec->min && *lower < *spec->min) || (spec->max && *upper > *spec->max))
+                throw InputError(file, prefix + "bounds",
+                                 fmt::format("must lie inside the parameter's own range [{}, {}]",
+                                             spec->min.value_or(-INFINITY), spec->max.value_or(INFINITY)));
+            if (w.integer && (*lower != std::floor(*lower) || *upper != std::floor(*upper)))
+                throw InputError(file, prefix + "bounds", "must be whole numbers for an integer parameter");
+            w.lower = *lower;
+            w.upper = *upper;
 
-        const toml::array* ratio = row.get_as<toml::array>("ratio_of");
-        if (!ratio || ratio->size() != 2 || !(*ratio)[0].is_string() || !(*ratio)[1].is_string())
-            throw InputError(file, prefix + "ratio_of", "must name two targets: [numerator id, denominator id]");
-        w.numerator = *(*ratio)[0].value<std::string>();
-        w.denominator = *(*ratio)[1].value<std::string>();
-        const Target* numerator = set.find(w.numerator);
-        const Target* denominator = set.find(w.denominator);
-        for (const auto& [id, t] : {std::pair{w.numerator, numerator}, std::pair{w.denominator, denominator}}) {
-            if (t == nullptr) throw InputError(file, prefix + "ratio_of", "no target has the id \"" + id + "\"");
-            if (t->is_formula()) throw InputError(file, prefix + "ratio_of", "\"" + id + "\" is a formula row: it simulates nothing");
-            if (t->exactness != Exactness::Measured)
+            const toml::array* ratio = row.get_as<toml::array>("ratio_of");
+            if (!ratio || ratio->size() != 2 || !(*ratio)[0].is_string() || !(*ratio)[1].is_string())
+                throw InputError(file, prefix + "ratio_of", "must name two targets: [numerator id, denominator id]");
+            w.numerator = *(*ratio)[0].value<std::string>();
+            w.denominator = *(*ratio)[1].value<std::string>();
+            const Target* numerator = set.find(w.numerator);
+            const Target* denominator = set.find(w.denominator);
+            for (const auto& [id, t] : {std::pair{w.numerator, numerator}, std::pair{w.denominator, denominator}}) {
+                if (t == nullptr) throw InputError(file, prefix + "ratio_of", "no target has the id \"" + id + "\"");
+                if (t->is_formula())
+                    throw InputError(file, prefix + "ratio_of",
+                                     "\"" + id + "\" is a formula row: it simulates nothing");
+                if (t->exactness != Exactness::Measured)
+                    throw InputError(file, prefix + "ratio_of",
+                                     "\"" + id + "\" is " + std::string(to_string(t->exactness)) +
+                                         ": a workload parameter comes only from measured rows, never from an estimate "
+                                         "the fit must test");
+            }
+            if (w.numerator == w.denominator)
+                throw InputError(file, prefix + "ratio_of", "must name two different targets");
+            if (numerator->machine != denominator->machine)
                 throw InputError(file, prefix + "ratio_of",
-                                 "\"" + id + "\" is " + std::string(to_string(t->exactness)) +
-                                     ": a workload parameter comes only from measured rows, never from an estimate the fit must test");
-        }
-        if (w.numerator == w.denominator) throw InputError(file, prefix + "ratio_of", "must name two different targets");
-        if (numerator->machine != denominator->machine)
-            throw InputError(file, prefix + "ratio_of", "the two targets must run on one machine, so that its speed cancels in the ratio");
-        set.workload.push_back(std::move(w));
-    });
+                                 "the two targets must run on one machine, so that its speed cancels in the ratio");
+            set.workload.push_back(std::move(w));
+        });
 }
 
 }  // namespace
@@ -205,20 +227,26 @@ void read_value_fields(const toml::table& row, const std::string& file, const st
     const toml::node* reported = row.get("reported");
     if (!reported) throw InputError(file, prefix + "reported", "is missing");
     const auto value = reported->value<double>();
-    if (!value || !std::isfinite(*value) || *value <= 0.0) throw InputError(file, prefix + "reported", "must be a positive number");
+    if (!value || !std::isfinite(*value) || *value <= 0.0)
+        throw InputError(file, prefix + "reported", "must be a positive number");
     t.reported = *value;
 
     const std::string exactness = text_field(row, file, prefix, "exactness", true);
     if (exactness == "measured") t.exactness = Exactness::Measured;
     else if (exactness == "estimate") t.exactness = Exactness::Estimate;
     else if (exactness == "order-of-magnitude") t.exactness = Exactness::OrderOfMagnitude;
-    else throw InputError(file, prefix + "exactness", "must be measured, estimate or order-of-magnitude, not \"" + exactness + "\"");
+    else
+        throw InputError(file, prefix + "exactness",
+                         "must be measured, estimate or order-of-magnitude, not \"" + exactness + "\"");
 
     const std::string use = text_field(row, file, prefix, "use", true);
-    constexpr TargetUse kUses[] = {TargetUse::Fit, TargetUse::Predict, TargetUse::Check, TargetUse::ByConstruction, TargetUse::Comparison};
-    const auto* known = std::find_if(std::begin(kUses), std::end(kUses), [&](TargetUse u) { return to_string(u) == use; });
+    constexpr TargetUse kUses[] = {TargetUse::Fit, TargetUse::Predict, TargetUse::Check, TargetUse::ByConstruction,
+                                   TargetUse::Comparison};
+    const auto* known =
+        std::find_if(std::begin(kUses), std::end(kUses), [&](TargetUse u) { return to_string(u) == use; });
     if (known == std::end(kUses))
-        throw InputError(file, prefix + "use", "must be fit, held-out, check, by-construction or comparison, not \"" + use + "\"");
+        throw InputError(file, prefix + "use",
+                         "must be fit, held-out, check, by-construction or comparison, not \"" + use + "\"");
     t.use = *known;
 }
 
@@ -228,9 +256,10 @@ void read_formula_row(const toml::table& row, const std::string& file, const std
     t.formula = text_field(row, file, prefix, "formula", true);
     read_value_fields(row, file, prefix, t);
     if (t.use != TargetUse::Check)
-        throw InputError(file, prefix + "use",
-                         "a formula row recomputes a paper's own equation: it predicts nothing and depends on no timing "
-                         "parameter, so its use is \"check\"");
+        throw InputError(
+            file, prefix + "use",
+            "a formula row recomputes a paper's own equation: it predicts nothing and depends on no timing "
+            "parameter, so its use is \"check\"");
     const Kernel* kernel = find_kernel(t.kernel);
     if (kernel == nullptr) throw InputError(file, prefix + "kernel", "unknown kernel \"" + t.kernel + "\"");
     const std::vector<KernelFormula> formulas = kernel->formulas();
@@ -241,31 +270,37 @@ void read_formula_row(const toml::table& row, const std::string& file, const std
         known += (known.empty() ? "" : ", ") + f.name;
     }
     if (formula == nullptr)
-        throw InputError(file, prefix + "formula", "kernel " + t.kernel + " has no formula \"" + t.formula + "\"" +
-                                                       (known.empty() ? " (it has none)" : "; known: " + known));
+        throw InputError(file, prefix + "formula",
+                         "kernel " + t.kernel + " has no formula \"" + t.formula + "\"" +
+                             (known.empty() ? " (it has none)" : "; known: " + known));
     t.unit = formula->unit;
     const toml::table* inputs = row.get_as<toml::table>("inputs");
     if (inputs == nullptr) throw InputError(file, prefix + "inputs", "must be a table of the formula's inputs");
     for (const auto& [key, node] : *inputs) {
         const std::string name(key.str());
-        const auto input = std::find_if(formula->inputs.begin(), formula->inputs.end(), [&](const FormulaInput& i) { return i.name == name; });
-        if (input == formula->inputs.end()) throw InputError(file, prefix + "inputs." + name, "is not an input of " + t.formula);
+        const auto input = std::find_if(formula->inputs.begin(), formula->inputs.end(),
+                                        [&](const FormulaInput& i) { return i.name == name; });
+        if (input == formula->inputs.end())
+            throw InputError(file, prefix + "inputs." + name, "is not an input of " + t.formula);
         std::vector<double> values;
         const auto take = [&](const toml::node& n) {
             const auto v = n.value<double>();
-            if (!v || !std::isfinite(*v)) throw InputError(file, prefix + "inputs." + name, "must be a number or a list of numbers");
+            if (!v || !std::isfinite(*v))
+                throw InputError(file, prefix + "inputs." + name, "must be a number or a list of numbers");
             values.push_back(*v);
         };
         if (const toml::array* list = node.as_array()) {
-            if (list->empty() || list->size() > 16) throw InputError(file, prefix + "inputs." + name, "must list 1 to 16 numbers");
+            if (list->empty() || list->size() > 16)
+                throw InputError(file, prefix + "inputs." + name, "must list 1 to 16 numbers");
             for (const toml::node& n : *list) take(n);
         } else {
             take(node);
         }
         if (values.size() != input->count)
             throw InputError(file, prefix + "inputs." + name,
-                             input->count == 1 ? std::string("must be one number")
-                                               : fmt::format("must list {} numbers, not {}", input->count, values.size()));
+                             input->count == 1
+                                 ? std::string("must be one number")
+                                 : fmt::format("must list {} numbers, not {}", input->count, values.size()));
         t.inputs[name] = std::move(values);
     }
     for (const FormulaInput& input : formula->inputs)
@@ -292,8 +327,9 @@ TargetSet load_targets(const std::filesystem::path& path) {
     }
     for (const auto& [key, node] : root) {
         if (key.str() != "calibration" && key.str() != "targets" && key.str() != "figures" && key.str() != "workload")
-            throw InputError(file, std::string(key.str()),
-                             "unknown table; a target file holds [calibration], [[targets]], [[workload]] and [[figures]]");
+            throw InputError(
+                file, std::string(key.str()),
+                "unknown table; a target file holds [calibration], [[targets]], [[workload]] and [[figures]]");
     }
     const toml::array* rows = root["targets"].as_array();
     if (!rows || rows->empty()) throw InputError(file, "targets", "needs at least one [[targets]] row");
@@ -304,20 +340,25 @@ TargetSet load_targets(const std::filesystem::path& path) {
         const toml::table* row = (*rows)[i].as_table();
         if (!row) throw InputError(file, prefix.substr(0, prefix.size() - 1), "must be a table");
         const bool formula_row = row->contains("formula");
-        static const std::set<std::string> known{"id", "source", "quote", "scenario", "frame", "machine", "metric",
-                                                 "reported", "exactness", "use", "divided_by_frame", "assumes"};
-        static const std::set<std::string> known_formula{"id", "source", "quote", "kernel", "formula", "inputs", "reported", "exactness", "use"};
+        static const std::set<std::string> known{
+            "id",       "source",    "quote", "scenario",         "frame",  "machine", "metric",
+            "reported", "exactness", "use",   "divided_by_frame", "assumes"};
+        static const std::set<std::string> known_formula{"id",     "source",   "quote",     "kernel", "formula",
+                                                         "inputs", "reported", "exactness", "use"};
         for (const auto& [k, v] : *row) {
             if (!(formula_row ? known_formula : known).count(std::string(k.str())))
-                throw InputError(file, prefix + std::string(k.str()),
-                                 formula_row ? "unknown field for a formula row; it has id, source, quote, kernel, formula, inputs, "
-                                               "reported, exactness and use"
-                                             : "unknown field; a target has id, source, quote, scenario, frame, machine, metric, "
-                                               "divided_by_frame, reported, exactness, use and assumes (or kernel, formula and inputs)");
+                throw InputError(
+                    file, prefix + std::string(k.str()),
+                    formula_row
+                        ? "unknown field for a formula row; it has id, source, quote, kernel, formula, inputs, "
+                          "reported, exactness and use"
+                        : "unknown field; a target has id, source, quote, scenario, frame, machine, metric, "
+                          "divided_by_frame, reported, exactness, use and assumes (or kernel, formula and inputs)");
         }
         Target t;
         t.id = text_field(*row, file, prefix, "id", true);
-        if (!ids.insert(t.id).second) throw InputError(file, prefix + "id", "\"" + t.id + "\" is used by an earlier target");
+        if (!ids.insert(t.id).second)
+            throw InputError(file, prefix + "id", "\"" + t.id + "\" is used by an earlier target");
         t.source = text_field(*row, file, prefix, "source", true);
         t.quote = text_field(*row, file, prefix, "quote", false);
         if (formula_row) {
@@ -333,15 +374,18 @@ TargetSet load_targets(const std::filesystem::path& path) {
 
         read_value_fields(*row, file, prefix, t);
         if (t.use == TargetUse::Check)
-            throw InputError(file, prefix + "use",
-                             "\"check\" is for formula rows (a paper's equation recomputed); a simulated row is fit, held-out, "
-                             "by-construction or comparison");
+            throw InputError(
+                file, prefix + "use",
+                "\"check\" is for formula rows (a paper's equation recomputed); a simulated row is fit, held-out, "
+                "by-construction or comparison");
 
         // The scenario and machine must exist, and the frame be one of the scenario's.
         const Scenario scenario = scenario_named(t.scenario, file, prefix);
         // The metric is one the scenario's kernel measures its frames by.
         const Kernel* kernel = find_kernel(scenario.kernel);
-        if (kernel == nullptr) throw InputError(file, prefix + "scenario", "\"" + t.scenario + "\" names an unknown kernel \"" + scenario.kernel + "\"");
+        if (kernel == nullptr)
+            throw InputError(file, prefix + "scenario",
+                             "\"" + t.scenario + "\" names an unknown kernel \"" + scenario.kernel + "\"");
         std::string metrics;
         for (const KernelMetric& m : kernel->metrics()) {
             if (m.name == t.metric) t.unit = m.unit;
@@ -349,21 +393,25 @@ TargetSet load_targets(const std::filesystem::path& path) {
         }
         if (t.unit.empty())
             throw InputError(file, prefix + "metric",
-                             "unknown metric \"" + t.metric + "\" for kernel " + kernel->name() + (metrics.empty() ? " (it has none)" : "; known: " + metrics));
+                             "unknown metric \"" + t.metric + "\" for kernel " + kernel->name() +
+                                 (metrics.empty() ? " (it has none)" : "; known: " + metrics));
         const toml::node* frame = row->get("frame");
         if (frame) {
             const auto index = frame->value<std::int64_t>();
             if (!index || *index < 0 || *index >= static_cast<std::int64_t>(scenario.frames.size()))
-                throw InputError(file, prefix + "frame",
-                                 fmt::format("must be a frame of \"{}\": 0 to {}", t.scenario, scenario.frames.size() - 1));
+                throw InputError(
+                    file, prefix + "frame",
+                    fmt::format("must be a frame of \"{}\": 0 to {}", t.scenario, scenario.frames.size() - 1));
             t.frame = static_cast<int>(*index);
         }
         if (const toml::node* divisor = row->get("divided_by_frame")) {
             const auto index = divisor->value<std::int64_t>();
             if (!index || *index < 0 || *index >= static_cast<std::int64_t>(scenario.frames.size()))
-                throw InputError(file, prefix + "divided_by_frame",
-                                 fmt::format("must be a frame of \"{}\": 0 to {}", t.scenario, scenario.frames.size() - 1));
-            if (*index == t.frame) throw InputError(file, prefix + "divided_by_frame", "must differ from frame (the ratio would be 1)");
+                throw InputError(
+                    file, prefix + "divided_by_frame",
+                    fmt::format("must be a frame of \"{}\": 0 to {}", t.scenario, scenario.frames.size() - 1));
+            if (*index == t.frame)
+                throw InputError(file, prefix + "divided_by_frame", "must differ from frame (the ratio would be 1)");
             t.divided_by_frame = static_cast<int>(*index);
             t.unit = "ratio";
         }

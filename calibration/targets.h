@@ -36,14 +36,14 @@ std::string_view describe(TargetUse use);   // the report's: "fitted", "predicte
 
 struct Target {
     std::string id;
-    std::string source;    // paper and section
-    std::string quote;     // the words the figure comes from, or a paraphrase
-    std::string assumes;   // optional: the paper's reasoning behind the figure, shown when the row misses it
-    std::string scenario;  // a scenario name or file
-    int frame = 0;         // index into the scenario's frames
-    std::string machine;   // preset name or machine file
-    std::string metric;  // one of the scenario's kernel's metrics (Kernel::metrics)
-    std::string unit;    // the metric's, or "ratio" when divided by another frame's
+    std::string source;         // paper and section
+    std::string quote;          // the words the figure comes from, or a paraphrase
+    std::string assumes;        // optional: the paper's reasoning behind the figure, shown when the row misses it
+    std::string scenario;       // a scenario name or file
+    int frame = 0;              // index into the scenario's frames
+    std::string machine;        // preset name or machine file
+    std::string metric;         // one of the scenario's kernel's metrics (Kernel::metrics)
+    std::string unit;           // the metric's, or "ratio" when divided by another frame's
     int divided_by_frame = -1;  // >= 0: the metric at `frame` over its value at this frame (a ratio)
     double reported = 0.0;
     Exactness exactness = Exactness::Estimate;
@@ -62,20 +62,20 @@ struct Figure {
     std::string name;      // images/<name>.png
     std::string scenario;  // a scenario some target names, whose frame `frame` it records
     int frame = 0;
-    bool final = true;     // the finished frame, or (false) its first stage (the crude pass)
+    bool final = true;  // the finished frame, or (false) its first stage (the crude pass)
 };
 
 // A workload parameter the papers do not give (what a kernel computes, not how fast: a refinement
 // threshold, a sample count), identified before any scale is fitted from the ratio of two measured rows
 // on one machine, so that the machine's speed cancels. Never from a designer's estimate.
 struct WorkloadSpec {
-    std::string key;        // a machine parameter that changes what is computed ("levoy.refinement_threshold")
-    double lower = 0.0;     // the search's bounds, inside the parameter's own range
+    std::string key;     // a machine parameter that changes what is computed ("levoy.refinement_threshold")
+    double lower = 0.0;  // the search's bounds, inside the parameter's own range
     double upper = 0.0;
     bool integer = false;   // the parameter's type
     std::string numerator;  // target ids: simulated numerator / denominator should equal the reported ratio
     std::string denominator;
-    std::string why;        // what ties the parameter to that ratio
+    std::string why;  // what ties the parameter to that ratio
 };
 
 struct TargetSet {
@@ -89,9 +89,9 @@ struct TargetSet {
     const Target* find(const std::string& id) const;
 };
 
-// Reads and checks a target file ([calibration], [[targets]], [[workload]], [[figures]]): metrics the scenario's kernel does not offer, unknown exactness or
-// use, scenarios or machines that do not resolve, frames outside the scenario, non-positive values and
-// repeated ids are errors.
+// Reads and checks a target file ([calibration], [[targets]], [[workload]], [[figures]]): metrics the scenario's kernel
+// does not offer, unknown exactness or use, scenarios or machines that do not resolve, frames outside the scenario,
+// non-positive values and repeated ids are errors.
 TargetSet load_targets(const std::filesystem::path& file);
 // A path, or the name of a shipped target file (traces/calibration/NAME.toml).
 std::filesystem::path resolve_targets_file(const std::string& name_or_path);

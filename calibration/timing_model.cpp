@@ -1,11 +1,11 @@
 #include "calibration/timing_model.h"
 
 #include "kernels/registry/registry.h"
-#include "sim/timing/frame_engine.h"
 #include "kernels/registry/run_config.h"
-#include "sim/timing/one_processor.h"
 #include "sim/core/input_error.h"
 #include "sim/machine/machine.h"
+#include "sim/timing/frame_engine.h"
+#include "sim/timing/one_processor.h"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -19,8 +19,8 @@ namespace {
 
 // Only these parameters may differ between the recording machine and the machine that re-times.
 constexpr const char* kTimingGroups[] = {"gp.", "gp_cost.", "pp.", "ring.", "calibration."};
-constexpr const char* kTimingKeys[] = {"renderer.clock_mhz", "renderer.fetch_setup_cycles", "renderer.fetch_cycles_per_unit",
-                                       "frame_buffer.bits_per_pixel"};
+constexpr const char* kTimingKeys[] = {"renderer.clock_mhz", "renderer.fetch_setup_cycles",
+                                       "renderer.fetch_cycles_per_unit", "frame_buffer.bits_per_pixel"};
 
 }  // namespace
 
@@ -52,7 +52,8 @@ RecordedScenario::RecordedScenario(const Scenario& scenario, const MachineConfig
     const int count = std::min(frames, static_cast<int>(scenario_.frames.size()));
     for (int i = 0; i < count; ++i) {
         const FrameSpec& spec = scenario_.frames[static_cast<std::size_t>(i)];
-        RecordedFrame recorded{spec.label, naming_parameter_origins(functional, [&] { return run->record_frame(spec); }), {}, {}};
+        RecordedFrame recorded{
+            spec.label, naming_parameter_origins(functional, [&] { return run->record_frame(spec); }), {}, {}};
         recorded.crude_image = recorded.frame->pass_images.front();
         recorded.refined_image = recorded.frame->pass_images.back();
         recorded.frame->pass_images.clear();  // kept once, above
@@ -66,7 +67,8 @@ double RecordedScenario::metric(const std::string& name, std::size_t frame, cons
 
 std::vector<FrameTiming> RecordedScenario::time_on(const MachineConfig& machine, std::size_t frames) const {
     frames = std::min(frames, frames_.size());
-    check_only_timing_differs(functional_, machine, "calibration only re-times recorded work (render the scenario on that machine instead)");
+    check_only_timing_differs(functional_, machine,
+                              "calibration only re-times recorded work (render the scenario on that machine instead)");
     std::vector<const FrameWork*> work;
     for (std::size_t i = 0; i < frames; ++i) work.push_back(&frames_[i].frame->work);
     return time_recorded_work(machine, work);
@@ -77,10 +79,12 @@ void check_only_timing_differs(const MachineConfig& recorded, const MachineConfi
     const nlohmann::json now = timing.to_json()["parameters"];
     for (const auto& [key, entry] : was.items())
         if (!is_timing_parameter(key) && now.contains(key) && now[key]["value"] != entry["value"])
-            throw InputError(now[key]["origin"].get<std::string>(), key,
-                             fmt::format("is {} but the work was recorded with {}: it changes what the kernels compute, not only how "
-                                         "long it takes; {}",
-                                         now[key]["value"].dump(), entry["value"].dump(), remedy));
+            throw InputError(
+                now[key]["origin"].get<std::string>(), key,
+                fmt::format(
+                    "is {} but the work was recorded with {}: it changes what the kernels compute, not only how "
+                    "long it takes; {}",
+                    now[key]["value"].dump(), entry["value"].dump(), remedy));
 }
 
 std::vector<FrameTiming> time_recorded_work(const MachineConfig& machine, const std::vector<const FrameWork*>& work) {
@@ -94,7 +98,8 @@ std::vector<FrameTiming> time_recorded_work(const MachineConfig& machine, const 
     return times;
 }
 
-CalibrationModel::CalibrationModel(const TargetSet& targets, std::optional<MachineConfig> functional, std::vector<WorkloadSetting> workload,
+CalibrationModel::CalibrationModel(const TargetSet& targets, std::optional<MachineConfig> functional,
+                                   std::vector<WorkloadSetting> workload,
                                    const std::function<void(const std::string&)>& progress)
     : targets_(targets), workload_(std::move(workload)) {
     const auto with_workload = [&](MachineConfig config) {
@@ -108,7 +113,8 @@ CalibrationModel::CalibrationModel(const TargetSet& targets, std::optional<Machi
         if (!machines_.count(t.machine)) machines_.emplace(t.machine, with_workload(load_run_config(t.machine, {})));
     }
     if (frames_needed.empty()) return;  // only formula rows: nothing to record (nor to picture)
-    for (const Figure& f : targets_.figures) frames_needed[f.scenario] = std::max(frames_needed[f.scenario], f.frame + 1);
+    for (const Figure& f : targets_.figures)
+        frames_needed[f.scenario] = std::max(frames_needed[f.scenario], f.frame + 1);
     const MachineConfig recording = with_workload(functional ? *functional : recording_machine(targets_));
     for (const auto& [name, frames] : frames_needed) {
         const Scenario scenario = load_scenario(resolve_scenario_file(name));
@@ -152,7 +158,8 @@ std::vector<double> CalibrationModel::simulate(const std::string& machine, const
     return simulate_on(machine_config(machine, scales), targets);
 }
 
-std::vector<double> CalibrationModel::simulate_on(const MachineConfig& config, const std::vector<const Target*>& targets) const {
+std::vector<double> CalibrationModel::simulate_on(const MachineConfig& config,
+                                                  const std::vector<const Target*>& targets) const {
     // Each scenario timed once per call, up to the last frame these targets read.
     std::map<std::string, std::size_t> frames_read;
     for (const Target* t : targets)
@@ -162,7 +169,8 @@ std::vector<double> CalibrationModel::simulate_on(const MachineConfig& config, c
     std::vector<double> values;
     for (const Target* t : targets) {
         auto it = timed.find(t->scenario);
-        if (it == timed.end()) it = timed.emplace(t->scenario, recording(t->scenario).time_on(config, frames_read.at(t->scenario))).first;
+        if (it == timed.end())
+            it = timed.emplace(t->scenario, recording(t->scenario).time_on(config, frames_read.at(t->scenario))).first;
         const auto frame = static_cast<std::size_t>(t->frame);
         try {
             double value = recording(t->scenario).metric(t->metric, frame, it->second[frame]);

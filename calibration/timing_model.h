@@ -7,8 +7,8 @@
 // render on that machine would (tests/unit/calibration), in a fraction of the time.
 
 #include "calibration/targets.h"
-#include "kernels/scenario/scenario.h"
 #include "kernels/interface/kernel.h"
+#include "kernels/scenario/scenario.h"
 #include "sim/core/calibration.h"
 #include "sim/core/config.h"
 
@@ -78,7 +78,9 @@ struct WorkloadSetting {
     std::string key;
     double value = 0.0;
     bool integer = false;
-    ParamValue param_value() const { return integer ? ParamValue(static_cast<std::int64_t>(std::llround(value))) : ParamValue(value); }
+    ParamValue param_value() const {
+        return integer ? ParamValue(static_cast<std::int64_t>(std::llround(value))) : ParamValue(value);
+    }
 };
 
 // The targets' scenarios recorded once, and their machines' configurations; simulates any target on
@@ -90,7 +92,8 @@ public:
     // every target's machine.
     // `progress` hears of each scenario as its recording starts.
     explicit CalibrationModel(const TargetSet& targets, std::optional<MachineConfig> functional = std::nullopt,
-                              std::vector<WorkloadSetting> workload = {}, const std::function<void(const std::string&)>& progress = {});
+                              std::vector<WorkloadSetting> workload = {},
+                              const std::function<void(const std::string&)>& progress = {});
 
     // The targets' simulated values, on their machine with `scales` applied.
     std::vector<double> simulate(const std::string& machine, const CalibrationScales& scales,

@@ -17,7 +17,7 @@ namespace pp5 {
 
 namespace {
 
-constexpr double kNormal95 = 1.959964;   // the normal distribution's 95% two-sided factor
+constexpr double kNormal95 = 1.959964;  // the normal distribution's 95% two-sided factor
 constexpr double kRoundingOnly = 1e-9;  // a response this small is rounding, not a guess that matters
 constexpr double kMinorChange = 0.02;   // a guess whose far end moves no figure by more than this fraction is minor
 
@@ -46,15 +46,18 @@ std::vector<std::string> unused_cost_prefixes(const std::vector<const Kernel*>& 
 
 }  // namespace
 
-std::vector<UncertainParameter> uncertain_parameters(const MachineConfig& config, const std::vector<const Kernel*>& in_use,
+std::vector<UncertainParameter> uncertain_parameters(const MachineConfig& config,
+                                                     const std::vector<const Kernel*>& in_use,
                                                      const std::set<std::string>& fixed) {
     const std::vector<std::string> unused = unused_cost_prefixes(in_use);
     std::vector<UncertainParameter> found;
     for (const ParamGroup* group : config.groups()) {
         for (const ParamSpec& spec : group->specs()) {
             const std::string key = group->prefix() + "." + spec.name;
-            if (!spec.plausible || !is_timing_parameter(key) || key.starts_with("calibration.") || fixed.count(key)) continue;
-            if (std::any_of(unused.begin(), unused.end(), [&](const std::string& p) { return key.starts_with(p); })) continue;
+            if (!spec.plausible || !is_timing_parameter(key) || key.starts_with("calibration.") || fixed.count(key))
+                continue;
+            if (std::any_of(unused.begin(), unused.end(), [&](const std::string& p) { return key.starts_with(p); }))
+                continue;
             const bool integer = spec.type == ParamType::Integer;
             const double value = integer ? static_cast<double>(config.integer(key)) : config.real(key);
             const double def = number_of(spec.default_value);
@@ -69,7 +72,8 @@ std::vector<UncertainParameter> uncertain_parameters(const MachineConfig& config
                 if (spec.max) high = std::min(high, *spec.max);
             }
             if (!(high > low)) continue;  // fixed by its sources
-            found.push_back({key, value, low, high, integer, low > 0.0 && value > 0.0, spec.plausible->per_operation, spec.plausible->why});
+            found.push_back({key, value, low, high, integer, low > 0.0 && value > 0.0, spec.plausible->per_operation,
+                             spec.plausible->why});
         }
     }
     return found;
@@ -121,7 +125,8 @@ UncertaintyTable measure_uncertainty(const MachineConfig& config, const std::vec
     std::vector<End> ends;
     for (std::size_t i = 0; i < parameters.size(); ++i) {
         const UncertainParameter& p = parameters[i];
-        const bool high_is_far = p.high > p.value && scale_of(p, p.high) - scale_of(p, p.value) >= scale_of(p, p.value) - scale_of(p, p.low);
+        const bool high_is_far =
+            p.high > p.value && scale_of(p, p.high) - scale_of(p, p.value) >= scale_of(p, p.value) - scale_of(p, p.low);
         ends.push_back({i, high_is_far, high_is_far ? p.high : p.low, std::nullopt, {}});
     }
     run(ends);
@@ -133,14 +138,16 @@ UncertaintyTable measure_uncertainty(const MachineConfig& config, const std::vec
         bool measurable = !far.figures;  // a refused far end: the near one must speak for the guess
         for (std::size_t f = 0; far.figures && !p.per_operation && f < table.base.size(); ++f)
             if (std::isfinite(table.base[f]))  // a figure the frame does not have says nothing
-                measurable = measurable || !(std::abs((*far.figures)[f] - table.base[f]) <= kMinorChange * std::abs(table.base[f]));
+                measurable = measurable ||
+                             !(std::abs((*far.figures)[f] - table.base[f]) <= kMinorChange * std::abs(table.base[f]));
         if (measurable) {
             near.push_back({far.parameter, !far.high, other, std::nullopt, {}});
             continue;
         }
         std::vector<double> drawn;
         const double along = (other - p.value) / (far.value - p.value);
-        for (std::size_t f = 0; f < table.base.size(); ++f) drawn.push_back(table.base[f] + ((*far.figures)[f] - table.base[f]) * along);
+        for (std::size_t f = 0; f < table.base.size(); ++f)
+            drawn.push_back(table.base[f] + ((*far.figures)[f] - table.base[f]) * along);
         near.push_back({far.parameter, !far.high, other, std::move(drawn), {}});
         ++table.drawn_ends;
     }
@@ -173,11 +180,13 @@ UncertaintyTable measure_uncertainty(const MachineConfig& config, const std::vec
             (end.high ? high : low) = &end;
         }
         if (!(p.high > p.low)) continue;
-        const double low_share = (scale_of(p, p.value) - scale_of(p, p.low)) / (scale_of(p, p.high) - scale_of(p, p.low));
+        const double low_share =
+            (scale_of(p, p.value) - scale_of(p, p.low)) / (scale_of(p, p.high) - scale_of(p, p.low));
         std::vector<GuessResponse> responses;
         bool moves = false;
         for (std::size_t f = 0; f < table.base.size(); ++f) {
-            GuessResponse r{low ? moved_by(f, (*low->figures)[f]) : 0.0, high ? moved_by(f, (*high->figures)[f]) : 0.0, low_share};
+            GuessResponse r{low ? moved_by(f, (*low->figures)[f]) : 0.0, high ? moved_by(f, (*high->figures)[f]) : 0.0,
+                            low_share};
             moves = moves || std::abs(r.at_low) > kRoundingOnly || std::abs(r.at_high) > kRoundingOnly;
             responses.push_back(r);
         }
@@ -233,13 +242,15 @@ std::vector<Contribution> main_contributors(const UncertaintyTable& table, std::
     }
     if (total <= 0.0) return {};
     for (Contribution& c : all) c.share /= total;
-    std::stable_sort(all.begin(), all.end(), [](const Contribution& a, const Contribution& b) { return a.share > b.share; });
+    std::stable_sort(all.begin(), all.end(),
+                     [](const Contribution& a, const Contribution& b) { return a.share > b.share; });
     all.erase(std::remove_if(all.begin(), all.end(), [](const Contribution& c) { return c.share <= 0.0; }), all.end());
     if (all.size() > count) all.resize(count);
     return all;
 }
 
-MachineConfig worst_case(const MachineConfig& config, const UncertaintyTable& table, std::size_t figure, bool downward) {
+MachineConfig worst_case(const MachineConfig& config, const UncertaintyTable& table, std::size_t figure,
+                         bool downward) {
     MachineConfig moved = config;
     for (std::size_t i = 0; i < table.parameters.size(); ++i) {
         const UncertainParameter& p = table.parameters[i];

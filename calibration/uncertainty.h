@@ -30,11 +30,11 @@ class Kernel;
 
 struct UncertainParameter {
     std::string key;
-    double value = 0.0;       // on the machine
-    double low = 0.0;         // the plausible range on this machine (the declared range as factors of
-    double high = 0.0;        //   the default, when the machine file sets another value)
+    double value = 0.0;  // on the machine
+    double low = 0.0;    // the plausible range on this machine (the declared range as factors of
+    double high = 0.0;   //   the default, when the machine file sets another value)
     bool integer = false;
-    bool logarithmic = false;  // spread evenly in ln (the range does not reach zero)
+    bool logarithmic = false;    // spread evenly in ln (the range does not reach zero)
     bool per_operation = false;  // a per-operation cost (PlausibleRange::per_operation)
     std::string why;
 };
@@ -42,7 +42,8 @@ struct UncertainParameter {
 // Every timing parameter of `config` whose plausible range is more than a point, but the calibration's
 // scales, the cost tables of kernels other than `in_use`, and the keys in `fixed` (a sweep's own axes,
 // which the user chose rather than guessed).
-std::vector<UncertainParameter> uncertain_parameters(const MachineConfig& config, const std::vector<const Kernel*>& in_use,
+std::vector<UncertainParameter> uncertain_parameters(const MachineConfig& config,
+                                                     const std::vector<const Kernel*>& in_use,
                                                      const std::set<std::string>& fixed = {});
 
 // A figure's response to one guess: how much it moves (in ln when the figure is positive) with the
@@ -50,8 +51,8 @@ std::vector<UncertainParameter> uncertain_parameters(const MachineConfig& config
 struct GuessResponse {
     double at_low = 0.0;
     double at_high = 0.0;
-    double low_share = 0.0;   // (value - low) / (high - low), in the guess's own scale
-    double mean() const;      // over the guess spread evenly across its range
+    double low_share = 0.0;  // (value - low) / (high - low), in the guess's own scale
+    double mean() const;     // over the guess spread evenly across its range
     double variance() const;
 };
 

@@ -22,9 +22,9 @@ struct Conclusion {
     std::string claim;
     std::string scenario;
     std::string machine;
-    std::string figure;        // what is measured, and the threshold the claim needs
-    double on_machine = 0.0;   // the figure as the machine is configured
-    double at_worst = 0.0;     // re-timed with every guess at the end that works against the claim
+    std::string figure;       // what is measured, and the threshold the claim needs
+    double on_machine = 0.0;  // the figure as the machine is configured
+    double at_worst = 0.0;    // re-timed with every guess at the end that works against the claim
     bool holds = false;
     std::vector<std::string> against;  // the guesses that work against it most, "key = value"
 };

@@ -34,15 +34,16 @@ public:
         const CalibrationModel model(rows_, functional_, settings);
         const std::string& machine = rows_.targets[0].machine;
         const CalibrationScales scales = CalibrationScales::from(model.base_config(machine));
-        const std::vector<double> v = model.simulate(machine, scales, {&model.targets().targets[0], &model.targets().targets[1]});
+        const std::vector<double> v =
+            model.simulate(machine, scales, {&model.targets().targets[0], &model.targets().targets[1]});
         ++trials_;
         const double r = v[0] / v[1];
         if (!(r > 0.0) || !std::isfinite(r))
             throw InputError(rows_.file.string(), "workload " + spec_.key,
                              fmt::format("at {} the rows' simulated ratio is {}: it cannot be searched", value, r));
         if (options_.progress)
-            options_.progress(fmt::format("workload: {} = {:.6g} gives {} / {} = {:.4g} (reported {:.4g})", spec_.key, value, spec_.numerator,
-                                          spec_.denominator, r, reported_));
+            options_.progress(fmt::format("workload: {} = {:.6g} gives {} / {} = {:.4g} (reported {:.4g})", spec_.key,
+                                          value, spec_.numerator, spec_.denominator, r, reported_));
         return r;
     }
     // How far the ratio at `value` is from the reported one, in log units.
@@ -98,8 +99,10 @@ IdentifiedWorkload identify_one(const TargetSet& targets, const WorkloadSpec& sp
     if ((fa > 0.0) == (fb > 0.0)) {
         // The ratio does not cross the reported one inside the bounds: keep the nearer end, and say so.
         id.at_bound = true;
-        id.note = fmt::format("the reported ratio {:.4g} lies outside what [{}, {}] gives ({:.4g} to {:.4g}): held at the nearer bound",
-                              id.reported_ratio, spec.lower, spec.upper, id.reported_ratio * std::exp(f_lower), id.reported_ratio * std::exp(fb));
+        id.note = fmt::format(
+            "the reported ratio {:.4g} lies outside what [{}, {}] gives ({:.4g} to {:.4g}): held at the nearer bound",
+            id.reported_ratio, spec.lower, spec.upper, id.reported_ratio * std::exp(f_lower),
+            id.reported_ratio * std::exp(fb));
         return std::abs(f_lower) <= std::abs(fb) ? finish(spec.lower, f_lower) : finish(spec.upper, fb);
     }
     // False position with the Illinois correction: an end that stays twice has its miss halved, so
@@ -135,7 +138,8 @@ std::vector<IdentifiedWorkload> identify_workload(const TargetSet& targets, cons
     std::vector<IdentifiedWorkload> identified;
     if (targets.workload.empty()) return identified;
     const MachineConfig functional = recording_machine(targets);
-    for (const WorkloadSpec& spec : targets.workload) identified.push_back(identify_one(targets, spec, functional, workload_settings(identified), options));
+    for (const WorkloadSpec& spec : targets.workload)
+        identified.push_back(identify_one(targets, spec, functional, workload_settings(identified), options));
     return identified;
 }
 

@@ -22,12 +22,12 @@ namespace pp5 {
 
 struct IdentifiedWorkload {
     WorkloadSpec spec;
-    double value = 0.0;          // identified
-    ParamValue machine_value;    // what the recording machine's file gives, for comparison
+    double value = 0.0;        // identified
+    ParamValue machine_value;  // what the recording machine's file gives, for comparison
     double reported_ratio = 0.0;
     double simulated_ratio = 0.0;  // at `value`
     int trials = 0;
-    bool at_bound = false;       // the ratio cannot be reached inside the bounds: the nearest bound is kept
+    bool at_bound = false;  // the ratio cannot be reached inside the bounds: the nearest bound is kept
     std::string note;
 };
 

@@ -30,10 +30,12 @@ Scenario scenario_for(const Kernel& kernel, const Scenario& scenario, std::strin
         return own;
     } catch (const InputError& e) {
         if (e.field() != "image.resampling") throw;
-        own.image.resampling = own.image.resampling == ResamplingOrder::ShadeThenInterpolate ? ResamplingOrder::InterpolateThenShade
-                                                                                             : ResamplingOrder::ShadeThenInterpolate;
+        own.image.resampling = own.image.resampling == ResamplingOrder::ShadeThenInterpolate
+                                   ? ResamplingOrder::InterpolateThenShade
+                                   : ResamplingOrder::ShadeThenInterpolate;
         kernel.check(own);
-        adaptation = fmt::format("renders with image.resampling = \"{}\", the order it implements", order_name(own.image.resampling));
+        adaptation = fmt::format("renders with image.resampling = \"{}\", the order it implements",
+                                 order_name(own.image.resampling));
         return own;
     }
 }
@@ -49,8 +51,8 @@ double statistic(const nlohmann::json& components, const std::string& component,
     return sum;
 }
 
-void render_row(const Kernel& kernel, const Scenario& scenario, const MachineConfig& config, const CompareKernelsOptions& options,
-                KernelComparisonRow& row) {
+void render_row(const Kernel& kernel, const Scenario& scenario, const MachineConfig& config,
+                const CompareKernelsOptions& options, KernelComparisonRow& row) {
     const auto started = std::chrono::steady_clock::now();
     const Scenario own = scenario_for(kernel, scenario, row.adaptation);
     RenderSession session(own, config, nullptr, "png", options.compare_with_reference);
@@ -58,7 +60,8 @@ void render_row(const Kernel& kernel, const Scenario& scenario, const MachineCon
         const SessionFrame rendered = session.render(frame);
         row.frame_seconds.push_back(ticks_to_seconds(rendered.timing.duration_ps()));
         row.phases.clear();
-        for (const PhaseTiming& phase : rendered.timing.phases) row.phases.emplace_back(phase.name, ticks_to_seconds(phase.duration_ps()));
+        for (const PhaseTiming& phase : rendered.timing.phases)
+            row.phases.emplace_back(phase.name, ticks_to_seconds(phase.duration_ps()));
         row.gp_utilisation = rendered.activity.gps;
         row.renderer_utilisation = rendered.activity.renderers;
         row.ring_utilisation = rendered.activity.ring;
@@ -72,7 +75,8 @@ void render_row(const Kernel& kernel, const Scenario& scenario, const MachineCon
     row.ring_messages = statistic(components, "ring", "messages");
     for (std::size_t r = 0; r < session.machine().renderers().size(); ++r)
         row.backing_store_bits_per_pp =
-            std::max(row.backing_store_bits_per_pp, statistic(components, fmt::format("renderer[{}]", r), "backing_store_bits_used"));
+            std::max(row.backing_store_bits_per_pp,
+                     statistic(components, fmt::format("renderer[{}]", r), "backing_store_bits_used"));
     row.host_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 }
 
@@ -81,10 +85,13 @@ std::string number(double value, const char* format = "{:.4g}") { return fmt::fo
 }  // namespace
 
 double KernelComparisonRow::mean_frame_seconds() const {
-    return frame_seconds.empty() ? 0.0 : std::accumulate(frame_seconds.begin(), frame_seconds.end(), 0.0) / static_cast<double>(frame_seconds.size());
+    return frame_seconds.empty() ? 0.0
+                                 : std::accumulate(frame_seconds.begin(), frame_seconds.end(), 0.0) /
+                                       static_cast<double>(frame_seconds.size());
 }
 
-KernelComparison compare_kernels(const Scenario& scenario, const MachineConfig& config, const CompareKernelsOptions& options) {
+KernelComparison compare_kernels(const Scenario& scenario, const MachineConfig& config,
+                                 const CompareKernelsOptions& options) {
     KernelComparison comparison{scenario.name, config.machine_name(), scenario.frames.size(), {}};
     for (const Kernel* kernel : kernels()) {
         if (!kernel->runs_on_machine()) continue;  // the host reference is the oracle every row is measured against
@@ -121,7 +128,8 @@ nlohmann::json to_json(const KernelComparison& comparison) {
                     {"mean_frame_seconds", r.mean_frame_seconds()},
                     {"psnr_db", r.psnr_db ? nlohmann::json(*r.psnr_db) : nlohmann::json(nullptr)},
                     {"phases_seconds", phases},
-                    {"utilisation", {{"gps", r.gp_utilisation}, {"renderers", r.renderer_utilisation}, {"ring", r.ring_utilisation}}},
+                    {"utilisation",
+                     {{"gps", r.gp_utilisation}, {"renderers", r.renderer_utilisation}, {"ring", r.ring_utilisation}}},
                     {"ring_bytes", r.ring_bytes},
                     {"ring_messages", r.ring_messages},
                     {"backing_store_bits_per_pp", r.backing_store_bits_per_pp},
@@ -129,15 +137,20 @@ nlohmann::json to_json(const KernelComparison& comparison) {
                     {"picture", r.kernel + ".png"}});
         rows.push_back(std::move(row));
     }
-    return {{"scenario", comparison.scenario}, {"machine", comparison.machine}, {"frames", comparison.frames}, {"kernels", rows}};
+    return {{"scenario", comparison.scenario},
+            {"machine", comparison.machine},
+            {"frames", comparison.frames},
+            {"kernels", rows}};
 }
 
 std::string to_markdown(const KernelComparison& comparison) {
-    std::string md = fmt::format("# Every kernel on {} ({} frame{}, machine {})\n\n", comparison.scenario, comparison.frames,
-                                 comparison.frames == 1 ? "" : "s", comparison.machine);
+    std::string md = fmt::format("# Every kernel on {} ({} frame{}, machine {})\n\n", comparison.scenario,
+                                 comparison.frames, comparison.frames == 1 ? "" : "s", comparison.machine);
     md += "The same view, transfer function and lights; `side_by_side.png` shows the last frames in this order.\n\n";
-    md += "| kernel | mean frame (ms) | frames/s | PSNR (dB) | GPs busy | renderers busy | ring busy | ring MB | backing store "
-          "(bits/PP) | host (s) |\n";
+    md +=
+        "| kernel | mean frame (ms) | frames/s | PSNR (dB) | GPs busy | renderers busy | ring busy | ring MB | backing "
+        "store "
+        "(bits/PP) | host (s) |\n";
     md += "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const KernelComparisonRow& r : comparison.rows) {
         if (!r.rendered()) {
@@ -145,9 +158,10 @@ std::string to_markdown(const KernelComparison& comparison) {
             continue;
         }
         const double mean = r.mean_frame_seconds();
-        md += fmt::format("| {} | {} | {} | {} | {:.0f}% | {:.0f}% | {:.0f}% | {} | {:.0f} | {:.2f} |\n", r.kernel, number(1e3 * mean),
-                          mean > 0 ? number(1.0 / mean, "{:.3g}") : std::string("-"), r.psnr_db ? number(*r.psnr_db, "{:.1f}") : std::string("-"),
-                          100 * r.gp_utilisation, 100 * r.renderer_utilisation, 100 * r.ring_utilisation, number(r.ring_bytes / 1e6, "{:.3g}"),
+        md += fmt::format("| {} | {} | {} | {} | {:.0f}% | {:.0f}% | {:.0f}% | {} | {:.0f} | {:.2f} |\n", r.kernel,
+                          number(1e3 * mean), mean > 0 ? number(1.0 / mean, "{:.3g}") : std::string("-"),
+                          r.psnr_db ? number(*r.psnr_db, "{:.1f}") : std::string("-"), 100 * r.gp_utilisation,
+                          100 * r.renderer_utilisation, 100 * r.ring_utilisation, number(r.ring_bytes / 1e6, "{:.3g}"),
                           r.backing_store_bits_per_pp, r.host_seconds);
     }
     md += "\n";
@@ -158,7 +172,8 @@ std::string to_markdown(const KernelComparison& comparison) {
             continue;
         }
         if (!r.adaptation.empty()) md += "It " + r.adaptation + ".\n\n";
-        md += fmt::format("![{}]({}.png)\n\nWhere the last frame's {} ms went:", r.kernel, r.kernel, number(1e3 * r.frame_seconds.back()));
+        md += fmt::format("![{}]({}.png)\n\nWhere the last frame's {} ms went:", r.kernel, r.kernel,
+                          number(1e3 * r.frame_seconds.back()));
         for (const auto& [name, seconds] : r.phases) md += fmt::format(" {} {} ms;", name, number(1e3 * seconds));
         md.back() = '.';
         md += "\n\n";

@@ -24,13 +24,13 @@ namespace pp5 {
 struct KernelComparisonRow {
     std::string kernel;
     std::string description;
-    std::string refusal;     // why it cannot render the scenario; empty when it rendered
-    std::string adaptation;  // what was changed for it (its resampling order); empty when nothing
-    std::vector<double> frame_seconds;           // simulated, per frame
-    std::optional<double> psnr_db;               // the last frame against the oracle
+    std::string refusal;                // why it cannot render the scenario; empty when it rendered
+    std::string adaptation;             // what was changed for it (its resampling order); empty when nothing
+    std::vector<double> frame_seconds;  // simulated, per frame
+    std::optional<double> psnr_db;      // the last frame against the oracle
     std::vector<std::pair<std::string, double>> phases;  // the last frame's phases, simulated seconds
     double gp_utilisation = 0, renderer_utilisation = 0, ring_utilisation = 0;  // the last frame
-    double ring_bytes = 0;                // over every frame
+    double ring_bytes = 0;                                                      // over every frame
     double ring_messages = 0;
     double backing_store_bits_per_pp = 0;  // the busiest renderer's, holding placed data
     double host_seconds = 0;
@@ -54,7 +54,8 @@ struct CompareKernelsOptions {
 // Renders every frame of `scenario` with each kernel that runs on the machine. A kernel's InputError
 // (it cannot render this scenario, or the machine cannot hold what it needs) becomes its row's
 // refusal; nothing else is caught.
-KernelComparison compare_kernels(const Scenario& scenario, const MachineConfig& config, const CompareKernelsOptions& options = {});
+KernelComparison compare_kernels(const Scenario& scenario, const MachineConfig& config,
+                                 const CompareKernelsOptions& options = {});
 
 nlohmann::json to_json(const KernelComparison& comparison);
 // The report as a Markdown table and a paragraph per kernel, naming each kernel's picture as

@@ -27,7 +27,8 @@ LoadedCodec load_codec() {
     const auto entry = reinterpret_cast<const image_codec::Table* (*)()>(::dlsym(module, "pp5_image_codec_table"));
     if (entry == nullptr) return {nullptr, "it has no codec table"};
     const image_codec::Table* table = entry();
-    if (table->version != image_codec::kVersion) return {nullptr, "it was built for another version of pp5sim; rebuild it"};
+    if (table->version != image_codec::kVersion)
+        return {nullptr, "it was built for another version of pp5sim; rebuild it"};
     return {table, {}};
 }
 
@@ -36,7 +37,8 @@ LoadedCodec load_codec() {
 const image_codec::Table& codec() {
     static const LoadedCodec loaded = load_codec();
     if (loaded.table == nullptr)
-        throw std::runtime_error(std::string("cannot load the image codec ") + image_codec::module_path() + ": " + loaded.why_not);
+        throw std::runtime_error(std::string("cannot load the image codec ") + image_codec::module_path() + ": " +
+                                 loaded.why_not);
     return *loaded.table;
 }
 
@@ -82,7 +84,8 @@ ImageDifference compare_images(const Image& image, const Image& reference) {
     }
     const std::vector<float> a = clamped_rgb(image);
     const std::vector<float> b = clamped_rgb(reference);
-    return codec().compare({image.width, image.height, 3, true, a.data()}, {reference.width, reference.height, 3, true, b.data()});
+    return codec().compare({image.width, image.height, 3, true, a.data()},
+                           {reference.width, reference.height, 3, true, b.data()});
 }
 
 Image inverted_difference(const Image& image, const Image& reference) {
@@ -93,7 +96,8 @@ Image inverted_difference(const Image& image, const Image& reference) {
     for (std::size_t p = 0; p < out.pixels.size(); ++p) {
         glm::vec4 v(1.0f);
         for (int c = 0; c < 3; ++c)
-            v[c] = 1.0f - std::abs(std::clamp(image.pixels[p][c], 0.0f, 1.0f) - std::clamp(reference.pixels[p][c], 0.0f, 1.0f));
+            v[c] = 1.0f - std::abs(std::clamp(image.pixels[p][c], 0.0f, 1.0f) -
+                                   std::clamp(reference.pixels[p][c], 0.0f, 1.0f));
         out.pixels[p] = v;
     }
     return out;

@@ -18,7 +18,7 @@ void write_image(const Image& image, const std::filesystem::path& path, ImageFor
 
 // How far `image` is from `reference` in colour (RGB, each clamped to [0,1]): OpenImageIO's compare.
 struct ImageDifference {
-    double psnr_db = 0.0;     // peak signal-to-noise ratio, peak 1; infinite when identical
+    double psnr_db = 0.0;  // peak signal-to-noise ratio, peak 1; infinite when identical
     double rms_error = 0.0;
     double max_error = 0.0;
 };

@@ -19,8 +19,12 @@ glm::vec3 gp_colour(std::uint32_t gp) {
     const float hue = std::fmod(static_cast<float>(gp) * 0.61803398875f, 1.0f) * 6.0f;
     const float x = 1.0f - std::abs(std::fmod(hue, 2.0f) - 1.0f);
     const int sector = static_cast<int>(hue);
-    const glm::vec3 rgb = sector == 0 ? glm::vec3(1, x, 0) : sector == 1 ? glm::vec3(x, 1, 0) : sector == 2 ? glm::vec3(0, 1, x)
-                        : sector == 3 ? glm::vec3(0, x, 1) : sector == 4 ? glm::vec3(x, 0, 1) : glm::vec3(1, 0, x);
+    const glm::vec3 rgb = sector == 0   ? glm::vec3(1, x, 0)
+                          : sector == 1 ? glm::vec3(x, 1, 0)
+                          : sector == 2 ? glm::vec3(0, 1, x)
+                          : sector == 3 ? glm::vec3(0, x, 1)
+                          : sector == 4 ? glm::vec3(x, 0, 1)
+                                        : glm::vec3(1, 0, x);
     return 0.25f + 0.75f * rgb;
 }
 
@@ -45,8 +49,8 @@ Image passes_strip(const std::vector<Image>& passes) {
     return strip;
 }
 
-std::optional<Image> gp_tile_map(const FrameWork& work, const FrameTiming& timing, std::size_t gp_count, const Image& frame,
-                                 const std::string& phase_name) {
+std::optional<Image> gp_tile_map(const FrameWork& work, const FrameTiming& timing, std::size_t gp_count,
+                                 const Image& frame, const std::string& phase_name) {
     const GpPhase* phase = nullptr;
     for (const Phase& p : work.phases)
         if (p.name == phase_name) phase = std::get_if<GpPhase>(&p.work);
@@ -70,7 +74,8 @@ std::optional<Image> gp_tile_map(const FrameWork& work, const FrameTiming& timin
 
     Image map(frame.width, frame.height);
     for (std::size_t i = 0; i < map.pixels.size(); ++i)
-        map.pixels[i] = glm::vec4(glm::vec3(0.15f + 0.35f * brightness(frame.pixels[i])), 1.0f);  // untouched tiles stay grey
+        map.pixels[i] =
+            glm::vec4(glm::vec3(0.15f + 0.35f * brightness(frame.pixels[i])), 1.0f);  // untouched tiles stay grey
     for (const auto& [corner, tile] : tiles) {
         const auto busiest = std::max_element(tile.items_by_gp.begin(), tile.items_by_gp.end(),
                                               [](const auto& a, const auto& b) { return a.second < b.second; });
@@ -78,14 +83,15 @@ std::optional<Image> gp_tile_map(const FrameWork& work, const FrameTiming& timin
         for (int y = tile.rect.y; y < std::min<int>(frame.height, tile.rect.y + tile.rect.height); ++y)
             for (int x = tile.rect.x; x < std::min<int>(frame.width, tile.rect.x + tile.rect.width); ++x) {
                 const bool edge = x == tile.rect.x || y == tile.rect.y;
-                map.at(x, y) = glm::vec4(edge ? 0.5f * colour : colour * (0.45f + 0.55f * brightness(frame.at(x, y))), 1.0f);
+                map.at(x, y) =
+                    glm::vec4(edge ? 0.5f * colour : colour * (0.45f + 0.55f * brightness(frame.at(x, y))), 1.0f);
             }
     }
     return map;
 }
 
-PlotSpec utilisation_over_time(const TraceRecorder& trace, Tick start, Tick end, const std::map<std::string, std::size_t>& counts,
-                               int bins) {
+PlotSpec utilisation_over_time(const TraceRecorder& trace, Tick start, Tick end,
+                               const std::map<std::string, std::size_t>& counts, int bins) {
     if (end <= start || bins < 1) throw std::invalid_argument("utilisation_over_time: an empty span of time");
     const double width = static_cast<double>(end - start) / bins;
     PlotSpec spec;
@@ -104,7 +110,8 @@ PlotSpec utilisation_over_time(const TraceRecorder& trace, Tick start, Tick end,
             const int last = std::min(bins - 1, static_cast<int>(static_cast<double>(b - start) / width));
             for (int i = first; i <= last; ++i) {
                 const double lo = static_cast<double>(start) + i * width, hi = lo + width;
-                busy[static_cast<std::size_t>(i)] += std::max(0.0, std::min(hi, static_cast<double>(b)) - std::max(lo, static_cast<double>(a)));
+                busy[static_cast<std::size_t>(i)] +=
+                    std::max(0.0, std::min(hi, static_cast<double>(b)) - std::max(lo, static_cast<double>(a)));
             }
         }
         PlotSeries series;
@@ -133,13 +140,15 @@ FrameTimeline frame_timeline(const TraceRecorder& trace, const FrameTiming& timi
         return std::find(order.begin(), order.end(), group) - order.begin();
     };
     std::vector<std::pair<std::string, std::string>> wanted = components;
-    std::stable_sort(wanted.begin(), wanted.end(), [&](const auto& a, const auto& b) { return rank(a.first) < rank(b.first); });
+    std::stable_sort(wanted.begin(), wanted.end(),
+                     [&](const auto& a, const auto& b) { return rank(a.first) < rank(b.first); });
     std::map<std::pair<std::string, std::string>, int> track_of;
     for (const TraceRecorder::Track& t : trace.tracks()) track_of[{t.group, t.name}] = t.id;
     std::map<int, std::size_t> lane_of;
     for (const auto& [group, name] : wanted) {
         if (const auto t = track_of.find({group, name}); t != track_of.end()) lane_of[t->second] = out.lanes.size();
-        out.lanes.push_back({group, name, std::vector<float>(static_cast<std::size_t>(bins)), std::vector<int>(static_cast<std::size_t>(bins), -1)});
+        out.lanes.push_back({group, name, std::vector<float>(static_cast<std::size_t>(bins)),
+                             std::vector<int>(static_cast<std::size_t>(bins), -1)});
     }
     const Tick span = timing.end_ps - timing.start_ps;
     if (span <= 0) return out;
@@ -155,10 +164,13 @@ FrameTimeline frame_timeline(const TraceRecorder& trace, const FrameTiming& timi
         const double from = static_cast<double>(std::max(s.start, timing.start_ps) - timing.start_ps);
         const double to = static_cast<double>(std::min(s.end, timing.end_ps) - timing.start_ps);
         if (to <= from) continue;
-        const int first = std::min(bins - 1, static_cast<int>(from / bin_ps)), last = std::min(bins - 1, static_cast<int>(to / bin_ps));
+        const int first = std::min(bins - 1, static_cast<int>(from / bin_ps)),
+                  last = std::min(bins - 1, static_cast<int>(to / bin_ps));
         for (int b = first; b <= last; ++b) {
             const double overlap = std::min(to, (b + 1) * bin_ps) - std::max(from, b * bin_ps);
-            if (overlap > 0) time[(lane->second * static_cast<std::size_t>(bins) + static_cast<std::size_t>(b)) * kinds + static_cast<std::size_t>(s.what)] += overlap;
+            if (overlap > 0)
+                time[(lane->second * static_cast<std::size_t>(bins) + static_cast<std::size_t>(b)) * kinds +
+                     static_cast<std::size_t>(s.what)] += overlap;
         }
     }
     std::map<std::string, bool> group_did_something;

@@ -23,8 +23,8 @@ Image passes_strip(const std::vector<Image>& passes);
 // Each tile of the GP phase `phase_name` tinted by the GP that ran it (the one that cast most of its
 // rays over the passes), over the frame's brightness, with the tiles' edges drawn; nullopt when that
 // phase's tasks are not screen tiles.
-std::optional<Image> gp_tile_map(const FrameWork& work, const FrameTiming& timing, std::size_t gp_count, const Image& frame,
-                                 const std::string& phase_name = "ray_casting");
+std::optional<Image> gp_tile_map(const FrameWork& work, const FrameTiming& timing, std::size_t gp_count,
+                                 const Image& frame, const std::string& phase_name = "ray_casting");
 
 // One frame's timeline as lanes of time bins, one lane per GP, renderer, ring channel and the like,
 // from the slices a trace recorder kept (keep_slices) while the frame was timed: what a page draws.
@@ -32,7 +32,8 @@ struct TimelineLane {
     std::string group;        // "GPs", "renderers", "ring", ...
     std::string name;         // the component
     std::vector<float> busy;  // per bin: the part of it the component was busy ("waiting" is idle)
-    std::vector<int> what;    // per bin: the activity (index into FrameTimeline::activities) that took most of it, -1 if idle
+    std::vector<int>
+        what;  // per bin: the activity (index into FrameTimeline::activities) that took most of it, -1 if idle
 };
 struct FrameTimeline {
     Tick start_ps = 0;
@@ -50,7 +51,7 @@ FrameTimeline frame_timeline(const TraceRecorder& trace, const FrameTiming& timi
 
 // How busy each kind of component was over [start, end), in `bins` slices of time: for each group the
 // trace recorded busy spans for (keep_busy_spans), busy time in the bin over `counts[group]` x the bin.
-PlotSpec utilisation_over_time(const TraceRecorder& trace, Tick start, Tick end, const std::map<std::string, std::size_t>& counts,
-                               int bins = 120);
+PlotSpec utilisation_over_time(const TraceRecorder& trace, Tick start, Tick end,
+                               const std::map<std::string, std::size_t>& counts, int bins = 120);
 
 }  // namespace pp5

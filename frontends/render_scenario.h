@@ -22,7 +22,7 @@ namespace pp5 {
 
 struct ScenarioRenderOptions {
     ImageFormat format = ImageFormat::Png;
-    TraceRecorder* trace = nullptr;                                 // records the run when given
+    TraceRecorder* trace = nullptr;                                     // records the run when given
     std::function<void(std::size_t done, std::size_t total)> progress;  // after each frame
     // Also write each frame's lecture pictures (frontends/lecture_pictures.h): its refinement passes as
     // a strip and an animated GIF, and the map of which GP cast which tile.

@@ -18,26 +18,34 @@ namespace {
 
 using Seconds = std::chrono::duration<double>;
 
-nlohmann::json psnr_json(double psnr_db) { return std::isfinite(psnr_db) ? nlohmann::json(psnr_db) : nlohmann::json("inf"); }
+nlohmann::json psnr_json(double psnr_db) {
+    return std::isfinite(psnr_db) ? nlohmann::json(psnr_db) : nlohmann::json("inf");
+}
 
 // How far a picture is from the reference renderer's, as a frame record says it.
 nlohmann::json fidelity_json(const ImageDifference& d, const std::string& against) {
-    return {{"against", against}, {"psnr_db", psnr_json(d.psnr_db)}, {"rms_error", d.rms_error}, {"max_error", d.max_error}};
+    return {{"against", against},
+            {"psnr_db", psnr_json(d.psnr_db)},
+            {"rms_error", d.rms_error},
+            {"max_error", d.max_error}};
 }
 
 // One frame's record in stats.json: what changed, what the kernel and the machine did, how far the
 // picture is from the reference renderer's.
-nlohmann::json frame_record(std::size_t index, const FrameSpec& frame, const std::string& image_name, const FrameTiming& timing,
-                            nlohmann::json kernel_stats, const std::optional<ImageDifference>& fidelity, double host_seconds,
+nlohmann::json frame_record(std::size_t index, const FrameSpec& frame, const std::string& image_name,
+                            const FrameTiming& timing, nlohmann::json kernel_stats,
+                            const std::optional<ImageDifference>& fidelity, double host_seconds,
                             const std::string& against) {
-    nlohmann::json record = {
-        {"index", index},
-        {"label", frame.label},
-        {"image", image_name},
-        {"changed", {{"camera", frame.camera_changed}, {"lighting", frame.lighting_changed},
-                     {"classification", frame.classification_changed}, {"region", frame.region_changed}}},
-        {"simulated_seconds", ticks_to_seconds(timing.duration_ps())},
-        {"host_seconds", host_seconds}};
+    nlohmann::json record = {{"index", index},
+                             {"label", frame.label},
+                             {"image", image_name},
+                             {"changed",
+                              {{"camera", frame.camera_changed},
+                               {"lighting", frame.lighting_changed},
+                               {"classification", frame.classification_changed},
+                               {"region", frame.region_changed}}},
+                             {"simulated_seconds", ticks_to_seconds(timing.duration_ps())},
+                             {"host_seconds", host_seconds}};
     for (auto& [key, value] : kernel_stats.items()) record[key] = std::move(value);
     if (fidelity) record["fidelity"] = fidelity_json(*fidelity, against);
     return record;
@@ -51,10 +59,12 @@ std::string describe_frame(const nlohmann::json& f, const KernelRun& run) {
     }
     line += run.describe(f);
     // Levoy's figures are rates: the frame's beside its milliseconds.
-    if (f.contains("simulated_seconds") && f["simulated_seconds"].is_number() && f["simulated_seconds"].get<double>() > 0)
+    if (f.contains("simulated_seconds") && f["simulated_seconds"].is_number() &&
+        f["simulated_seconds"].get<double>() > 0)
         line += fmt::format(" ({:.1f} frames a second)", 1.0 / f["simulated_seconds"].get<double>());
     if (const auto band = f.find("uncertainty"); band != f.end())
-        line += fmt::format(" [95% over the guesses' ranges: {:.4g}-{:.4g} ms]", 1e3 * (*band)["simulated_seconds_low"].get<double>(),
+        line += fmt::format(" [95% over the guesses' ranges: {:.4g}-{:.4g} ms]",
+                            1e3 * (*band)["simulated_seconds_low"].get<double>(),
                             1e3 * (*band)["simulated_seconds_high"].get<double>());
     if (f.contains("fidelity")) {
         const auto& psnr = f["fidelity"]["psnr_db"];
@@ -77,12 +87,14 @@ BusyTotals busy_totals(const Machine& machine) {
     return t;
 }
 
-FrameActivity activity_between(const BusyTotals& before, const BusyTotals& after, const Machine& machine, Tick duration) {
+FrameActivity activity_between(const BusyTotals& before, const BusyTotals& after, const Machine& machine,
+                               Tick duration) {
     const auto share = [&](std::uint64_t busy, std::size_t count) {
         const double capacity = static_cast<double>(duration) * static_cast<double>(count);
         return capacity > 0 ? static_cast<double>(busy) / capacity : 0.0;
     };
-    return {share(after.gps - before.gps, machine.gps().size()), share(after.renderers - before.renderers, machine.renderers().size()),
+    return {share(after.gps - before.gps, machine.gps().size()),
+            share(after.renderers - before.renderers, machine.renderers().size()),
             share(after.ring - before.ring, static_cast<std::size_t>(machine.ring().channel_count()))};
 }
 
@@ -122,8 +134,10 @@ Volume RenderSession::load_checked_volume(TraceRecorder* trace) {
     if (trace != nullptr) machine_.attach_trace(trace);
     // What the picture needs of the frame buffer is known before the volume is read.
     if (kernel_.runs_on_machine()) check_picture_fits(machine_, scenario_.image.width, scenario_.image.height);
-    check_fits_host_memory(scenario_.file.string(), "image.width", picture_bytes_per_frame(kernel_, scenario_, config_, compare_with_reference_),
-                           fmt::format("holding a {}x{} frame's pictures", scenario_.image.width, scenario_.image.height));
+    check_fits_host_memory(
+        scenario_.file.string(), "image.width",
+        picture_bytes_per_frame(kernel_, scenario_, config_, compare_with_reference_),
+        fmt::format("holding a {}x{} frame's pictures", scenario_.image.width, scenario_.image.height));
     // When the scenario gives the volume's size, one the machine cannot hold is refused before reading it.
     if (const auto dims = scenario_.dataset.known_dims(); dims && kernel_.runs_on_machine())
         naming_parameter_origins(config_, [&] { kernel_.check_volume_fits(machine_, config_, scenario_, *dims); });
@@ -131,8 +145,8 @@ Volume RenderSession::load_checked_volume(TraceRecorder* trace) {
     return load_dataset(scenario_);
 }
 
-RenderSession::RenderSession(const Scenario& scenario, const MachineConfig& config, TraceRecorder* trace, std::string extension,
-                             bool compare_with_reference)
+RenderSession::RenderSession(const Scenario& scenario, const MachineConfig& config, TraceRecorder* trace,
+                             std::string extension, bool compare_with_reference)
     : scenario_(scenario),
       config_(config),
       kernel_(checked_kernel(scenario_)),
@@ -142,7 +156,8 @@ RenderSession::RenderSession(const Scenario& scenario, const MachineConfig& conf
       trace_(trace),
       volume_(load_checked_volume(trace)) {
     // The kernel sets the scenario up on the machine first: a volume that does not fit stops here.
-    const ScopedActivity activity(fmt::format("setting {} up on the machine for the {} kernel", scenario_.name, kernel_.name()));
+    const ScopedActivity activity(
+        fmt::format("setting {} up on the machine for the {} kernel", scenario_.name, kernel_.name()));
     run_ = naming_parameter_origins(config_, [&] { return kernel_.start(machine_, config_, scenario_, volume_); });
     // The oracle every machine kernel's pictures are compared with.
     if (kernel_.runs_on_machine() && compare_with_reference_) {
@@ -151,7 +166,8 @@ RenderSession::RenderSession(const Scenario& scenario, const MachineConfig& conf
     }
 }
 
-RenderSession::Retimed RenderSession::retime_on(const MachineConfig& timing, const std::vector<const FrameWork*>& replay) {
+RenderSession::Retimed RenderSession::retime_on(const MachineConfig& timing,
+                                                const std::vector<const FrameWork*>& replay) {
     check_only_timing_differs(config_, timing, "the frame must be rendered again");
     timing_machine_.reset();  // it refers to the configuration replaced next
     timing_config_ = timing;
@@ -163,7 +179,8 @@ RenderSession::Retimed RenderSession::retime_on(const MachineConfig& timing, con
         if (trace_ != nullptr) trace_->forget_slices();
         const BusyTotals before = busy_totals(*timing_machine_);
         last.timing = time_frame(*timing_machine_, *work);
-        last.activity = activity_between(before, busy_totals(*timing_machine_), *timing_machine_, last.timing.duration_ps());
+        last.activity =
+            activity_between(before, busy_totals(*timing_machine_), *timing_machine_, last.timing.duration_ps());
     }
     return last;
 }
@@ -176,11 +193,15 @@ std::string RenderSession::reference_includes(const FrameSpec& frame) const {
     const bool voxel_order = ReferenceRenderer::renders_region(reference_render_settings(scenario_.image));
     if (frame.region) {
         if (!voxel_order) missing.push_back("the region of interest");
-        else against += frame.region->cap ? ", the region of interest's opacity scaling and capping" : ", the region of interest's opacity scaling";
+        else
+            against += frame.region->cap ? ", the region of interest's opacity scaling and capping"
+                                         : ", the region of interest's opacity scaling";
     }
     if (!scenario_.polygons.empty()) {
         if (!voxel_order) missing.push_back("the polygons");
-        else against += fmt::format(", its polygons scan-converted with {} subvoxel samples", PolygonMattes::kOracleSamples);
+        else
+            against +=
+                fmt::format(", its polygons scan-converted with {} subvoxel samples", PolygonMattes::kOracleSamples);
     }
     for (std::size_t i = 0; i < missing.size(); ++i)
         against += (i == 0 ? "; without " : i + 1 == missing.size() ? " and " : ", ") + missing[i];
@@ -203,7 +224,8 @@ SessionFrame RenderSession::render(FrameSpec frame) {
 
     SessionFrame out;
     out.index = index;
-    std::unique_ptr<KernelFrame> recorded = naming_parameter_origins(config_, [&] { return run_->record_frame(frame); });
+    std::unique_ptr<KernelFrame> recorded =
+        naming_parameter_origins(config_, [&] { return run_->record_frame(frame); });
     const bool on_machine = kernel_.runs_on_machine();
     Machine& timed = timing_machine_ ? *timing_machine_ : machine_;
     const BusyTotals before = busy_totals(timed);
@@ -220,7 +242,10 @@ SessionFrame RenderSession::render(FrameSpec frame) {
             const ImageDifference d = compare_images(pass, *reference_image);
             const std::string name = fmt::format("frame_{:04}_pass_{}_difference.{}", index, p, extension_);
             out.images.push_back({FrameImage::Kind::Difference, p, name, inverted_difference(pass, *reference_image)});
-            pass_fidelity.push_back({{"pass", p}, {"psnr_db", psnr_json(d.psnr_db)}, {"rms_error", d.rms_error}, {"difference_image", name}});
+            pass_fidelity.push_back({{"pass", p},
+                                     {"psnr_db", psnr_json(d.psnr_db)},
+                                     {"rms_error", d.rms_error},
+                                     {"difference_image", name}});
         }
     }
     Image image = std::move(recorded->pass_images.back());
@@ -228,21 +253,24 @@ SessionFrame RenderSession::render(FrameSpec frame) {
     if (on_machine) {
         for (std::size_t p = 0; p < recorded->pass_images.size(); ++p) {
             pass_names.push_back(fmt::format("frame_{:04}_pass_{}.{}", index, p, extension_));
-            out.images.push_back({FrameImage::Kind::Pass, p, pass_names.back(),
-                                  p + 1 == recorded->pass_images.size() ? Image(image) : std::move(recorded->pass_images[p])});
+            out.images.push_back(
+                {FrameImage::Kind::Pass, p, pass_names.back(),
+                 p + 1 == recorded->pass_images.size() ? Image(image) : std::move(recorded->pass_images[p])});
         }
     }
     nlohmann::json kernel_stats = run_->frame_stats(*recorded, out.timing, pass_names);
     if (with_reference) kernel_stats["reference"] = reference_stats(reference_counts);
     if (!pass_fidelity.empty()) kernel_stats["fidelity_by_pass"] = std::move(pass_fidelity);
     if (on_machine)
-        kernel_stats["utilisation"] = {{"gps", out.activity.gps}, {"renderers", out.activity.renderers}, {"ring", out.activity.ring}};
+        kernel_stats["utilisation"] = {
+            {"gps", out.activity.gps}, {"renderers", out.activity.renderers}, {"ring", out.activity.ring}};
     std::optional<ImageDifference> fidelity;
     if (reference_image) fidelity = compare_images(image, *reference_image);
     const std::string image_name = fmt::format("frame_{:04}.{}", index, extension_);
     out.images.push_back({FrameImage::Kind::Frame, 0, image_name, std::move(image)});
     const double host = Seconds(std::chrono::steady_clock::now() - frame_start).count();
-    out.record = frame_record(index, frame, image_name, out.timing, std::move(kernel_stats), fidelity, host, reference_includes(frame));
+    out.record = frame_record(index, frame, image_name, out.timing, std::move(kernel_stats), fidelity, host,
+                              reference_includes(frame));
     out.recorded = std::move(recorded);
     ++frames_rendered_;
     return out;
@@ -265,16 +293,16 @@ nlohmann::json RenderSession::compare_with_reference(const FrameSpec& frame, con
 nlohmann::json RenderSession::stats(const nlohmann::json& frames, double host_seconds) const {
     nlohmann::json simulated = nlohmann::json::array();
     for (const auto& f : frames) simulated.push_back(f["simulated_seconds"]);
-    const nlohmann::json summary = {{"scenario", scenario_.name},
-                                    {"kernel", kernel_.name()},
-                                    {"machine", config_.machine_name()},
-                                    {"frames", frames.size()},
-                                    {"image_size", {scenario_.image.width, scenario_.image.height}},
-                                    {"simulated_seconds", simulated},
-                                    {"timing_model", kernel_.runs_on_machine()
-                                                         ? kernel_.timing_summary() + "; " + describe_calibration(config_)
-                                                         : kernel_.timing_summary()},
-                                    {"host_seconds", host_seconds}};
+    const nlohmann::json summary = {
+        {"scenario", scenario_.name},
+        {"kernel", kernel_.name()},
+        {"machine", config_.machine_name()},
+        {"frames", frames.size()},
+        {"image_size", {scenario_.image.width, scenario_.image.height}},
+        {"simulated_seconds", simulated},
+        {"timing_model", kernel_.runs_on_machine() ? kernel_.timing_summary() + "; " + describe_calibration(config_)
+                                                   : kernel_.timing_summary()},
+        {"host_seconds", host_seconds}};
     nlohmann::json stats = {
         {"summary", summary},
         {"dataset",
@@ -284,7 +312,8 @@ nlohmann::json RenderSession::stats(const nlohmann::json& frames, double host_se
           {"type", std::string(to_string(volume_.source_type()))},
           {"value_range", {volume_.min_value(), volume_.max_value()}}}},
         {"frames", frames},
-        {"simulation", {{"events_run", machine_.events().events_run()}, {"simulated_ticks_ps", machine_.events().now()}}},
+        {"simulation",
+         {{"events_run", machine_.events().events_run()}, {"simulated_ticks_ps", machine_.events().now()}}},
         {"components", machine_.statistics()}};
     if (nlohmann::json placement = run_->run_stats(); !placement.is_null()) stats["placement"] = std::move(placement);
     return stats;
@@ -292,10 +321,12 @@ nlohmann::json RenderSession::stats(const nlohmann::json& frames, double host_se
 
 std::vector<std::string> RenderSession::summary_lines(const nlohmann::json& frames) const {
     std::vector<std::string> lines;
-    lines.push_back(fmt::format("pp5sim render: scenario {} on machine {} ({} kernel)", scenario_.name, config_.machine_name(), kernel_.name()));
+    lines.push_back(fmt::format("pp5sim render: scenario {} on machine {} ({} kernel)", scenario_.name,
+                                config_.machine_name(), kernel_.name()));
     lines.push_back(fmt::format("  {}", machine_.summary()));
-    lines.push_back(fmt::format("  dataset {}: {}x{}x{} {}, values {} to {}", volume_.name(), volume_.dims().x, volume_.dims().y,
-                                volume_.dims().z, to_string(volume_.source_type()), volume_.min_value(), volume_.max_value()));
+    lines.push_back(fmt::format("  dataset {}: {}x{}x{} {}, values {} to {}", volume_.name(), volume_.dims().x,
+                                volume_.dims().y, volume_.dims().z, to_string(volume_.source_type()),
+                                volume_.min_value(), volume_.max_value()));
     for (const auto& f : frames) lines.push_back(describe_frame(f, *run_));
     return lines;
 }

@@ -42,8 +42,8 @@ struct SessionFrame {
     std::size_t index = 0;
     FrameTiming timing;
     FrameActivity activity;
-    std::vector<FrameImage> images;  // the passes (on the machine), difference images, then the frame
-    nlohmann::json record;           // the frame's record in stats.json
+    std::vector<FrameImage> images;         // the passes (on the machine), difference images, then the frame
+    nlohmann::json record;                  // the frame's record in stats.json
     std::unique_ptr<KernelFrame> recorded;  // the kernel's record (its images moved into `images`)
     // The last image of a kind ("the frame", or pass p); nullptr when there is none.
     const Image* find(FrameImage::Kind kind, std::size_t pass = 0) const;

@@ -21,9 +21,13 @@ constexpr const char* kManifest = ".pp5sim-outputs";
 constexpr const char* kPartial = ".partial-";
 constexpr const char* kPrevious = ".previous-";
 
-[[noreturn]] void cannot_write(const fs::path& path, const std::string& why) { throw InputError(path.string(), "output", why); }
+[[noreturn]] void cannot_write(const fs::path& path, const std::string& why) {
+    throw InputError(path.string(), "output", why);
+}
 
-fs::path beside(const fs::path& target, const char* prefix) { return target.parent_path() / (prefix + target.filename().string()); }
+fs::path beside(const fs::path& target, const char* prefix) {
+    return target.parent_path() / (prefix + target.filename().string());
+}
 
 }  // namespace
 
@@ -44,7 +48,9 @@ void check_output_folder(const fs::path& directory, const std::string& option) {
     if (error) throw InputError(at.string(), option, "cannot be used as an output folder: " + error.message());
     if (!fs::is_directory(status))
         throw InputError(at.string(), option,
-                         at == directory ? "exists and is not a folder" : "is a file, so the output folder " + directory.string() + " cannot be made under it");
+                         at == directory
+                             ? "exists and is not a folder"
+                             : "is a file, so the output folder " + directory.string() + " cannot be made under it");
     if (::access(at.c_str(), W_OK | X_OK) != 0)
         throw InputError(at.string(), option, std::string("cannot be written: ") + std::strerror(errno));
 }
@@ -56,7 +62,8 @@ void check_output_file(const fs::path& file, const std::string& option) {
     check_output_folder(file.has_parent_path() ? file.parent_path() : fs::path("."), option);
 }
 
-StagedOutput::StagedOutput(fs::path directory, std::string option) : directory_(std::move(directory)), option_(std::move(option)) {
+StagedOutput::StagedOutput(fs::path directory, std::string option)
+    : directory_(std::move(directory)), option_(std::move(option)) {
     check_output_folder(directory_, option_);
 }
 
@@ -123,7 +130,8 @@ std::vector<fs::path> StagedOutput::commit() {
     std::error_code error;
     // Nothing is written if a file's place is taken by a folder.
     for (const Entry& e : entries_)
-        if (fs::is_directory(e.target, error)) throw InputError(e.target.string(), option_, "is a folder where pp5sim would write a file");
+        if (fs::is_directory(e.target, error))
+            throw InputError(e.target.string(), option_, "is a folder where pp5sim would write a file");
     std::vector<fs::path> partials, replaced, placed;
     const auto undo = [&] {
         std::error_code ignored;

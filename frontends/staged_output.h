@@ -52,7 +52,7 @@ private:
     struct Entry {
         std::filesystem::path target;
         std::string text;
-        bool written = false;    // already in its temporary file (an image)
+        bool written = false;   // already in its temporary file (an image)
         bool in_folder = true;  // listed in the manifest
     };
     void claim(const std::filesystem::path& target) const;  // a file may be staged once

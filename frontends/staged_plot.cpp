@@ -9,7 +9,8 @@ std::optional<std::string> stage_plot(StagedOutput& output, const PlotSpec& spec
     output.add_text(name + ".dat", std::move(plot.data));
     output.add_text(name + ".gp", std::move(plot.script));
     if (plot.png.empty())
-        return fmt::format("warning: {}.png not drawn, {}; its data and gnuplot script are in {}.dat and {}.gp", name, plot.failure, name, name);
+        return fmt::format("warning: {}.png not drawn, {}; its data and gnuplot script are in {}.dat and {}.gp", name,
+                           plot.failure, name, name);
     output.add_text(name + ".png", std::move(plot.png));
     return std::nullopt;
 }

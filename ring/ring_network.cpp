@@ -13,8 +13,9 @@ const ParamGroup& RingNetwork::params() {
             .plausible(8, 8, "fixed by the sources: Fuchs' 5.12 Gbit/s over Levoy's 640 Mbit/s a channel")
             .integer("channel_width_bits", 32, "bits", 1, 1024, "Width of one channel", Provenance::Default,
                      "machine.md: 8 x 32 bits x 20 MHz, see ring.channels")
-            .plausible(32, 32, "with the clock, fixed by Levoy's 640 Mbit/s a channel; another split of that rate "
-                               "changes only what ring.header_words and ring.hop_latency_cycles cover")
+            .plausible(32, 32,
+                       "with the clock, fixed by Levoy's 640 Mbit/s a channel; another split of that rate "
+                       "changes only what ring.header_words and ring.hop_latency_cycles cover")
             .real("clock_mhz", 20.0, "MHz", 0.1, 10000, "Ring clock: one word per channel per cycle",
                   Provenance::Default, "machine.md: 8 x 32 bits x 20 MHz, see ring.channels")
             .plausible(20, 20, "with the width, fixed by Levoy's 640 Mbit/s a channel")
@@ -72,19 +73,22 @@ RingNetwork::RingNetwork(const MachineConfig& config, std::size_t gps, std::size
       header_words_(static_cast<int>(config.integer("ring.header_words"))),
       hop_latency_cycles_(static_cast<int>(config.integer("ring.hop_latency_cycles"))),
       messages_by_kind_(stats().vector("messages", "count", "Messages carried, by type", message_kind_names())),
-      bytes_by_kind_(stats().vector("bytes", "bytes", "Header and payload bytes carried, by type", message_kind_names())),
+      bytes_by_kind_(
+          stats().vector("bytes", "bytes", "Header and payload bytes carried, by type", message_kind_names())),
       queueing_delay_(stats().histogram("queueing_delay", "ring cycles",
-                                        "Wait from asking for a channel to the message's head leaving", cycle_buckets())),
+                                        "Wait from asking for a channel to the message's head leaving",
+                                        cycle_buckets())),
       latency_(stats().histogram("latency", "ring cycles", "From asking for a channel to the tail's arrival",
                                  cycle_buckets())) {
     const auto channel_count = static_cast<std::size_t>(config.integer("ring.channels"));
     for (std::size_t i = 0; i < channel_count; ++i) {
         channels_.push_back(std::make_unique<RingChannel>(i, this));
         RingChannel* channel = channels_.back().get();
-        channel->stats().formula("utilisation", "fraction", "Busy time over the time up to the ring's last activity",
-                                 [this, channel] {
-                                     return horizon_ > 0 ? static_cast<double>(channel->busy_ps.value()) / static_cast<double>(horizon_) : 0.0;
-                                 });
+        channel->stats().formula(
+            "utilisation", "fraction", "Busy time over the time up to the ring's last activity", [this, channel] {
+                return horizon_ > 0 ? static_cast<double>(channel->busy_ps.value()) / static_cast<double>(horizon_)
+                                    : 0.0;
+            });
     }
     channel_free_.assign(channel_count, 0);
 
@@ -112,7 +116,8 @@ RingNetwork::RingNetwork(const MachineConfig& config, std::size_t gps, std::size
         of_kind[stations_[p].index] = p;
     }
 
-    stats().formula("stations", "count", "Stations on the ring", [this] { return static_cast<double>(stations_.size()); });
+    stats().formula("stations", "count", "Stations on the ring",
+                    [this] { return static_cast<double>(stations_.size()); });
     stats().formula("peak_bandwidth", "bit/s", "All channels together, one word per channel per ring cycle",
                     [this] { return bandwidth_bits_per_second(); });
 }
@@ -146,8 +151,8 @@ RingTransit RingNetwork::transmit(Tick now, const RingMessage& message) {
     transit.start = std::max(clock_.next_edge(now), *earliest);
     const Tick hold = clock_.cycles_to_ticks(transit.words);
     *earliest = transit.start + hold;
-    transit.arrival = transit.start + hold +
-                      clock_.cycles_to_ticks(transit.hops * static_cast<std::uint64_t>(hop_latency_cycles_));
+    transit.arrival =
+        transit.start + hold + clock_.cycles_to_ticks(transit.hops * static_cast<std::uint64_t>(hop_latency_cycles_));
     horizon_ = std::max(horizon_, *earliest);
 
     RingChannel& channel = *channels_[static_cast<std::size_t>(transit.channel)];

@@ -36,9 +36,11 @@ int run_compare_kernels(const CompareKernelsCommandOptions& o) {
     const Scenario scenario = load_scenario(resolve_scenario_file(o.scenario));
     const MachineConfig config = load_run_config(o.machine, o.overrides);
     if (o.threads < 0) throw InputError("--threads", "--threads", "must be 0 (all cores) or more");
-    const std::size_t threads = o.threads > 0 ? static_cast<std::size_t>(o.threads) : std::max(1u, std::thread::hardware_concurrency());
+    const std::size_t threads =
+        o.threads > 0 ? static_cast<std::size_t>(o.threads) : std::max(1u, std::thread::hardware_concurrency());
     tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, threads);
-    StagedOutput output(o.out.empty() ? std::filesystem::path("out") / "compare-kernels" / scenario.name : std::filesystem::path(o.out));
+    StagedOutput output(o.out.empty() ? std::filesystem::path("out") / "compare-kernels" / scenario.name
+                                      : std::filesystem::path(o.out));
 
     CompareKernelsOptions options;
     options.compare_with_reference = !o.no_reference;
@@ -75,13 +77,15 @@ int run_compare_kernels(const CompareKernelsCommandOptions& o) {
 
 void add_compare_kernels_command(CLI::App& app, std::function<int()>& run) {
     auto o = std::make_shared<CompareKernelsCommandOptions>();
-    CLI::App* cmd = app.add_subcommand("compare-kernels",
-                                       "Render a scenario with every kernel on one machine and write one report comparing them");
-    cmd->add_option("scenario", o->scenario, "Scenario file (TOML) or the name of a shipped one; default: the MR head")->capture_default_str();
+    CLI::App* cmd = app.add_subcommand(
+        "compare-kernels", "Render a scenario with every kernel on one machine and write one report comparing them");
+    cmd->add_option("scenario", o->scenario, "Scenario file (TOML) or the name of a shipped one; default: the MR head")
+        ->capture_default_str();
     cmd->add_option("--machine", o->machine, "Machine file or preset name")->capture_default_str();
     cmd->add_option("--set", o->overrides, "Override a machine parameter, key=value (repeatable; see `pp5sim params`)");
     cmd->add_option("--out", o->out, "Output directory (default out/compare-kernels/<scenario name>)");
-    cmd->add_option("--threads", o->threads, "Host threads; 0 uses every core. Results do not depend on it")->capture_default_str();
+    cmd->add_option("--threads", o->threads, "Host threads; 0 uses every core. Results do not depend on it")
+        ->capture_default_str();
     cmd->add_flag("--no-reference", o->no_reference, "Skip the host reference renderer (no PSNR): for big volumes");
     cmd->callback([o, &run] { run = [o] { return run_compare_kernels(*o); }; });
 }

@@ -41,12 +41,18 @@ int run_params(const ParamsOptions& options) {
                 const std::string key = group->prefix() + "." + spec.name;
                 nlohmann::json def;
                 std::visit([&](const auto& v) { def = v; }, spec.default_value);
-                out.push_back({{"key", key}, {"type", to_string(spec.type)}, {"unit", spec.unit},
-                               {"default", def}, {"value", resolved[key]["value"]}, {"origin", resolved[key]["origin"]},
+                out.push_back({{"key", key},
+                               {"type", to_string(spec.type)},
+                               {"unit", spec.unit},
+                               {"default", def},
+                               {"value", resolved[key]["value"]},
+                               {"origin", resolved[key]["origin"]},
                                {"min", spec.min ? nlohmann::json(*spec.min) : nlohmann::json(nullptr)},
                                {"max", spec.max ? nlohmann::json(*spec.max) : nlohmann::json(nullptr)},
-                               {"choices", spec.choices}, {"doc", spec.doc},
-                               {"provenance", to_string(spec.provenance)}, {"source", spec.source},
+                               {"choices", spec.choices},
+                               {"doc", spec.doc},
+                               {"provenance", to_string(spec.provenance)},
+                               {"source", spec.source},
                                {"plausible", spec.plausible ? nlohmann::json{{"low", spec.plausible->low},
                                                                              {"high", spec.plausible->high},
                                                                              {"why", spec.plausible->why}}
@@ -72,7 +78,8 @@ int run_params(const ParamsOptions& options) {
                        origin == "default" ? "default" : "from " + origin);
             fmt::print("      {}\n      provenance: {}: {}\n", spec.doc, to_string(spec.provenance), spec.source);
             if (spec.plausible)
-                fmt::print("      plausible: [{}, {}]: {}\n", spec.plausible->low, spec.plausible->high, spec.plausible->why);
+                fmt::print("      plausible: [{}, {}]: {}\n", spec.plausible->low, spec.plausible->high,
+                           spec.plausible->why);
         }
         fmt::print("\n");
     }
@@ -83,7 +90,8 @@ int run_params(const ParamsOptions& options) {
 
 void add_params_command(CLI::App& app, std::function<int()>& run) {
     auto options = std::make_shared<ParamsOptions>();
-    CLI::App* cmd = app.add_subcommand("params", "List every machine parameter: value, unit, range, doc and provenance");
+    CLI::App* cmd =
+        app.add_subcommand("params", "List every machine parameter: value, unit, range, doc and provenance");
     cmd->add_option("--machine", options->machine, "Show the values a machine file (or preset name) gives");
     cmd->add_option("--set", options->overrides, "Override a parameter, key=value (repeatable)");
     cmd->add_flag("--json", options->json, "Write the table as JSON");

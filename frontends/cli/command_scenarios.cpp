@@ -38,7 +38,8 @@ int run_scenarios() {
     for (const PackagedDataset& d : packaged_datasets()) {
         std::error_code error;
         const bool here = std::filesystem::is_regular_file(d.path, error);
-        fmt::print("  {:<12} {:<40} {}\n", d.name, here ? "installed" : "missing: apt-get install " + d.package, d.description);
+        fmt::print("  {:<12} {:<40} {}\n", d.name, here ? "installed" : "missing: apt-get install " + d.package,
+                   d.description);
     }
     return 0;
 }
@@ -46,7 +47,8 @@ int run_scenarios() {
 }  // namespace
 
 void add_scenarios_command(CLI::App& app, std::function<int()>& run) {
-    CLI::App* cmd = app.add_subcommand("scenarios", "List the shipped scenarios and sweeps, and the packaged volumes (installed or not)");
+    CLI::App* cmd = app.add_subcommand(
+        "scenarios", "List the shipped scenarios and sweeps, and the packaged volumes (installed or not)");
     cmd->callback([&run] { run = [] { return run_scenarios(); }; });
 }
 

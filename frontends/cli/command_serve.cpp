@@ -13,9 +13,9 @@
 
 #include <fmt/core.h>
 
+#include <pthread.h>
 #include <csignal>
 #include <cstdio>
-#include <pthread.h>
 #include <thread>
 
 namespace pp5::cli {
@@ -34,7 +34,8 @@ int run_serve(const ServeCommandOptions& o) {
     Scenario scenario = load_scenario(resolve_scenario_file(o.scenario));
     const MachineConfig config = load_run_config(o.machine, o.overrides);
     if (o.image_size != 0) {
-        if (o.image_size < 16 || o.image_size > 2048) throw InputError("--image-size", "--image-size", "a picture is 16 to 2048 pixels square");
+        if (o.image_size < 16 || o.image_size > 2048)
+            throw InputError("--image-size", "--image-size", "a picture is 16 to 2048 pixels square");
         scenario.image.width = scenario.image.height = o.image_size;
     }
     if (o.port > 65535) throw InputError("--port", "--port", "a port is 0 (any free one) to 65535");
@@ -73,13 +74,18 @@ int run_serve(const ServeCommandOptions& o) {
 
 void add_serve_command(CLI::App& app, std::function<int()>& run) {
     auto o = std::make_shared<ServeCommandOptions>();
-    CLI::App* cmd = app.add_subcommand("serve", "Show a scenario in the browser and change the eye, light, region and kernel live");
-    cmd->add_option("scenario", o->scenario, "Scenario file (TOML) or the name of a shipped one")->capture_default_str();
+    CLI::App* cmd =
+        app.add_subcommand("serve", "Show a scenario in the browser and change the eye, light, region and kernel live");
+    cmd->add_option("scenario", o->scenario, "Scenario file (TOML) or the name of a shipped one")
+        ->capture_default_str();
     cmd->add_option("--machine", o->machine, "Machine file or preset name")->capture_default_str();
     cmd->add_option("--set", o->overrides, "Override a machine parameter, key=value (repeatable; see `pp5sim params`)");
     cmd->add_option("--host", o->host, "Address to listen on (127.0.0.1: this computer only)")->capture_default_str();
-    cmd->add_option("--port", o->port, "Port to listen on; 0 picks a free one")->check(whole_number())->capture_default_str();
-    cmd->add_option("--image-size", o->image_size, "Render N x N pictures instead of the scenario's size (smaller is quicker)")
+    cmd->add_option("--port", o->port, "Port to listen on; 0 picks a free one")
+        ->check(whole_number())
+        ->capture_default_str();
+    cmd->add_option("--image-size", o->image_size,
+                    "Render N x N pictures instead of the scenario's size (smaller is quicker)")
         ->check(whole_number());
     cmd->callback([o, &run] { run = [o] { return run_serve(*o); }; });
 }

@@ -29,12 +29,12 @@ namespace pp5::cli {
 namespace {
 
 struct SweepOptions {
-    std::string sweep;                    // file or shipped name; empty: options only
+    std::string sweep;  // file or shipped name; empty: options only
     std::vector<std::string> scenarios;
     std::string machine;
     std::vector<std::string> overrides;
     std::vector<std::string> vary;
-    int frames = -1;                      // -1: the file's (or all)
+    int frames = -1;  // -1: the file's (or all)
     std::string out;
     int threads = 0;
     std::string shard;
@@ -83,7 +83,8 @@ std::vector<std::pair<std::string, nlohmann::json>> read_shards(const std::vecto
         std::vector<std::filesystem::path> files;
         for (std::filesystem::directory_iterator it(d, error), end; !error && it != end; it.increment(error)) {
             const std::string name = it->path().filename().string();
-            if (std::error_code unreadable; name.starts_with("shard-") && name.ends_with(".json") && it->is_regular_file(unreadable))
+            if (std::error_code unreadable;
+                name.starts_with("shard-") && name.ends_with(".json") && it->is_regular_file(unreadable))
                 files.push_back(it->path());
         }
         if (error) throw InputError(d, "--merge", "cannot be read: " + error.message());
@@ -99,7 +100,8 @@ std::vector<std::pair<std::string, nlohmann::json>> read_shards(const std::vecto
 int run_sweep_command(const SweepOptions& o) {
     const auto started = std::chrono::steady_clock::now();
     if (o.threads < 0) throw InputError("--threads", "--threads", "must be 0 (all cores) or more");
-    const std::size_t threads = o.threads > 0 ? static_cast<std::size_t>(o.threads) : std::max(1u, std::thread::hardware_concurrency());
+    const std::size_t threads =
+        o.threads > 0 ? static_cast<std::size_t>(o.threads) : std::max(1u, std::thread::hardware_concurrency());
     tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, threads);
     std::vector<std::string> notes;
 
@@ -111,17 +113,20 @@ int run_sweep_command(const SweepOptions& o) {
         stage_whole_sweep(output, merged, notes);
         const auto written = output.commit();
         for (const std::string& n : notes) fmt::print("{}\n", n);
-        fmt::print("merged {} points; wrote {} files to {}\n", merged.points.size(), written.size(), output.directory().string());
+        fmt::print("merged {} points; wrote {} files to {}\n", merged.points.size(), written.size(),
+                   output.directory().string());
         return 0;
     }
 
     const SweepSpec spec = spec_of(o);
     const Shard shard = !o.shard.empty() ? parse_shard(o.shard) : shard_from_environment().value_or(Shard{});
     // Checked before any point runs.
-    StagedOutput output(o.out.empty() ? std::filesystem::path("out") / "sweeps" / spec.name : std::filesystem::path(o.out));
+    StagedOutput output(o.out.empty() ? std::filesystem::path("out") / "sweeps" / spec.name
+                                      : std::filesystem::path(o.out));
     const std::size_t total = plan_sweep(spec).size();
     const std::size_t mine = (total + shard.count - 1 - shard.index) / shard.count;
-    Progress progress(shard.count > 1 ? fmt::format("sweep {} (shard {} of {})", spec.name, shard.index, shard.count) : "sweep " + spec.name,
+    Progress progress(shard.count > 1 ? fmt::format("sweep {} (shard {} of {})", spec.name, shard.index, shard.count)
+                                      : "sweep " + spec.name,
                       std::max<std::size_t>(mine, 1));
     const SweepResult result = run_sweep(spec, shard, [&](std::size_t done, std::size_t) { progress.update(done); });
     // What is written is what a reader gets back, so a merge of shards writes the same bytes.
@@ -129,8 +134,8 @@ int run_sweep_command(const SweepOptions& o) {
 
     if (shard.count > 1) {
         output.add_text(shard_file_name(shard), sweep_to_json(as_written, shard).dump(1) + "\n");
-        notes.push_back(fmt::format("  shard {} of {}: join the shards with `pp5sim sweep --merge {}`", shard.index, shard.count,
-                                    output.directory().string()));
+        notes.push_back(fmt::format("  shard {} of {}: join the shards with `pp5sim sweep --merge {}`", shard.index,
+                                    shard.count, output.directory().string()));
     } else {
         stage_whole_sweep(output, as_written, notes);
     }
@@ -139,12 +144,13 @@ int run_sweep_command(const SweepOptions& o) {
     for (const SweepPointResult& p : result.points) failed += !p.error.empty();
     fmt::print("sweep {}: {} of {} points{}{}\n", spec.name, result.points.size(), total,
                failed > 0 ? fmt::format(", {} failed (their rows say why)", failed) : std::string(),
-               fmt::format("; host time {:.1f} s with {} thread{}", std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(),
-                           threads, threads == 1 ? "" : "s"));
+               fmt::format("; host time {:.1f} s with {} thread{}",
+                           std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(), threads,
+                           threads == 1 ? "" : "s"));
     if (spec.uncertainty) {
         const double host = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-        fmt::print("  bands: {} re-timings, {:.1f} s of the {:.1f} s ({:.0f}%)\n", result.uncertainty_retimings, result.uncertainty_seconds, host,
-                   host > 0 ? 100.0 * result.uncertainty_seconds / host : 0.0);
+        fmt::print("  bands: {} re-timings, {:.1f} s of the {:.1f} s ({:.0f}%)\n", result.uncertainty_retimings,
+                   result.uncertainty_seconds, host, host > 0 ? 100.0 * result.uncertainty_seconds / host : 0.0);
     }
     for (const std::string& n : notes) fmt::print("{}\n", n);
     fmt::print("wrote {} files to {}\n", written.size(), output.directory().string());
@@ -155,21 +161,30 @@ int run_sweep_command(const SweepOptions& o) {
 
 void add_sweep_command(CLI::App& app, std::function<int()>& run) {
     auto o = std::make_shared<SweepOptions>();
-    CLI::App* cmd = app.add_subcommand("sweep", "Run a grid of machine and kernel parameters over scenarios: CSV, JSON and plots");
-    cmd->add_option("sweep", o->sweep, "Sweep file (TOML) or the name of a shipped one (traces/sweeps/); or use --vary");
-    cmd->add_option("--scenario", o->scenarios, "Scenario to sweep (repeatable; replaces the file's; default: the MR head)");
+    CLI::App* cmd =
+        app.add_subcommand("sweep", "Run a grid of machine and kernel parameters over scenarios: CSV, JSON and plots");
+    cmd->add_option("sweep", o->sweep,
+                    "Sweep file (TOML) or the name of a shipped one (traces/sweeps/); or use --vary");
+    cmd->add_option("--scenario", o->scenarios,
+                    "Scenario to sweep (repeatable; replaces the file's; default: the MR head)");
     cmd->add_option("--machine", o->machine, "Machine file or preset name (default: the file's, else pxpl5)");
     cmd->add_option("--set", o->overrides, "Fix a parameter for every point, key=value (repeatable)");
     cmd->add_option("--vary", o->vary, "Vary a parameter, key=v1,v2,... (repeatable: the grid of every combination)");
-    cmd->add_option("--frames", o->frames, "Frames of each scenario to run (0: all; default: the file's, else all)")->check(whole_number());
+    cmd->add_option("--frames", o->frames, "Frames of each scenario to run (0: all; default: the file's, else all)")
+        ->check(whole_number());
     cmd->add_option("--out", o->out, "Output directory (default out/sweeps/<name>)");
-    cmd->add_option("--threads", o->threads, "Host threads; 0 uses every core. Results do not depend on it")->capture_default_str();
-    cmd->add_option("--shard", o->shard, "Run shard K of N (every N-th point from K); under mpirun or a Slurm array it is taken from the environment");
-    cmd->add_option("--merge", o->merge, "Join the shard-K-of-N.json files in these folders into the whole sweep's outputs");
+    cmd->add_option("--threads", o->threads, "Host threads; 0 uses every core. Results do not depend on it")
+        ->capture_default_str();
+    cmd->add_option(
+        "--shard", o->shard,
+        "Run shard K of N (every N-th point from K); under mpirun or a Slurm array it is taken from the environment");
+    cmd->add_option("--merge", o->merge,
+                    "Join the shard-K-of-N.json files in these folders into the whole sweep's outputs");
     cmd->add_option("--plot-x", o->plot_x, "The varied parameter the plots put along x (default: the first)");
     cmd->add_option("--plot-metric", o->plot_metric, "The metric the plots show (default: the kernel's first)");
-    cmd->add_flag("--uncertainty", o->uncertainty,
-                  "Add <metric>_low and <metric>_high: each metric's 95% band over the documented guesses' plausible ranges");
+    cmd->add_flag(
+        "--uncertainty", o->uncertainty,
+        "Add <metric>_low and <metric>_high: each metric's 95% band over the documented guesses' plausible ranges");
     cmd->callback([o, &run] { run = [o] { return run_sweep_command(*o); }; });
 }
 

@@ -24,7 +24,8 @@ constexpr int kInternalError = 1;
 std::string usage_error(const CLI::App& app, const CLI::ParseError& e, int argc, char** argv) {
     std::string message = e.what();
     std::vector<std::string> commands;
-    for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) commands.push_back(sub->get_name());
+    for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+        commands.push_back(sub->get_name());
     const CLI::App* chosen = nullptr;
     for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
         if (sub->parsed()) chosen = sub;
@@ -36,7 +37,8 @@ std::string usage_error(const CLI::App& app, const CLI::ParseError& e, int argc,
         if (first.empty() || first.starts_with("-"))
             return fmt::format("a command is required: {} (pp5sim --help)", list);
         const std::string guess = pp5::closest_name(first, commands);
-        return fmt::format("\"{}\" is not a command{}; the commands are {}", first, guess.empty() ? "" : "; did you mean " + guess + "?", list);
+        return fmt::format("\"{}\" is not a command{}; the commands are {}", first,
+                           guess.empty() ? "" : "; did you mean " + guess + "?", list);
     }
     // An option the command does not have: the nearest one it does.
     std::vector<std::string> options;
@@ -48,7 +50,9 @@ std::string usage_error(const CLI::App& app, const CLI::ParseError& e, int argc,
         word = word.substr(0, word.find('='));
         if (std::find(options.begin(), options.end(), word) != options.end()) continue;
         const std::string guess = pp5::closest_name(word, options);
-        if (!guess.empty()) return fmt::format("{}: {}; did you mean {}? (pp5sim {} --help)", chosen->get_name(), message, guess, chosen->get_name());
+        if (!guess.empty())
+            return fmt::format("{}: {}; did you mean {}? (pp5sim {} --help)", chosen->get_name(), message, guess,
+                               chosen->get_name());
     }
     return fmt::format("{}: {} (pp5sim {} --help)", chosen->get_name(), message, chosen->get_name());
 }

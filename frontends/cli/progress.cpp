@@ -16,7 +16,8 @@ void Progress::update(std::size_t done) {
     const double elapsed = std::chrono::duration<double>(now - start_).count();
     // The time left, from the pace so far, once something is done.
     const std::string left = done > 0 && done < total_
-                                 ? fmt::format(", about {:.0f} s left", elapsed * static_cast<double>(total_ - done) / static_cast<double>(done))
+                                 ? fmt::format(", about {:.0f} s left",
+                                               elapsed * static_cast<double>(total_ - done) / static_cast<double>(done))
                                  : std::string();
     fmt::print(stderr, "{}: {}/{} ({:.0f}%), {:.1f} s{}\n", what_, done, total_,
                100.0 * static_cast<double>(done) / static_cast<double>(total_), elapsed, left);

@@ -18,8 +18,8 @@ struct Leaf {
 
 // Every number under `node`. A statistic written as {value, unit, description} is one number at its
 // own path, with its unit; a histogram's value holds its bounds and sum in that unit, and counts.
-void collect(const nlohmann::json& node, const std::string& path, const std::string& unit, const CompareOptions& options,
-             std::map<std::string, Leaf>& out) {
+void collect(const nlohmann::json& node, const std::string& path, const std::string& unit,
+             const CompareOptions& options, std::map<std::string, Leaf>& out) {
     if (node.is_object()) {
         if (node.contains("value") && node.contains("unit") && node["unit"].is_string()) {
             const nlohmann::json& value = node["value"];
@@ -38,14 +38,18 @@ void collect(const nlohmann::json& node, const std::string& path, const std::str
             collect(child, path.empty() ? key : path + "/" + key, unit, options, out);
         }
     } else if (node.is_array()) {
-        for (std::size_t i = 0; i < node.size(); ++i) collect(node[i], path + "/" + std::to_string(i), unit, options, out);
+        for (std::size_t i = 0; i < node.size(); ++i)
+            collect(node[i], path + "/" + std::to_string(i), unit, options, out);
     } else if (node.is_number()) {
         // Kernels' frame records name their units in their keys (a list's items in the list's).
         std::string key = path;
-        while (key.find('/') != std::string::npos && key.substr(key.rfind('/') + 1).find_first_not_of("0123456789") == std::string::npos)
+        while (key.find('/') != std::string::npos &&
+               key.substr(key.rfind('/') + 1).find_first_not_of("0123456789") == std::string::npos)
             key.resize(key.rfind('/'));
         key = key.substr(key.rfind('/') + 1);
-        const std::string named = key.ends_with("_seconds") || key == "seconds" ? "s" : key.ends_with("_db") ? "dB" : "";
+        const std::string named = key.ends_with("_seconds") || key == "seconds" ? "s"
+                                  : key.ends_with("_db")                        ? "dB"
+                                                                                : "";
         out[path] = {node.get<double>(), !unit.empty() ? unit : named};
     }
 }
@@ -59,7 +63,8 @@ double StatDifference::relative() const {
     return (*after - *before) / std::abs(*before);
 }
 
-StatsComparison compare_stats(const nlohmann::json& before, const nlohmann::json& after, const CompareOptions& options) {
+StatsComparison compare_stats(const nlohmann::json& before, const nlohmann::json& after,
+                              const CompareOptions& options) {
     std::map<std::string, Leaf> a, b;
     collect(before, "", "", options, a);
     collect(after, "", "", options, b);
@@ -71,18 +76,21 @@ StatsComparison compare_stats(const nlohmann::json& before, const nlohmann::json
             continue;
         }
         ++out.compared;
-        if (other->second.value != leaf.value) out.differences.push_back({path, leaf.unit.empty() ? other->second.unit : leaf.unit, leaf.value, other->second.value});
+        if (other->second.value != leaf.value)
+            out.differences.push_back(
+                {path, leaf.unit.empty() ? other->second.unit : leaf.unit, leaf.value, other->second.value});
     }
     for (const auto& [path, leaf] : b)
         if (!a.count(path)) out.differences.push_back({path, leaf.unit, std::nullopt, leaf.value});
     // Numbers in both first, largest relative change first (a change from zero is infinite); then
     // those only one run has (a GP the other machine lacks), by path.
-    std::stable_sort(out.differences.begin(), out.differences.end(), [](const StatDifference& x, const StatDifference& y) {
-        const bool both_x = x.before && x.after, both_y = y.before && y.after;
-        if (both_x != both_y) return both_x;
-        const double rx = std::abs(x.relative()), ry = std::abs(y.relative());
-        return rx != ry ? rx > ry : x.path < y.path;
-    });
+    std::stable_sort(out.differences.begin(), out.differences.end(),
+                     [](const StatDifference& x, const StatDifference& y) {
+                         const bool both_x = x.before && x.after, both_y = y.before && y.after;
+                         if (both_x != both_y) return both_x;
+                         const double rx = std::abs(x.relative()), ry = std::abs(y.relative());
+                         return rx != ry ? rx > ry : x.path < y.path;
+                     });
     for (const StatDifference& d : out.differences) out.beyond_tolerance += std::abs(d.relative()) > options.tolerance;
     return out;
 }
@@ -92,13 +100,15 @@ void check_run_stats(const nlohmann::json& json, const std::string& file) {
         throw InputError(file, field, why + ": compare takes two runs' stats.json, as `pp5sim render` writes them");
     };
     if (!json.is_object()) refuse("compare", "is not a JSON object");
-    if (json.contains("sweep") && json.contains("results")) refuse("compare", "is a sweep's results (sweep.json or a shard), not a run's statistics");
+    if (json.contains("sweep") && json.contains("results"))
+        refuse("compare", "is a sweep's results (sweep.json or a shard), not a run's statistics");
     for (const char* table : {"summary", "components"})
         if (!json.contains(table) || !json[table].is_object()) refuse(table, "is missing or not an object");
     if (!json.contains("frames") || !json["frames"].is_array()) refuse("frames", "is missing or not a list");
     const nlohmann::json& summary = json["summary"];
     for (const char* text : {"scenario", "kernel"})
-        if (!summary.contains(text) || !summary[text].is_string()) refuse(std::string("summary.") + text, "is missing or not text");
+        if (!summary.contains(text) || !summary[text].is_string())
+            refuse(std::string("summary.") + text, "is missing or not text");
     if (!summary.contains("simulated_seconds") || !summary["simulated_seconds"].is_array())
         refuse("summary.simulated_seconds", "is missing or not a list of frame times");
 }

@@ -14,9 +14,9 @@ namespace pp5 {
 
 struct StatDifference {
     std::string path;
-    std::string unit;                // "" when the file gives none
-    std::optional<double> before;    // none: only in the second
-    std::optional<double> after;     // none: only in the first
+    std::string unit;              // "" when the file gives none
+    std::optional<double> before;  // none: only in the second
+    std::optional<double> after;   // none: only in the first
     double absolute() const { return before && after ? *after - *before : 0.0; }
     // (after - before) / |before|; infinite when before is 0 and after is not, or one side is missing.
     double relative() const;
@@ -29,8 +29,8 @@ struct StatsComparison {
 };
 
 struct CompareOptions {
-    double tolerance = 0.0;       // relative; a change within it is not beyond it
-    bool include_host = false;    // compare host_seconds too
+    double tolerance = 0.0;     // relative; a change within it is not beyond it
+    bool include_host = false;  // compare host_seconds too
 };
 
 // Throws InputError naming `file` unless `json` is a run's stats.json as `pp5sim render` writes it:

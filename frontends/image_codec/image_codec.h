@@ -33,7 +33,8 @@ struct Table {
     // Writes a file in the format its extension names; four float channels are named R, G, B, A.
     void (*write_file)(const std::filesystem::path& path, const PixelsView& pixels) = nullptr;
     // One picture, or several as an animation, encoded in memory in the format `extension` names.
-    std::string (*encode)(const std::vector<PixelsView>& frames, const char* extension, float frames_per_second) = nullptr;
+    std::string (*encode)(const std::vector<PixelsView>& frames, const char* extension,
+                          float frames_per_second) = nullptr;
     // OpenImageIO's comparison of two float pictures of one size.
     ImageDifference (*compare)(const PixelsView& image, const PixelsView& reference) = nullptr;
     // Throws std::runtime_error naming the file when it cannot be read.

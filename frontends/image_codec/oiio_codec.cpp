@@ -12,7 +12,9 @@
 namespace pp5::image_codec {
 namespace {
 
-OIIO::TypeDesc type_of(const PixelsView& pixels) { return pixels.floating ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8; }
+OIIO::TypeDesc type_of(const PixelsView& pixels) {
+    return pixels.floating ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8;
+}
 
 OIIO::ImageSpec spec_of(const PixelsView& pixels) {
     OIIO::ImageSpec spec(pixels.width, pixels.height, pixels.channels, type_of(pixels));

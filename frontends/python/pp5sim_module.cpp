@@ -49,7 +49,8 @@ py::array_t<float> to_array(const Image& image) {
 // A machine parameter's value as the machine files and --set write it.
 std::string override_text(const std::string& key, const py::handle& value) {
     if (py::isinstance<py::bool_>(value)) return value.cast<bool>() ? "true" : "false";
-    if (py::isinstance<py::int_>(value) || py::isinstance<py::float_>(value)) return py::repr(value).cast<std::string>();
+    if (py::isinstance<py::int_>(value) || py::isinstance<py::float_>(value))
+        return py::repr(value).cast<std::string>();
     if (py::isinstance<py::str>(value)) return value.cast<std::string>();
     throw InputError("python", key, "a parameter's value is a number, a boolean or a string");
 }
@@ -103,7 +104,8 @@ Scenario scenario_of(const py::object& given) {
     return given.cast<Scenario>();
 }
 
-PyRun render(const py::object& scenario_given, const std::optional<PyMachine>& machine_given, std::optional<std::size_t> frame_count) {
+PyRun render(const py::object& scenario_given, const std::optional<PyMachine>& machine_given,
+             std::optional<std::size_t> frame_count) {
     const Scenario scenario = scenario_of(scenario_given);
     const PyMachine machine = machine_given.value_or(default_machine());
     const std::size_t count = std::min(frame_count.value_or(scenario.frames.size()), scenario.frames.size());
@@ -118,7 +120,8 @@ PyRun render(const py::object& scenario_given, const std::optional<PyMachine>& m
             rendered.push_back(session.render(scenario.frames[i]));
             records.push_back(rendered.back().record);
         }
-        stats = session.stats(records, std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+        stats =
+            session.stats(records, std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
     }
     PyRun run;
     for (std::size_t i = 0; i < rendered.size(); ++i) {
@@ -143,10 +146,10 @@ PyRun render(const py::object& scenario_given, const std::optional<PyMachine>& m
 // One recorded frame timed on a machine: what re-timing gives, as attributes.
 struct PyTiming {
     std::string label;
-    std::string machine;       // the machine's name and the parameters set on it
+    std::string machine;  // the machine's name and the parameters set on it
     double simulated_seconds = 0.0;
-    py::dict phases;           // name -> simulated seconds
-    py::dict metrics;          // the kernel's metrics this frame has
+    py::dict phases;   // name -> simulated seconds
+    py::dict metrics;  // the kernel's metrics this frame has
     std::optional<double> frames_per_second() const {
         return simulated_seconds > 0 ? std::optional<double>(1.0 / simulated_seconds) : std::nullopt;
     }
@@ -163,8 +166,9 @@ struct PyTimings {
         try {
             pandas = py::module_::import("pandas");
         } catch (const py::error_already_set&) {
-            throw py::import_error("to_dataframe needs pandas (Debian: apt install python3-pandas); the frames are also "
-                                   "a list of pp5sim.Timing with attributes");
+            throw py::import_error(
+                "to_dataframe needs pandas (Debian: apt install python3-pandas); the frames are also "
+                "a list of pp5sim.Timing with attributes");
         }
         py::list rows;
         for (const PyTiming& t : frames) {
@@ -173,7 +177,8 @@ struct PyTimings {
             row["machine"] = t.machine;
             row["simulated_seconds"] = t.simulated_seconds;
             row["frames_per_second"] = t.frames_per_second();
-            for (const auto& [name, seconds] : t.phases) row[py::str("phase." + py::str(name).cast<std::string>())] = seconds;
+            for (const auto& [name, seconds] : t.phases)
+                row[py::str("phase." + py::str(name).cast<std::string>())] = seconds;
             for (const auto& [name, value] : t.metrics) row[name] = value;
             rows.append(row);
         }
@@ -205,7 +210,8 @@ struct PyRecording {
             frame.label = recorded->frames()[i].label;
             frame.machine = machine_label(machine);
             frame.simulated_seconds = ticks_to_seconds(timings[i].duration_ps());
-            for (const PhaseTiming& p : timings[i].phases) frame.phases[py::str(p.name)] = ticks_to_seconds(p.duration_ps());
+            for (const PhaseTiming& p : timings[i].phases)
+                frame.phases[py::str(p.name)] = ticks_to_seconds(p.duration_ps());
             for (const KernelMetric& m : recorded->kernel().metrics()) {
                 try {
                     frame.metrics[py::str(m.name)] = recorded->metric(m.name, i, timings[i]);
@@ -223,12 +229,14 @@ PyRecording record(const py::object& scenario_given, const std::optional<PyMachi
     const Scenario scenario = scenario_of(scenario_given);
     const PyMachine machine = machine_given.value_or(default_machine());
     const py::gil_scoped_release unlocked;
-    return {std::make_shared<RecordedScenario>(scenario, machine.config, static_cast<int>(scenario.frames.size())), machine.config};
+    return {std::make_shared<RecordedScenario>(scenario, machine.config, static_cast<int>(scenario.frames.size())),
+            machine.config};
 }
 
 // Every kernel on one scenario and machine (frontends/compare_kernels.h): the report as a dict, with
 // each rendered kernel's last picture as an array under "pictures".
-py::object compare_kernels_of(const py::object& scenario_given, const std::optional<PyMachine>& machine_given, bool reference) {
+py::object compare_kernels_of(const py::object& scenario_given, const std::optional<PyMachine>& machine_given,
+                              bool reference) {
     const Scenario scenario = scenario_of(scenario_given);
     const PyMachine machine = machine_given.value_or(default_machine());
     KernelComparison comparison;
@@ -266,29 +274,38 @@ PYBIND11_MODULE(pp5sim, m) {
         }
     });
 
-    m.def("scenarios", [] {
-        std::vector<std::string> names;
-        for (const auto& file : shipped_scenario_files()) names.push_back(file.stem().string());
-        return names;
-    }, "Names of the shipped scenarios (traces/scenarios/)");
-    m.def("kernels", [] {
-        py::list out;
-        for (const Kernel* k : pp5::kernels()) {
-            py::dict d;
-            d["name"] = k->name();
-            d["description"] = k->description();
-            d["runs_on_machine"] = k->runs_on_machine();
-            out.append(d);
-        }
-        return out;
-    }, "The registered kernels: name, description, whether they run on the simulated machine");
+    m.def(
+        "scenarios",
+        [] {
+            std::vector<std::string> names;
+            for (const auto& file : shipped_scenario_files()) names.push_back(file.stem().string());
+            return names;
+        },
+        "Names of the shipped scenarios (traces/scenarios/)");
+    m.def(
+        "kernels",
+        [] {
+            py::list out;
+            for (const Kernel* k : pp5::kernels()) {
+                py::dict d;
+                d["name"] = k->name();
+                d["description"] = k->description();
+                d["runs_on_machine"] = k->runs_on_machine();
+                out.append(d);
+            }
+            return out;
+        },
+        "The registered kernels: name, description, whether they run on the simulated machine");
 
     py::class_<Scenario>(m, "Scenario", "What to render: a dataset, classification, shading, camera, image and frames")
         .def_readonly("name", &Scenario::name)
         .def_readonly("description", &Scenario::description)
         .def_readwrite("kernel", &Scenario::kernel, "The kernel that renders it (a name from pp5sim.kernels())")
         .def_property(
-            "image_size", [](const Scenario& s) { return std::pair{s.image.width, s.image.height}; },
+            "image_size",
+            [](const Scenario& s) {
+                return std::pair{s.image.width, s.image.height};
+            },
             [](Scenario& s, std::pair<int, int> size) {
                 if (size.first < 1 || size.second < 1 || size.first > 16384 || size.second > 16384)
                     throw InputError("python", "image_size", "width and height lie in [1, 16384]");
@@ -296,41 +313,57 @@ PYBIND11_MODULE(pp5sim, m) {
                 s.image.height = size.second;
             },
             "(width, height) of the pictures")
-        .def_property_readonly("frame_labels", [](const Scenario& s) {
-            std::vector<std::string> labels;
-            for (const FrameSpec& f : s.frames) labels.push_back(f.label);
-            return labels;
-        })
+        .def_property_readonly("frame_labels",
+                               [](const Scenario& s) {
+                                   std::vector<std::string> labels;
+                                   for (const FrameSpec& f : s.frames) labels.push_back(f.label);
+                                   return labels;
+                               })
         .def("__repr__", [](const Scenario& s) {
-            return fmt::format("<pp5sim.Scenario {} ({} kernel, {} frames, {}x{})>", s.name, s.kernel, s.frames.size(), s.image.width, s.image.height);
+            return fmt::format("<pp5sim.Scenario {} ({} kernel, {} frames, {}x{})>", s.name, s.kernel, s.frames.size(),
+                               s.image.width, s.image.height);
         });
-    m.def("load_scenario", [](const std::string& name) { return load_scenario(resolve_scenario_file(name)); }, py::arg("name_or_path"),
-          "A scenario file, or the name of a shipped one");
-    m.def("scenario_from_toml", [](const std::string& text, const std::string& directory) {
-        return load_scenario_text(text, std::filesystem::absolute(directory) / "<python>.toml");
-    }, py::arg("text"), py::arg("directory") = ".", "A scenario written in TOML (traces/README.md); relative paths start from directory");
+    m.def(
+        "load_scenario", [](const std::string& name) { return load_scenario(resolve_scenario_file(name)); },
+        py::arg("name_or_path"), "A scenario file, or the name of a shipped one");
+    m.def(
+        "scenario_from_toml",
+        [](const std::string& text, const std::string& directory) {
+            return load_scenario_text(text, std::filesystem::absolute(directory) / "<python>.toml");
+        },
+        py::arg("text"), py::arg("directory") = ".",
+        "A scenario written in TOML (traces/README.md); relative paths start from directory");
 
     py::class_<PyMachine>(m, "Machine", "A configured machine: a preset or machine file, with parameters set")
         .def(py::init<std::string, py::dict>(), py::arg("machine") = "pxpl5", py::arg("set") = py::dict())
         .def("with_set", &PyMachine::with_set, py::arg("set"), "The same machine with these parameters set as well")
         .def_property_readonly("name", [](const PyMachine& p) { return p.config.machine_name(); })
-        .def_property_readonly("parameters", [](const PyMachine& p) {
-            const nlohmann::json all = p.config.to_json();
-            return to_python(all["parameters"]);
-        }, "Every parameter: value, unit, description, where it was set")
-        .def("__getitem__", [](const PyMachine& p, const std::string& key) {
-            const nlohmann::json all = p.config.to_json();
-            if (!all["parameters"].contains(key)) throw InputError("python", key, "no such parameter (see pp5sim params)");
-            return to_python(all["parameters"][key]["value"]);
-        })
-        .def("__repr__", [](const PyMachine& p) { return fmt::format("<pp5sim.Machine {} with {} set>", p.config.machine_name(), p.overrides.size()); });
+        .def_property_readonly(
+            "parameters",
+            [](const PyMachine& p) {
+                const nlohmann::json all = p.config.to_json();
+                return to_python(all["parameters"]);
+            },
+            "Every parameter: value, unit, description, where it was set")
+        .def("__getitem__",
+             [](const PyMachine& p, const std::string& key) {
+                 const nlohmann::json all = p.config.to_json();
+                 if (!all["parameters"].contains(key))
+                     throw InputError("python", key, "no such parameter (see pp5sim params)");
+                 return to_python(all["parameters"][key]["value"]);
+             })
+        .def("__repr__", [](const PyMachine& p) {
+            return fmt::format("<pp5sim.Machine {} with {} set>", p.config.machine_name(), p.overrides.size());
+        });
 
     py::class_<PyFrame>(m, "Frame", "One rendered frame")
         .def_readonly("label", &PyFrame::label)
         .def_readonly("simulated_seconds", &PyFrame::simulated_seconds)
-        .def_readonly("utilisation", &PyFrame::utilisation, "Busy time over count x frame time, for gps, renderers and ring")
+        .def_readonly("utilisation", &PyFrame::utilisation,
+                      "Busy time over count x frame time, for gps, renderers and ring")
         .def_readonly("image", &PyFrame::image, "The picture, height x width x RGBA float32")
-        .def_readonly("passes", &PyFrame::passes, "The picture after each stage (refinement pass); the last is the frame")
+        .def_readonly("passes", &PyFrame::passes,
+                      "The picture after each stage (refinement pass); the last is the frame")
         .def_readonly("record", &PyFrame::record, "The frame's record in stats.json");
     py::class_<PyRun>(m, "Run", "A scenario rendered on a machine")
         .def_readonly("frames", &PyRun::frames)
@@ -343,43 +376,54 @@ PYBIND11_MODULE(pp5sim, m) {
         .def_readonly("label", &PyTiming::label)
         .def_readonly("machine", &PyTiming::machine, "The machine's name and the parameters set on it")
         .def_readonly("simulated_seconds", &PyTiming::simulated_seconds)
-        .def_property_readonly("frames_per_second", &PyTiming::frames_per_second, "1 / simulated_seconds (None for an untimed frame)")
+        .def_property_readonly("frames_per_second", &PyTiming::frames_per_second,
+                               "1 / simulated_seconds (None for an untimed frame)")
         .def_readonly("phases", &PyTiming::phases, "Each phase's simulated seconds, by name")
         .def_readonly("metrics", &PyTiming::metrics, "The kernel's metrics this frame has (Levoy's crude_seconds, ...)")
         // The dict these were before, for code written against it: timing["simulated_seconds"].
-        .def("__getitem__", [](const py::object& self, const std::string& key) {
-            if (key != "label" && key != "machine" && key != "simulated_seconds" && key != "frames_per_second" && key != "phases" &&
-                key != "metrics")
-                throw py::key_error(key);
-            return self.attr(key.c_str());
-        })
+        .def("__getitem__",
+             [](const py::object& self, const std::string& key) {
+                 if (key != "label" && key != "machine" && key != "simulated_seconds" && key != "frames_per_second" &&
+                     key != "phases" && key != "metrics")
+                     throw py::key_error(key);
+                 return self.attr(key.c_str());
+             })
         .def("__repr__", [](const PyTiming& t) {
             return fmt::format("<pp5sim.Timing {} on {}: {:.6g} s>", t.label, t.machine, t.simulated_seconds);
         });
     py::class_<PyTimings>(m, "Timings", "A recording's frames timed on one machine: a sequence of Timing")
         .def("__len__", [](const PyTimings& t) { return t.frames.size(); })
-        .def("__getitem__", [](const PyTimings& t, std::ptrdiff_t i) {
-            const auto n = static_cast<std::ptrdiff_t>(t.frames.size());
-            if (i < 0) i += n;
-            if (i < 0 || i >= n) throw py::index_error("frame " + std::to_string(i) + " of " + std::to_string(n));
-            return t.frames[static_cast<std::size_t>(i)];
-        })
-        .def("__iter__", [](const PyTimings& t) { return py::make_iterator(t.frames.begin(), t.frames.end()); }, py::keep_alive<0, 1>())
+        .def("__getitem__",
+             [](const PyTimings& t, std::ptrdiff_t i) {
+                 const auto n = static_cast<std::ptrdiff_t>(t.frames.size());
+                 if (i < 0) i += n;
+                 if (i < 0 || i >= n) throw py::index_error("frame " + std::to_string(i) + " of " + std::to_string(n));
+                 return t.frames[static_cast<std::size_t>(i)];
+             })
+        .def(
+            "__iter__", [](const PyTimings& t) { return py::make_iterator(t.frames.begin(), t.frames.end()); },
+            py::keep_alive<0, 1>())
         .def("to_dataframe", &PyTimings::to_dataframe,
-             "One row a frame (label, machine, simulated_seconds, frames_per_second, phase.<name>, the kernel's metrics) as a "
+             "One row a frame (label, machine, simulated_seconds, frames_per_second, phase.<name>, the kernel's "
+             "metrics) as a "
              "pandas.DataFrame; pandas.concat of several machines' tables gives a sweep's");
-    py::class_<PyRecording>(m, "Recording", "A scenario's frames recorded once, to time on other machines without rendering again")
+    py::class_<PyRecording>(m, "Recording",
+                            "A scenario's frames recorded once, to time on other machines without rendering again")
         .def("time_on", &PyRecording::time_on, py::arg("machine"),
-             "Each frame timed on `machine` (which may differ only in timing): Timings, a sequence of Timing with simulated_seconds, "
+             "Each frame timed on `machine` (which may differ only in timing): Timings, a sequence of Timing with "
+             "simulated_seconds, "
              "frames_per_second, phases and the kernel's metrics, and to_dataframe()");
     m.def("record", &record, py::arg("scenario"), py::arg("machine") = std::nullopt,
           "Record the scenario's work on the machine (default pxpl5), for re-timing");
 
-    m.def("compare_kernels", &compare_kernels_of, py::arg("scenario"), py::arg("machine") = std::nullopt, py::arg("reference") = true,
-          "Render the scenario with every kernel that runs on the machine (default pxpl5): the report `pp5sim compare-kernels` "
+    m.def("compare_kernels", &compare_kernels_of, py::arg("scenario"), py::arg("machine") = std::nullopt,
+          py::arg("reference") = true,
+          "Render the scenario with every kernel that runs on the machine (default pxpl5): the report `pp5sim "
+          "compare-kernels` "
           "writes, as a dict, with each kernel's last picture under 'pictures'");
 
-    py::class_<InteractiveView>(m, "View", "The browser tool's view: change the eye, light, region or kernel a step at a time")
+    py::class_<InteractiveView>(m, "View",
+                                "The browser tool's view: change the eye, light, region or kernel a step at a time")
         .def(py::init([](const py::object& given, const std::optional<PyMachine>& machine) {
                  const Scenario s = scenario_of(given);
                  const PyMachine chosen = machine.value_or(default_machine());
@@ -387,28 +431,44 @@ PYBIND11_MODULE(pp5sim, m) {
                  return std::make_unique<InteractiveView>(s, chosen.config);
              }),
              py::arg("scenario"), py::arg("machine") = std::nullopt)
-        .def("apply", [](InteractiveView& v, const py::object& change) {
-            const nlohmann::json c = from_python(change, "change");
-            const py::gil_scoped_release unlocked;
-            v.apply(c);
-        }, py::arg("change"), "Apply a change ({'camera': {'azimuth': 40}}, {'light': ...}, {'region': ...}, {'kernel': ...}, "
-               "{'machine': {'gp.count': 64}}, which re-times the frame when only timing changes); docs/serve.md")
-        .def_property_readonly("state", [](const InteractiveView& v) { return to_python(v.state()); })
-        .def_property_readonly("png", [](const InteractiveView& v) { return py::bytes(v.frame_png()); }, "The last frame as PNG bytes")
-        .def("timeline", [](const InteractiveView& v, int bins) {
-            if (bins < 1 || bins > 100000) throw InputError("python", "bins", "a timeline has 1 to 100000 bins");
-            return to_python(v.timeline(bins));
-        }, py::arg("bins") = 480, "Where the last frame's time went: phases, pass times and a lane of busy time per component (docs/serve.md)")
-        .def_property_readonly("tile_map_png", [](const InteractiveView& v) -> py::object {
-            const auto png = v.tile_map_png();
-            return png ? py::object(py::bytes(*png)) : py::object(py::none());
-        }, "The GP tile map of the last frame as PNG bytes (None when its kernel casts no tiles on GPs)")
-        .def("compare_kernels", [](InteractiveView& v) {
-            nlohmann::json report;
-            {
+        .def(
+            "apply",
+            [](InteractiveView& v, const py::object& change) {
+                const nlohmann::json c = from_python(change, "change");
                 const py::gil_scoped_release unlocked;
-                report = v.compare_kernels();
-            }
-            return to_python(report);
-        }, "Every kernel on the view as it stands, as the page's compare mode: the report as a dict");
+                v.apply(c);
+            },
+            py::arg("change"),
+            "Apply a change ({'camera': {'azimuth': 40}}, {'light': ...}, {'region': ...}, {'kernel': ...}, "
+            "{'machine': {'gp.count': 64}}, which re-times the frame when only timing changes); docs/serve.md")
+        .def_property_readonly("state", [](const InteractiveView& v) { return to_python(v.state()); })
+        .def_property_readonly(
+            "png", [](const InteractiveView& v) { return py::bytes(v.frame_png()); }, "The last frame as PNG bytes")
+        .def(
+            "timeline",
+            [](const InteractiveView& v, int bins) {
+                if (bins < 1 || bins > 100000) throw InputError("python", "bins", "a timeline has 1 to 100000 bins");
+                return to_python(v.timeline(bins));
+            },
+            py::arg("bins") = 480,
+            "Where the last frame's time went: phases, pass times and a lane of busy time per component "
+            "(docs/serve.md)")
+        .def_property_readonly(
+            "tile_map_png",
+            [](const InteractiveView& v) -> py::object {
+                const auto png = v.tile_map_png();
+                return png ? py::object(py::bytes(*png)) : py::object(py::none());
+            },
+            "The GP tile map of the last frame as PNG bytes (None when its kernel casts no tiles on GPs)")
+        .def(
+            "compare_kernels",
+            [](InteractiveView& v) {
+                nlohmann::json report;
+                {
+                    const py::gil_scoped_release unlocked;
+                    report = v.compare_kernels();
+                }
+                return to_python(report);
+            },
+            "Every kernel on the view as it stands, as the page's compare mode: the report as a dict");
 }

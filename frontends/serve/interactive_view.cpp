@@ -31,7 +31,9 @@ std::unique_ptr<TraceRecorder> timeline_recorder() {
     return recorder;
 }
 
-[[noreturn]] void refuse(const std::string& field, const std::string& reason) { throw InputError(kRequest, field, reason); }
+[[noreturn]] void refuse(const std::string& field, const std::string& reason) {
+    throw InputError(kRequest, field, reason);
+}
 
 void only_keys(const nlohmann::json& object, const std::string& field, const std::set<std::string>& allowed) {
     if (!object.is_object()) refuse(field, "expected an object");
@@ -54,7 +56,9 @@ double number(const nlohmann::json& value, const std::string& field, double low,
 glm::vec3 vector3(const nlohmann::json& value, const std::string& field, double low, double high) {
     if (!value.is_array() || value.size() != 3) refuse(field, "expected three numbers [x, y, z]");
     glm::vec3 v;
-    for (int i = 0; i < 3; ++i) v[i] = static_cast<float>(number(value[static_cast<std::size_t>(i)], fmt::format("{}[{}]", field, i), low, high));
+    for (int i = 0; i < 3; ++i)
+        v[i] =
+            static_cast<float>(number(value[static_cast<std::size_t>(i)], fmt::format("{}[{}]", field, i), low, high));
     return v;
 }
 
@@ -62,8 +66,10 @@ nlohmann::json to_json(glm::vec3 v) { return {v.x, v.y, v.z}; }
 
 // [{"direction": [x, y, z], "intensity": s}, ...]: the lights that stay put while the key light moves.
 std::vector<StationaryLight> stationary_lights(const nlohmann::json& value) {
-    if (!value.is_array()) refuse("light.stationary", "expected a list of {\"direction\": [x, y, z], \"intensity\": s}");
-    if (value.size() > kMaxStationaryLights) refuse("light.stationary", fmt::format("at most {} stationary lights", kMaxStationaryLights));
+    if (!value.is_array())
+        refuse("light.stationary", "expected a list of {\"direction\": [x, y, z], \"intensity\": s}");
+    if (value.size() > kMaxStationaryLights)
+        refuse("light.stationary", fmt::format("at most {} stationary lights", kMaxStationaryLights));
     std::vector<StationaryLight> lights;
     for (std::size_t i = 0; i < value.size(); ++i) {
         const std::string field = fmt::format("light.stationary[{}]", i);
@@ -71,10 +77,12 @@ std::vector<StationaryLight> stationary_lights(const nlohmann::json& value) {
         if (!value[i].contains("direction")) refuse(field + ".direction", "is missing");
         StationaryLight light;
         light.direction = vector3(value[i]["direction"], field + ".direction", -1e3, 1e3);
-        if (glm::length(light.direction) < 1e-6f) refuse(field + ".direction", "a direction towards the light cannot be zero");
+        if (glm::length(light.direction) < 1e-6f)
+            refuse(field + ".direction", "a direction towards the light cannot be zero");
         light.direction = glm::normalize(light.direction);
         if (value[i].contains("intensity"))
-            light.intensity = static_cast<float>(number(value[i]["intensity"], field + ".intensity", 0.0, kMaxLightIntensity));
+            light.intensity =
+                static_cast<float>(number(value[i]["intensity"], field + ".intensity", 0.0, kMaxLightIntensity));
         lights.push_back(light);
     }
     return lights;
@@ -88,10 +96,15 @@ nlohmann::json machine_controls(const MachineConfig& config) {
     const auto add = [&](const std::string& key, const char* group) {
         if (!parameters.contains(key)) return;
         const nlohmann::json& p = parameters[key];
-        controls.push_back({{"key", key}, {"value", p["value"]}, {"unit", p["unit"]}, {"timing_only", is_timing_parameter(key)},
-                            {"group", group}, {"origin", p.value("origin", "")}});
+        controls.push_back({{"key", key},
+                            {"value", p["value"]},
+                            {"unit", p["unit"]},
+                            {"timing_only", is_timing_parameter(key)},
+                            {"group", group},
+                            {"origin", p.value("origin", "")}});
     };
-    for (const char* key : {"gp.count", "renderer.count", "ring.clock_mhz", "ring.channels", "gp.cache_bits"}) add(key, "machine");
+    for (const char* key : {"gp.count", "renderer.count", "ring.clock_mhz", "ring.channels", "gp.cache_bits"})
+        add(key, "machine");
     // The calibration in force: the fitted scales on the documented costs (1 where nothing was fitted).
     for (const auto& [key, entry] : parameters.items())
         if (key.starts_with("calibration.") && key.ends_with("_scale")) add(key, "calibration");
@@ -103,13 +116,13 @@ nlohmann::json machine_controls(const MachineConfig& config) {
 nlohmann::json drag_basis(const FrameSpec& frame, const Volume& volume, const ImageSpec& image) {
     const Camera camera = frame_camera(frame, volume);
     const ViewBasis basis = view_basis(camera);
-    const float world_per_pixel =
-        camera.projection == Projection::Parallel
-            ? camera.view_height / static_cast<float>(image.height)
-            : 2.0f * std::tan(glm::radians(camera.fov_y_degrees) * 0.5f) * glm::length(camera.target - camera.eye) /
-                  static_cast<float>(image.height);
+    const float world_per_pixel = camera.projection == Projection::Parallel
+                                      ? camera.view_height / static_cast<float>(image.height)
+                                      : 2.0f * std::tan(glm::radians(camera.fov_y_degrees) * 0.5f) *
+                                            glm::length(camera.target - camera.eye) / static_cast<float>(image.height);
     const glm::vec3 spacing = volume.spacing();
-    return {{"right", to_json(basis.right * world_per_pixel / spacing)}, {"up", to_json(basis.up * world_per_pixel / spacing)}};
+    return {{"right", to_json(basis.right * world_per_pixel / spacing)},
+            {"up", to_json(basis.up * world_per_pixel / spacing)}};
 }
 
 }  // namespace
@@ -124,7 +137,8 @@ InteractiveView::InteractiveView(Scenario scenario, MachineConfig config)
 void InteractiveView::apply(const nlohmann::json& change) {
     only_keys(change, "", {"camera", "light", "region", "kernel", "machine"});
     if (change.contains("machine")) {
-        if (change.size() > 1) refuse("machine", "a change to the machine comes alone, so that what it did to the frame is its own");
+        if (change.size() > 1)
+            refuse("machine", "a change to the machine comes alone, so that what it did to the frame is its own");
         return change_machine(change["machine"]);
     }
     FrameSpec next = current_;
@@ -135,11 +149,15 @@ void InteractiveView::apply(const nlohmann::json& change) {
     if (change.contains("camera")) {
         const auto& c = change["camera"];
         only_keys(c, "camera", {"azimuth", "elevation", "zoom"});
-        if (c.contains("azimuth")) next.camera.azimuth_degrees = static_cast<float>(std::remainder(number(c["azimuth"], "camera.azimuth", -1e6, 1e6), 360.0));
-        if (c.contains("elevation")) next.camera.elevation_degrees = static_cast<float>(number(c["elevation"], "camera.elevation", -89.0, 89.0));
+        if (c.contains("azimuth"))
+            next.camera.azimuth_degrees =
+                static_cast<float>(std::remainder(number(c["azimuth"], "camera.azimuth", -1e6, 1e6), 360.0));
+        if (c.contains("elevation"))
+            next.camera.elevation_degrees = static_cast<float>(number(c["elevation"], "camera.elevation", -89.0, 89.0));
         if (c.contains("zoom")) next.camera.zoom = static_cast<float>(number(c["zoom"], "camera.zoom", 0.1, 20.0));
         next.camera_changed = !(next.camera.azimuth_degrees == current_.camera.azimuth_degrees &&
-                                next.camera.elevation_degrees == current_.camera.elevation_degrees && next.camera.zoom == current_.camera.zoom);
+                                next.camera.elevation_degrees == current_.camera.elevation_degrees &&
+                                next.camera.zoom == current_.camera.zoom);
     }
     if (change.contains("light")) {
         const auto& l = change["light"];
@@ -162,7 +180,8 @@ void InteractiveView::apply(const nlohmann::json& change) {
         if (r.is_null()) {
             next.region.reset();
         } else {
-            only_keys(r, "region", {"shape", "center", "half_size", "scale_inside", "scale_outside", "transition", "cap"});
+            only_keys(r, "region",
+                      {"shape", "center", "half_size", "scale_inside", "scale_outside", "transition", "cap"});
             RegionOfInterest region = current_.region.value_or(RegionOfInterest{});
             if (!current_.region) {
                 // A new region starts as a cut-away cube in the middle of the volume.
@@ -179,11 +198,15 @@ void InteractiveView::apply(const nlohmann::json& change) {
             const double reach = 2.0 * std::max({dims.x, dims.y, dims.z});
             if (r.contains("center")) region.center = vector3(r["center"], "region.center", -reach, reach);
             if (r.contains("half_size")) region.half_size = vector3(r["half_size"], "region.half_size", 0.5, reach);
-            if (r.contains("scale_inside")) region.scale_inside = static_cast<float>(number(r["scale_inside"], "region.scale_inside", 0.0, 16.0));
-            if (r.contains("scale_outside")) region.scale_outside = static_cast<float>(number(r["scale_outside"], "region.scale_outside", 0.0, 16.0));
+            if (r.contains("scale_inside"))
+                region.scale_inside = static_cast<float>(number(r["scale_inside"], "region.scale_inside", 0.0, 16.0));
+            if (r.contains("scale_outside"))
+                region.scale_outside =
+                    static_cast<float>(number(r["scale_outside"], "region.scale_outside", 0.0, 16.0));
             if (r.contains("transition")) {
                 region.transition = static_cast<float>(number(r["transition"], "region.transition", 0.0, 100.0));
-                if (region.transition > 0.0f && region.transition < 0.01f) refuse("region.transition", "is 0 (a hard edge) or at least 0.01 voxels");
+                if (region.transition > 0.0f && region.transition < 0.01f)
+                    refuse("region.transition", "is 0 (a hard edge) or at least 0.01 voxels");
             }
             if (r.contains("cap")) {
                 if (!r["cap"].is_boolean()) refuse("region.cap", "expected true or false");
@@ -215,14 +238,15 @@ void InteractiveView::apply(const nlohmann::json& change) {
             recent_.clear();
             phase_names_.clear();
         } catch (const InputError& e) {
-            if (kernel != scenario_.kernel) refuse("kernel", fmt::format("{} cannot render this view: {}", kernel, e.what()));
+            if (kernel != scenario_.kernel)
+                refuse("kernel", fmt::format("{} cannot render this view: {}", kernel, e.what()));
             refuse("light.stationary", fmt::format("{} cannot render these lights: {}", kernel, e.what()));
         }
         next.camera_changed = next.lighting_changed = next.classification_changed = true;
         next.region_changed = next.region.has_value();
     }
-    if (!session_->kernel().runs_on_machine() || session_->frames_rendered() == 0 || next.camera_changed || next.lighting_changed ||
-        next.classification_changed || next.region_changed)
+    if (!session_->kernel().runs_on_machine() || session_->frames_rendered() == 0 || next.camera_changed ||
+        next.lighting_changed || next.classification_changed || next.region_changed)
         render(next);
 }
 
@@ -235,7 +259,8 @@ std::unique_ptr<RenderSession> InteractiveView::start_session(const Scenario& sc
 void InteractiveView::render(FrameSpec frame) {
     SessionFrame rendered = session_->render(frame);
     current_ = frame;
-    current_.camera_changed = current_.lighting_changed = current_.classification_changed = current_.region_changed = false;
+    current_.camera_changed = current_.lighting_changed = current_.classification_changed = current_.region_changed =
+        false;
 
     passes_.clear();
     for (FrameImage& image : rendered.images)
@@ -253,20 +278,24 @@ void InteractiveView::render(FrameSpec frame) {
     if (recent_.size() > 2) recent_.erase(recent_.begin());
 }
 
-void InteractiveView::describe(std::size_t index, const nlohmann::json& record, const KernelFrame& recorded, const FrameTiming& timing,
-                               const FrameActivity& activity) {
+void InteractiveView::describe(std::size_t index, const nlohmann::json& record, const KernelFrame& recorded,
+                               const FrameTiming& timing, const FrameActivity& activity) {
     const Kernel& kernel = session_->kernel();
     nlohmann::json metrics = nlohmann::json::array();
     for (const KernelMetric& m : kernel.metrics()) {
         try {
-            metrics.push_back({{"name", m.name}, {"unit", m.unit}, {"description", m.description}, {"value", kernel.metric(m.name, recorded, timing)}});
+            metrics.push_back({{"name", m.name},
+                               {"unit", m.unit},
+                               {"description", m.description},
+                               {"value", kernel.metric(m.name, recorded, timing)}});
         } catch (const std::domain_error&) {
             // This frame cannot give it (a polygon rate without polygons): not shown.
         }
     }
     // Every phase this session has run, so that what a change did not need shows as kept.
     for (const PhaseTiming& p : timing.phases)
-        if (std::find(phase_names_.begin(), phase_names_.end(), p.name) == phase_names_.end()) phase_names_.push_back(p.name);
+        if (std::find(phase_names_.begin(), phase_names_.end(), p.name) == phase_names_.end())
+            phase_names_.push_back(p.name);
     nlohmann::json phases = nlohmann::json::array();
     for (const std::string& name : phase_names_) {
         const PhaseTiming* p = timing.phase(name);
@@ -298,7 +327,8 @@ void InteractiveView::describe(std::size_t index, const nlohmann::json& record, 
 }
 
 void InteractiveView::change_machine(const nlohmann::json& change) {
-    if (!change.is_object() || change.empty()) refuse("machine", "expected an object of parameter = value, e.g. {\"gp.count\": 64}");
+    if (!change.is_object() || change.empty())
+        refuse("machine", "expected an object of parameter = value, e.g. {\"gp.count\": 64}");
     MachineConfig wanted = timing_;
     for (const auto& [key, value] : change.items()) {
         const std::string field = "machine." + key;
@@ -309,7 +339,8 @@ void InteractiveView::change_machine(const nlohmann::json& change) {
         else if (value.is_string()) parsed = value.get<std::string>();
         else refuse(field, "expected a number, true or false, or text");
         // A whole number sent as 32.0 (as a slider may) counts as one.
-        if (const ParamSpec* spec = wanted.find_spec(key); spec != nullptr && spec->type == ParamType::Integer && value.is_number_float()) {
+        if (const ParamSpec* spec = wanted.find_spec(key);
+            spec != nullptr && spec->type == ParamType::Integer && value.is_number_float()) {
             const double v = value.get<double>();
             if (v == std::floor(v) && std::abs(v) < 9e15) parsed = static_cast<std::int64_t>(v);
         }
@@ -339,10 +370,11 @@ void InteractiveView::change_machine(const nlohmann::json& change) {
         describe(last_["index"].get<std::size_t>(), last_record_, *recent_.back(), retimed.timing, retimed.activity);
         last_["changed"] = {{"machine", changed}};
         ++version_;
-        machine_change_ = {{"kind", "re-timed"},
-                           {"keys", changed},
-                           {"frames_replayed", replay.size()},
-                           {"host_seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count()}};
+        machine_change_ = {
+            {"kind", "re-timed"},
+            {"keys", changed},
+            {"frames_replayed", replay.size()},
+            {"host_seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count()}};
         return;
     }
     // It changes what is computed (or there is nothing recorded to re-time): the frame is rendered again.
@@ -360,9 +392,10 @@ void InteractiveView::change_machine(const nlohmann::json& change) {
     again.label = "change";
     render(again);
     last_["changed"] = {{"machine", changed}};
-    machine_change_ = {{"kind", "rendered again"},
-                       {"keys", changed},
-                       {"host_seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count()}};
+    machine_change_ = {
+        {"kind", "rendered again"},
+        {"keys", changed},
+        {"host_seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count()}};
 }
 
 nlohmann::json InteractiveView::state() const {
@@ -404,10 +437,14 @@ nlohmann::json InteractiveView::state() const {
             {"machine_change", machine_change_},
             {"image", {{"width", scenario_.image.width}, {"height", scenario_.image.height}}},
             {"volume", {{"name", volume.name()}, {"dims", {volume.dims().x, volume.dims().y, volume.dims().z}}}},
-            {"camera", {{"azimuth", current_.camera.azimuth_degrees}, {"elevation", current_.camera.elevation_degrees}, {"zoom", current_.camera.zoom}}},
-            {"light", {{"direction", to_json(current_.lighting.light_direction)},
-                       {"headlight", current_.lighting.light_follows_camera},
-                       {"stationary", stationary}}},
+            {"camera",
+             {{"azimuth", current_.camera.azimuth_degrees},
+              {"elevation", current_.camera.elevation_degrees},
+              {"zoom", current_.camera.zoom}}},
+            {"light",
+             {{"direction", to_json(current_.lighting.light_direction)},
+              {"headlight", current_.lighting.light_follows_camera},
+              {"stationary", stationary}}},
             {"region", region},
             {"region_drag", drag_basis(current_, volume, scenario_.image)},
             {"frame", last_}};
@@ -417,7 +454,9 @@ nlohmann::json InteractiveView::timeline(int bins) const {
     const FrameTimeline t = frame_timeline(*trace_, last_timing_, session_->timing_machine().trace_track_names(), bins);
     nlohmann::json phases = nlohmann::json::array();
     for (const PhaseTiming& p : last_timing_.phases)
-        phases.push_back({{"name", p.name}, {"start", ticks_to_seconds(p.start_ps - t.start_ps)}, {"end", ticks_to_seconds(p.end_ps - t.start_ps)}});
+        phases.push_back({{"name", p.name},
+                          {"start", ticks_to_seconds(p.start_ps - t.start_ps)},
+                          {"end", ticks_to_seconds(p.end_ps - t.start_ps)}});
     nlohmann::json lanes = nlohmann::json::array();
     for (const TimelineLane& lane : t.lanes) {
         // Two decimals are all a pixel's shade can show, and keep the document small; a bin with any

@@ -24,8 +24,8 @@ public:
     InteractiveView(Scenario scenario, MachineConfig config);
 
     // Applies `change` (docs/serve.md: camera, light, region, kernel, machine) and renders the resulting
-    // frame if anything changed; a change to the machine's timing alone re-times the last frame instead. Throws InputError("request", field, reason) for a bad change,
-    // before anything changes.
+    // frame if anything changed; a change to the machine's timing alone re-times the last frame instead. Throws
+    // InputError("request", field, reason) for a bad change, before anything changes.
     void apply(const nlohmann::json& change);
 
     // The view as the page shows it: the settings, the last frame's simulated times and rates, what it
@@ -63,8 +63,8 @@ private:
     // A change to the machine: re-times the last frames when only timing changes, else renders again.
     void change_machine(const nlohmann::json& change);
     // last_ from a frame's record, its kernel's record and its timing on the machine.
-    void describe(std::size_t index, const nlohmann::json& record, const KernelFrame& recorded, const FrameTiming& timing,
-                  const FrameActivity& activity);
+    void describe(std::size_t index, const nlohmann::json& record, const KernelFrame& recorded,
+                  const FrameTiming& timing, const FrameActivity& activity);
 
     Scenario scenario_;
     MachineConfig config_;
@@ -76,10 +76,10 @@ private:
     MachineConfig timing_;
     // The last two recorded frames, which a timing change re-times (the first warms the caches).
     std::vector<std::unique_ptr<KernelFrame>> recent_;
-    nlohmann::json last_record_;  // the last frame's record, kept for a re-time
+    nlohmann::json last_record_;               // the last frame's record, kept for a re-time
     nlohmann::json machine_change_ = nullptr;  // what the last machine change did
     FrameSpec current_;
-    nlohmann::json last_;  // the last frame's state
+    nlohmann::json last_;                   // the last frame's state
     std::vector<std::string> phase_names_;  // every phase the session has timed, in first-seen order
     std::string frame_png_;
     std::vector<Image> passes_;

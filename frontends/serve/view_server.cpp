@@ -28,7 +28,8 @@ void send_json(httplib::Response& response, int status, const nlohmann::json& bo
 }
 
 void send_error(httplib::Response& response, int status, const std::string& field, const std::string& reason) {
-    send_json(response, status, {{"error", field.empty() ? reason : field + ": " + reason}, {"field", field}, {"reason", reason}});
+    send_json(response, status,
+              {{"error", field.empty() ? reason : field + ": " + reason}, {"field", field}, {"reason", reason}});
 }
 
 void no_caching(httplib::Response& response) { response.set_header("Cache-Control", "no-store"); }
@@ -36,9 +37,8 @@ void no_caching(httplib::Response& response) { response.set_header("Cache-Contro
 // The methods each path answers (HEAD as GET); another method on one of them is a 405.
 const char* methods_of(const std::string& path) {
     static const std::regex pass_picture(R"(/api/pass/\d{1,3}\.png)");
-    if (path == "/" || path == "/api/state" || path == "/api/image.png" || path == "/api/timeline.json" || path == "/api/tiles.png" ||
-        path == "/api/fidelity.json" ||
-        std::regex_match(path, pass_picture))
+    if (path == "/" || path == "/api/state" || path == "/api/image.png" || path == "/api/timeline.json" ||
+        path == "/api/tiles.png" || path == "/api/fidelity.json" || std::regex_match(path, pass_picture))
         return "GET, HEAD";
     static const std::regex compared_picture(R"(/api/compare/[a-z0-9_-]{1,64}\.png)");
     if (std::regex_match(path, compared_picture)) return "GET, HEAD";
@@ -49,7 +49,8 @@ const char* methods_of(const std::string& path) {
 // What is checked before a request's body is read or it is routed.
 httplib::Server::HandlerResponse screen(const httplib::Request& req, httplib::Response& res) {
     if (req.headers.size() > kMostHeaders) {
-        send_error(res, 431, "headers", fmt::format("{} header lines; at most {} are read", req.headers.size(), kMostHeaders));
+        send_error(res, 431, "headers",
+                   fmt::format("{} header lines; at most {} are read", req.headers.size(), kMostHeaders));
         return httplib::Server::HandlerResponse::Handled;
     }
     // Only a change has a body; /api/change reads a chunked one itself, up to the size limit.
@@ -124,10 +125,12 @@ struct ViewServer::Impl {
             no_caching(res);
             send_json(res, 200, view.compare_kernels());
         });
-        server.Get(R"(/api/compare/([a-z0-9_-]{1,64})\.png)", [this](const httplib::Request& req, httplib::Response& res) {
+        server.Get(R"(/api/compare/([a-z0-9_-]{1,64})\.png)", [this](const httplib::Request& req,
+                                                                     httplib::Response& res) {
             const std::lock_guard lock(mutex);
             const std::optional<std::string> png = view.comparison_png(req.matches[1].str());
-            if (!png) return send_error(res, 404, "kernel", "the last comparison has no picture by " + req.matches[1].str());
+            if (!png)
+                return send_error(res, 404, "kernel", "the last comparison has no picture by " + req.matches[1].str());
             no_caching(res);
             res.set_content(*png, "image/png");
         });
@@ -141,7 +144,8 @@ struct ViewServer::Impl {
         });
         // The body is read here, piece by piece, so that the size limit holds for a chunked body too
         // (cpp-httplib enforces it only on a Content-Length).
-        server.Post("/api/change", [this](const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& read_body) {
+        server.Post("/api/change", [this](const httplib::Request& req, httplib::Response& res,
+                                          const httplib::ContentReader& read_body) {
             const std::string type = req.get_header_value("Content-Type");
             if (type.rfind("application/json", 0) != 0)
                 return send_error(res, 415, "Content-Type", "a change is sent as application/json");
@@ -153,7 +157,8 @@ struct ViewServer::Impl {
                 return !too_large;
             });
             // cpp-httplib refuses a Content-Length past the limit itself, with a 413 and no body.
-            if (too_large || res.status == 413) return send_error(res, 413, "body", "the request is larger than the server accepts");
+            if (too_large || res.status == 413)
+                return send_error(res, 413, "body", "the request is larger than the server accepts");
             if (!read) return send_error(res, 400, "body", "the body could not be read whole");
             nlohmann::json change;
             try {
@@ -182,14 +187,14 @@ struct ViewServer::Impl {
                 std::rethrow_exception(error);
             } catch (const std::exception& e) {
                 what = e.what();
-            } catch (...) {
-            }
+            } catch (...) {}
             send_error(res, 500, "", "internal error: " + what);
         });
     }
 };
 
-ViewServer::ViewServer(InteractiveView& view, ServeOptions options) : impl_(std::make_unique<Impl>(view, std::move(options))) {}
+ViewServer::ViewServer(InteractiveView& view, ServeOptions options)
+    : impl_(std::make_unique<Impl>(view, std::move(options))) {}
 ViewServer::~ViewServer() = default;
 
 int ViewServer::bind() {
@@ -201,8 +206,9 @@ int ViewServer::bind() {
         impl_->port = impl_->server.bind_to_port(o.host, o.port) ? o.port : -1;
     }
     if (impl_->port < 0)
-        throw InputError(o.port == 0 ? "--host" : "--port", o.port == 0 ? "--host" : "--port",
-                         fmt::format("cannot listen on {}:{} (in use, or not an address of this computer)", o.host, o.port));
+        throw InputError(
+            o.port == 0 ? "--host" : "--port", o.port == 0 ? "--host" : "--port",
+            fmt::format("cannot listen on {}:{} (in use, or not an address of this computer)", o.host, o.port));
     return impl_->port;
 }
 

@@ -44,7 +44,8 @@ public:
     void text(const json& parent, const std::string& path, const std::string& key) const {
         if (!member(parent, path, key).is_string()) fail(join(path, key), "must be text");
     }
-    std::size_t whole_number(const json& parent, const std::string& path, const std::string& key, std::size_t most) const {
+    std::size_t whole_number(const json& parent, const std::string& path, const std::string& key,
+                             std::size_t most) const {
         const json& value = member(parent, path, key);
         // Integers built in memory are signed; read from a file, the ones at or above zero are unsigned.
         const bool whole = value.is_number_unsigned() || (value.is_number_integer() && value.get<std::int64_t>() >= 0);
@@ -61,7 +62,9 @@ public:
             if (!value.is_string()) fail(join(path, key), "must be text");
     }
 
-    static std::string join(const std::string& path, const std::string& key) { return path.empty() ? key : path + "." + key; }
+    static std::string join(const std::string& path, const std::string& key) {
+        return path.empty() ? key : path + "." + key;
+    }
 
 private:
     const std::string& file_;
@@ -97,8 +100,10 @@ std::size_t check_header(const ShapeReader& read, const json& header) {
     const std::size_t total = read.whole_number(header, "sweep", "total_points", kMaxSweepPoints);
     const std::size_t planned = std::min(grid + points.size(), kMaxSweepPoints + 1) * scenarios.size();
     if (planned != total)
-        read.fail("sweep.total_points", fmt::format("is {}, but the scenarios, axes and points make {}", total, planned));
-    if (header.contains("uncertainty") && !header["uncertainty"].is_object()) read.fail("sweep.uncertainty", "must be an object");
+        read.fail("sweep.total_points",
+                  fmt::format("is {}, but the scenarios, axes and points make {}", total, planned));
+    if (header.contains("uncertainty") && !header["uncertainty"].is_object())
+        read.fail("sweep.uncertainty", "must be an object");
     return total;
 }
 
@@ -109,7 +114,8 @@ void check_result(const ShapeReader& read, const json& result, const std::string
     if (read.whole_number(result, path, "index", kMaxSweepPoints) >= total)
         read.fail(path + ".index", fmt::format("must be below the sweep's {} points", total));
     read.text(result, path, "scenario");
-    if (!scenarios.count(result["scenario"].get<std::string>())) read.fail(path + ".scenario", "is not one of the sweep's scenarios");
+    if (!scenarios.count(result["scenario"].get<std::string>()))
+        read.fail(path + ".scenario", "is not one of the sweep's scenarios");
     read.text_values(read.object(result, path, "varied"), path + ".varied");
     read.object(result, path, "parameters");
     if (result.contains("error")) read.text(result, path, "error");
@@ -149,8 +155,10 @@ void check_sweep_json_shape(const json& document, const std::string& file) {
     std::set<std::string> scenarios;
     for (const json& scenario : document["sweep"]["scenarios"]) scenarios.insert(scenario.get<std::string>());
     const json& results = read.array(document, "", "results");
-    if (results.size() > total) read.fail("results", fmt::format("holds {} points, more than the sweep's {}", results.size(), total));
-    for (std::size_t r = 0; r < results.size(); ++r) check_result(read, results[r], fmt::format("results[{}]", r), total, scenarios, column_names);
+    if (results.size() > total)
+        read.fail("results", fmt::format("holds {} points, more than the sweep's {}", results.size(), total));
+    for (std::size_t r = 0; r < results.size(); ++r)
+        check_result(read, results[r], fmt::format("results[{}]", r), total, scenarios, column_names);
 
     if (document.contains("shard")) {
         const json& shard = read.object(document, "", "shard");

@@ -12,8 +12,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <compare>
 #include <cmath>
+#include <compare>
 #include <cstdlib>
 #include <map>
 #include <mutex>
@@ -63,8 +63,9 @@ std::vector<double> machine_values(const FrameTiming& timing, const MachineConfi
 
 // A frame's value of every metric column: the machine's, then its kernel's; none where the frame has
 // no such figure (no polygons to rate, say).
-std::vector<std::optional<double>> frame_values(const RecordedScenario& recording, std::size_t frame, const FrameTiming& timing,
-                                                const MachineConfig& config, const std::vector<SweepColumn>& columns,
+std::vector<std::optional<double>> frame_values(const RecordedScenario& recording, std::size_t frame,
+                                                const FrameTiming& timing, const MachineConfig& config,
+                                                const std::vector<SweepColumn>& columns,
                                                 const std::set<std::string>& kernel_metrics) {
     const std::vector<double> machine = machine_values(timing, config);
     std::vector<std::optional<double>> values;
@@ -75,8 +76,7 @@ std::vector<std::optional<double>> frame_values(const RecordedScenario& recordin
         } else if (kernel_metrics.count(columns[c].name)) {
             try {
                 v = recording.metric(columns[c].name, frame, timing);
-            } catch (const std::domain_error&) {
-            }
+            } catch (const std::domain_error&) {}
         }
         values.push_back(v);
     }
@@ -116,14 +116,15 @@ std::vector<std::size_t> banded_columns(const std::vector<SweepColumn>& metrics)
 
 // One recording group's uncertainty, measured at its middle point (to be carried to the others): its
 // figures are every frame's banded columns, frame by frame.
-UncertaintyTable measure_group_bands(const RecordedScenario& recording, const MachineConfig& reference, const std::vector<SweepColumn>& metrics,
-                                     const std::vector<std::size_t>& banded, const std::set<std::string>& kernel_metrics,
-                                     const std::set<std::string>& varied) {
+UncertaintyTable measure_group_bands(const RecordedScenario& recording, const MachineConfig& reference,
+                                     const std::vector<SweepColumn>& metrics, const std::vector<std::size_t>& banded,
+                                     const std::set<std::string>& kernel_metrics, const std::set<std::string>& varied) {
     const FigureEvaluator figures = [&](const MachineConfig& config) {
         std::vector<double> out;
         const std::vector<FrameTiming> timings = recording.time_on(config);
         for (std::size_t f = 0; f < timings.size(); ++f) {
-            const std::vector<std::optional<double>> values = frame_values(recording, f, timings[f], config, metrics, kernel_metrics);
+            const std::vector<std::optional<double>> values =
+                frame_values(recording, f, timings[f], config, metrics, kernel_metrics);
             for (const std::size_t c : banded) out.push_back(values[c].value_or(NAN));
         }
         return out;
@@ -133,8 +134,8 @@ UncertaintyTable measure_group_bands(const RecordedScenario& recording, const Ma
 
 // Appends each banded column's low and high ends to a frame's values.
 // Without a table (its middle point refused), the ends are left empty.
-void add_bands(std::vector<std::optional<double>>& values, const std::vector<std::size_t>& banded, const std::optional<UncertaintyTable>& bands,
-               std::size_t frame) {
+void add_bands(std::vector<std::optional<double>>& values, const std::vector<std::size_t>& banded,
+               const std::optional<UncertaintyTable>& bands, std::size_t frame) {
     for (std::size_t b = 0; b < banded.size(); ++b) {
         const std::optional<double> value = values[banded[b]];
         const std::size_t figure = frame * banded.size() + b;
@@ -209,7 +210,9 @@ std::vector<SweepPoint> plan_sweep(const SweepSpec& spec) {
 }
 
 Shard parse_shard(const std::string& text) {
-    const auto fail = [&] { throw InputError("--shard", "--shard", "\"" + text + "\": expected K/N with 0 <= K < N (e.g. 0/4)"); };
+    const auto fail = [&] {
+        throw InputError("--shard", "--shard", "\"" + text + "\": expected K/N with 0 <= K < N (e.g. 0/4)");
+    };
     const auto slash = text.find('/');
     if (slash == std::string::npos) fail();
     const auto number = [&](const std::string& part) {
@@ -226,7 +229,8 @@ std::optional<Shard> shard_from_environment() {
         if (env(rank) == nullptr || env(size) == nullptr) return std::nullopt;
         const Shard s{env_number(rank, launcher), env_number(size, launcher)};
         if (s.count == 0 || s.index >= s.count)
-            throw InputError("environment", rank, fmt::format("{} of {} is not a shard ({})", s.index, s.count, launcher));
+            throw InputError("environment", rank,
+                             fmt::format("{} of {} is not a shard ({})", s.index, s.count, launcher));
         return s;
     };
     if (auto s = from("OMPI_COMM_WORLD_RANK", "OMPI_COMM_WORLD_SIZE", "Open MPI's mpirun")) return s;
@@ -237,7 +241,8 @@ std::optional<Shard> shard_from_environment() {
         const Shard s{id - std::min(id, first), env_number("SLURM_ARRAY_TASK_COUNT", "a Slurm array")};
         if (id < first || s.count == 0 || s.index >= s.count)
             throw InputError("environment", "SLURM_ARRAY_TASK_ID",
-                             fmt::format("task {} is not one of {} from {} (use --array=0-{} or --shard)", id, s.count, first, s.count - 1));
+                             fmt::format("task {} is not one of {} from {} (use --array=0-{} or --shard)", id, s.count,
+                                         first, s.count - 1));
         return s;
     }
     return std::nullopt;
@@ -252,7 +257,8 @@ SweepResult run_sweep(const SweepSpec& spec, const Shard& shard, const SweepProg
     result.columns = machine_columns();
     const auto add_metrics_of = [&](const Kernel& kernel) {
         for (const KernelMetric& m : kernel.metrics())
-            if (std::none_of(result.columns.begin(), result.columns.end(), [&](const SweepColumn& c) { return c.name == m.name; }))
+            if (std::none_of(result.columns.begin(), result.columns.end(),
+                             [&](const SweepColumn& c) { return c.name == m.name; }))
                 result.columns.push_back({m.name, m.unit, m.description});
     };
     std::map<std::string, const Kernel*> kernel_of;  // scenario -> its own kernel
@@ -271,15 +277,20 @@ SweepResult run_sweep(const SweepSpec& spec, const Shard& shard, const SweepProg
     if (spec.uncertainty)
         for (const std::size_t c : banded) {
             const SweepColumn& m = metric_columns[c];
-            result.columns.push_back({m.name + "_low", m.unit, "low end of " + m.name + "'s 95% band over the documented guesses' plausible ranges"});
-            result.columns.push_back({m.name + "_high", m.unit, "high end of " + m.name + "'s 95% band over the documented guesses' plausible ranges"});
+            result.columns.push_back(
+                {m.name + "_low", m.unit,
+                 "low end of " + m.name + "'s 95% band over the documented guesses' plausible ranges"});
+            result.columns.push_back(
+                {m.name + "_high", m.unit,
+                 "high end of " + m.name + "'s 95% band over the documented guesses' plausible ranges"});
         }
 
-    if (!spec.plot_metric.empty() &&
-        std::none_of(result.columns.begin(), result.columns.end(), [&](const SweepColumn& c) { return c.name == spec.plot_metric; })) {
+    if (!spec.plot_metric.empty() && std::none_of(result.columns.begin(), result.columns.end(),
+                                                  [&](const SweepColumn& c) { return c.name == spec.plot_metric; })) {
         std::string known;
         for (const SweepColumn& c : result.columns) known += (known.empty() ? "" : ", ") + c.name;
-        throw InputError(spec.file, "sweep.plot_metric", "\"" + spec.plot_metric + "\" is not a metric of this sweep; known: " + known);
+        throw InputError(spec.file, "sweep.plot_metric",
+                         "\"" + spec.plot_metric + "\" is not a metric of this sweep; known: " + known);
     }
     nlohmann::json axes = nlohmann::json::array();
     for (const SweepAxis& a : spec.axes) axes.push_back({{"key", a.key}, {"values", a.values}});
@@ -289,10 +300,17 @@ SweepResult run_sweep(const SweepSpec& spec, const Shard& shard, const SweepProg
         for (const auto& [k, v] : p) point[k] = v;
         explicit_points.push_back(point);
     }
-    result.header = {{"name", spec.name},         {"description", spec.description}, {"scenarios", spec.scenarios},
-                     {"machine", spec.machine},   {"set", spec.fixed},               {"frames", spec.frames},
-                     {"axes", axes},              {"points", explicit_points},       {"total_points", plan.size()},
-                     {"plot_x", spec.plot_x},     {"plot_metric", spec.plot_metric}};
+    result.header = {{"name", spec.name},
+                     {"description", spec.description},
+                     {"scenarios", spec.scenarios},
+                     {"machine", spec.machine},
+                     {"set", spec.fixed},
+                     {"frames", spec.frames},
+                     {"axes", axes},
+                     {"points", explicit_points},
+                     {"total_points", plan.size()},
+                     {"plot_x", spec.plot_x},
+                     {"plot_metric", spec.plot_metric}};
     nlohmann::json kernels = nlohmann::json::object();
     for (const auto& [name, kernel] : kernel_of) kernels[name] = kernel->name();
     result.header["kernels"] = kernels;
@@ -307,7 +325,8 @@ SweepResult run_sweep(const SweepSpec& spec, const Shard& shard, const SweepProg
         auto operator<=>(const Group&) const = default;
     };
     const auto group_of = [&](const SweepPoint& p) {
-        return Group{p.scenario, kernel_at(p.parameters, kernel_of.at(p.scenario)->name()), overrides_of(spec, p.parameters, false)};
+        return Group{p.scenario, kernel_at(p.parameters, kernel_of.at(p.scenario)->name()),
+                     overrides_of(spec, p.parameters, false)};
     };
     std::map<Group, std::vector<std::size_t>> all_groups, groups;
     for (const SweepPoint& p : plan) {
@@ -326,9 +345,11 @@ SweepResult run_sweep(const SweepSpec& spec, const Shard& shard, const SweepProg
             references.push_back(reference_of[key]);
         }
         result.header["uncertainty"] = {
-            {"bands", "95%, every documented guess (`pp5sim params`, plausible) spread evenly over its range, independently; the "
-                      "response to each measured by re-timing with it at either end of its range, at the point below of each "
-                      "recording group, and carried to the group's other points as a relative change"},
+            {"bands",
+             "95%, every documented guess (`pp5sim params`, plausible) spread evenly over its range, independently; "
+             "the "
+             "response to each measured by re-timing with it at either end of its range, at the point below of each "
+             "recording group, and carried to the group's other points as a relative change"},
             {"measured_at_points", references},
             {"not_guessed", varied}};
     }
@@ -360,7 +381,8 @@ SweepResult run_sweep(const SweepSpec& spec, const Shard& shard, const SweepProg
         try {
             MachineConfig functional = load_run_config(spec.machine, key.overrides);
             // A lone processor is timed from work recorded on Pixel-planes 5.
-            if (functional.machine_kind() == MachineKind::Uniprocessor) functional = load_run_config("pxpl5", key.overrides);
+            if (functional.machine_kind() == MachineKind::Uniprocessor)
+                functional = load_run_config("pxpl5", key.overrides);
             recording = std::make_unique<RecordedScenario>(scenario, functional, frames);
         } catch (const InputError& e) {
             group_error = e.what();
@@ -369,13 +391,15 @@ SweepResult run_sweep(const SweepSpec& spec, const Shard& shard, const SweepProg
             const auto started = std::chrono::steady_clock::now();
             const SweepPoint& middle = plan[reference_of.at(key)];
             try {
-                uncertainty = measure_group_bands(*recording, load_run_config(spec.machine, overrides_of(spec, middle.parameters, true)),
-                                                  metric_columns, banded, kernel_metrics, varied);
+                uncertainty = measure_group_bands(
+                    *recording, load_run_config(spec.machine, overrides_of(spec, middle.parameters, true)),
+                    metric_columns, banded, kernel_metrics, varied);
                 result.uncertainty_retimings += uncertainty->retimings;
             } catch (const InputError&) {
                 // The middle point is one the machine refuses: its row says why, and the group has no bands.
             }
-            result.uncertainty_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+            result.uncertainty_seconds +=
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
         }
         pp5::parallel_for(std::size_t{0}, members.size(), [&](std::size_t m) {
             const SweepPoint& point = plan[members[m]];
@@ -387,8 +411,9 @@ SweepResult run_sweep(const SweepSpec& spec, const Shard& shard, const SweepProg
                 try {
                     const std::vector<FrameTiming> timings = recording->time_on(config);
                     for (std::size_t f = 0; f < timings.size(); ++f) {
-                        SweepFrameResult row{f, recording->frames()[f].label,
-                                             frame_values(*recording, f, timings[f], config, metric_columns, kernel_metrics)};
+                        SweepFrameResult row{
+                            f, recording->frames()[f].label,
+                            frame_values(*recording, f, timings[f], config, metric_columns, kernel_metrics)};
                         if (spec.uncertainty) add_bands(row.values, banded, uncertainty, f);
                         r.frames.push_back(std::move(row));
                     }

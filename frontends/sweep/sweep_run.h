@@ -54,13 +54,13 @@ struct SweepFrameResult {
 
 struct SweepPointResult {
     SweepPoint point;
-    std::string error;                   // empty: the point ran
-    nlohmann::json parameters;           // every resolved parameter's value, key -> value
+    std::string error;          // empty: the point ran
+    nlohmann::json parameters;  // every resolved parameter's value, key -> value
     std::vector<SweepFrameResult> frames;
 };
 
 struct SweepResult {
-    nlohmann::json header;               // the sweep as run: name, scenarios, machine, axes, total points, ...
+    nlohmann::json header;  // the sweep as run: name, scenarios, machine, axes, total points, ...
     std::vector<SweepColumn> columns;
     std::vector<SweepPointResult> points;  // ascending index
     // What the bands cost this process (not written: it differs between shards).

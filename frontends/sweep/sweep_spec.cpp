@@ -36,7 +36,8 @@ std::string text_field(const toml::table& t, const std::string& file, const std:
     return s->get();
 }
 
-std::vector<std::string> text_list(const toml::table& t, const std::string& file, const std::string& field, const char* key) {
+std::vector<std::string> text_list(const toml::table& t, const std::string& file, const std::string& field,
+                                   const char* key) {
     std::vector<std::string> out;
     const toml::node* node = t.get(key);
     if (node == nullptr) return out;
@@ -56,9 +57,11 @@ struct Leaf {
     const toml::node* node;
     std::uint32_t line;
 };
-void flatten(const toml::table& table, const std::string& prefix, int depth, const std::string& file, const std::string& field,
-             std::vector<Leaf>& out) {
-    if (depth > kMostNesting) throw InputError(file, field + prefix, fmt::format("nests deeper than {} levels; no parameter does", kMostNesting));
+void flatten(const toml::table& table, const std::string& prefix, int depth, const std::string& file,
+             const std::string& field, std::vector<Leaf>& out) {
+    if (depth > kMostNesting)
+        throw InputError(file, field + prefix,
+                         fmt::format("nests deeper than {} levels; no parameter does", kMostNesting));
     for (const auto& [k, v] : table) {
         const std::string key = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
         if (const toml::table* inner = v.as_table()) {
@@ -89,7 +92,9 @@ static NamedFileSearch sweep_search() {
     return {"PP5SIM_SWEEPS", builtin, "sweep", "traces/sweeps/*.toml"};
 }
 
-std::filesystem::path resolve_sweep_file(const std::string& name_or_path) { return resolve_named_file(name_or_path, sweep_search()); }
+std::filesystem::path resolve_sweep_file(const std::string& name_or_path) {
+    return resolve_named_file(name_or_path, sweep_search());
+}
 
 std::vector<std::filesystem::path> shipped_sweep_files() { return list_named_files(sweep_search()); }
 
@@ -105,16 +110,20 @@ SweepSpec load_sweep_file(const std::filesystem::path& path) {
             throw InputError(file, k, "unknown table; a sweep file holds [sweep], [vary] and [[points]]");
     }
     const toml::table* head = root["sweep"].as_table();
-    if (head == nullptr) throw InputError(file, "sweep", "is missing: a sweep file starts with a [sweep] table naming its scenarios");
-    static const std::set<std::string> known{"name", "description", "scenarios", "machine", "set", "frames", "plot_x", "plot_metric", "uncertainty"};
+    if (head == nullptr)
+        throw InputError(file, "sweep", "is missing: a sweep file starts with a [sweep] table naming its scenarios");
+    static const std::set<std::string> known{"name",   "description", "scenarios",   "machine",    "set",
+                                             "frames", "plot_x",      "plot_metric", "uncertainty"};
     for (const auto& [k, v] : *head)
         if (!known.count(std::string(k.str())))
             throw InputError(file, "sweep." + std::string(k.str()),
-                             "unknown field; [sweep] has name, description, scenarios, machine, set, frames, plot_x, plot_metric and uncertainty");
+                             "unknown field; [sweep] has name, description, scenarios, machine, set, frames, plot_x, "
+                             "plot_metric and uncertainty");
     if (const std::string name = text_field(*head, file, "sweep.", "name"); !name.empty()) spec.name = name;
     spec.description = text_field(*head, file, "sweep.", "description");
     spec.scenarios = text_list(*head, file, "sweep.", "scenarios");
-    if (const std::string machine = text_field(*head, file, "sweep.", "machine"); !machine.empty()) spec.machine = machine;
+    if (const std::string machine = text_field(*head, file, "sweep.", "machine"); !machine.empty())
+        spec.machine = machine;
     spec.fixed = text_list(*head, file, "sweep.", "set");
     if (const toml::node* uncertainty = head->get("uncertainty")) {
         const auto* on = uncertainty->as_boolean();
@@ -123,7 +132,8 @@ SweepSpec load_sweep_file(const std::filesystem::path& path) {
     }
     if (const toml::node* frames = head->get("frames")) {
         const auto n = frames->value<std::int64_t>();
-        if (!n || *n < 0 || *n > 100000) throw InputError(file, "sweep.frames", "must be a whole number of frames (0: all)");
+        if (!n || *n < 0 || *n > 100000)
+            throw InputError(file, "sweep.frames", "must be a whole number of frames (0: all)");
         spec.frames = static_cast<int>(*n);
     }
     spec.plot_x = text_field(*head, file, "sweep.", "plot_x");
@@ -148,7 +158,8 @@ SweepSpec load_sweep_file(const std::filesystem::path& path) {
         for (std::size_t i = 0; i < rows->size(); ++i) {
             const std::string field = fmt::format("points[{}].", i);
             const toml::table* row = (*rows)[i].as_table();
-            if (row == nullptr) throw InputError(file, field.substr(0, field.size() - 1), "must be a table of parameter = value");
+            if (row == nullptr)
+                throw InputError(file, field.substr(0, field.size() - 1), "must be a table of parameter = value");
             SweepAssignment point;
             for (const Leaf& leaf : leaves_in_file_order(*row, file, field))
                 point.emplace_back(leaf.key, as_override_text(*leaf.node, file, field + leaf.key));
@@ -177,7 +188,8 @@ SweepAxis parse_vary_option(const std::string& text) {
 void check_sweep_spec(const SweepSpec& spec) {
     const std::string& file = spec.file;
     // It names the output folder, out/sweeps/<name>.
-    if (const std::string problem = output_name_problem(spec.name); !problem.empty()) throw InputError(file, "sweep.name", problem);
+    if (const std::string problem = output_name_problem(spec.name); !problem.empty())
+        throw InputError(file, "sweep.name", problem);
     if (spec.scenarios.empty()) throw InputError(file, "sweep.scenarios", "needs at least one scenario");
     // A scenario's rows and plot are known by its name, so two entries may not name the same one.
     std::map<std::string, std::size_t> entry_of_name;
@@ -190,8 +202,9 @@ void check_sweep_spec(const SweepSpec& spec) {
             throw InputError(file, field, std::string("\"") + spec.scenarios[i] + "\": " + e.what());
         }
         if (const auto [earlier, added] = entry_of_name.emplace(name, i); !added)
-            throw InputError(file, field, fmt::format("\"{}\" is scenario {}, which sweep.scenarios[{}] already names", spec.scenarios[i], name,
-                                                      earlier->second));
+            throw InputError(file, field,
+                             fmt::format("\"{}\" is scenario {}, which sweep.scenarios[{}] already names",
+                                         spec.scenarios[i], name, earlier->second));
     }
     try {
         (void)load_run_config(spec.machine, spec.fixed);
@@ -203,7 +216,8 @@ void check_sweep_spec(const SweepSpec& spec) {
     for (const std::string& f : spec.fixed) keys.insert(f.substr(0, f.find('=')));
     const auto check_value = [&](const std::string& key, const std::string& value, const std::string& field) {
         if (key == kSweepKernelKey) {
-            if (find_kernel(value) == nullptr) throw InputError(file, field, "\"" + value + "\" is not a kernel; known: " + kernel_names());
+            if (find_kernel(value) == nullptr)
+                throw InputError(file, field, "\"" + value + "\" is not a kernel; known: " + kernel_names());
             return;
         }
         try {
@@ -229,7 +243,8 @@ void check_sweep_spec(const SweepSpec& spec) {
         const std::string field = "vary." + axis.key;
         std::set<std::string> seen;
         for (std::size_t i = 0; i < axis.values.size(); ++i) {
-            if (!seen.insert(axis.values[i]).second) throw InputError(file, fmt::format("{}[{}]", field, i), "repeats an earlier value");
+            if (!seen.insert(axis.values[i]).second)
+                throw InputError(file, fmt::format("{}[{}]", field, i), "repeats an earlier value");
             check_value(axis.key, axis.values[i], fmt::format("{}[{}]", field, i));
         }
     }
@@ -242,7 +257,8 @@ void check_sweep_spec(const SweepSpec& spec) {
         }
     }
     if (total == 0) throw InputError(file, "vary", "gives no point: vary a parameter or list [[points]]");
-    if (!spec.plot_x.empty() && std::none_of(spec.axes.begin(), spec.axes.end(), [&](const SweepAxis& a) { return a.key == spec.plot_x; }))
+    if (!spec.plot_x.empty() &&
+        std::none_of(spec.axes.begin(), spec.axes.end(), [&](const SweepAxis& a) { return a.key == spec.plot_x; }))
         throw InputError(file, "sweep.plot_x", "\"" + spec.plot_x + "\" is not one of the varied parameters");
 }
 

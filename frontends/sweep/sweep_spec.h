@@ -22,16 +22,16 @@ using SweepAssignment = std::vector<std::pair<std::string, std::string>>;  // ke
 struct SweepSpec {
     std::string name = "sweep";
     std::string description;
-    std::string file;                       // where it came from (for errors); "--vary" for options
-    std::vector<std::string> scenarios;     // names or paths, as `render` takes them
+    std::string file;                    // where it came from (for errors); "--vary" for options
+    std::vector<std::string> scenarios;  // names or paths, as `render` takes them
     std::string machine = "pxpl5";
-    std::vector<std::string> fixed;         // "key=value", applied to every point
-    int frames = 0;                         // frames of each scenario to run; 0: all
-    std::vector<SweepAxis> axes;            // the grid, first axis slowest
-    std::vector<SweepAssignment> points;    // explicit points, after the grid
-    std::string plot_x;                     // the axis the plots put along x (default: the first)
-    std::string plot_metric;                // the metric they show (default: the kernel's first)
-    bool uncertainty = false;               // add each metric's band over the documented guesses' ranges
+    std::vector<std::string> fixed;       // "key=value", applied to every point
+    int frames = 0;                       // frames of each scenario to run; 0: all
+    std::vector<SweepAxis> axes;          // the grid, first axis slowest
+    std::vector<SweepAssignment> points;  // explicit points, after the grid
+    std::string plot_x;                   // the axis the plots put along x (default: the first)
+    std::string plot_metric;              // the metric they show (default: the kernel's first)
+    bool uncertainty = false;             // add each metric's band over the documented guesses' ranges
 };
 
 // Reads and checks a sweep file: unknown tables or fields, wrong types, unknown parameters, values a

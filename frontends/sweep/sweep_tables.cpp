@@ -43,7 +43,8 @@ std::string value_text(const nlohmann::json& v) { return v.is_string() ? v.get<s
 
 nlohmann::json sweep_to_json(const SweepResult& result, std::optional<Shard> shard) {
     nlohmann::json columns = nlohmann::json::array();
-    for (const SweepColumn& c : result.columns) columns.push_back({{"name", c.name}, {"unit", c.unit}, {"description", c.description}});
+    for (const SweepColumn& c : result.columns)
+        columns.push_back({{"name", c.name}, {"unit", c.unit}, {"description", c.description}});
     nlohmann::json points = nlohmann::json::array();
     for (const SweepPointResult& p : result.points) {
         nlohmann::json varied = nlohmann::json::object();
@@ -57,7 +58,10 @@ nlohmann::json sweep_to_json(const SweepResult& result, std::optional<Shard> sha
                     f.values[c] && std::isfinite(*f.values[c]) ? nlohmann::json(*f.values[c]) : nlohmann::json(nullptr);
             frames.push_back({{"frame", f.frame}, {"label", f.label}, {"metrics", values}});
         }
-        nlohmann::json point = {{"index", p.point.index}, {"scenario", p.point.scenario}, {"varied", varied}, {"frames", frames},
+        nlohmann::json point = {{"index", p.point.index},
+                                {"scenario", p.point.scenario},
+                                {"varied", varied},
+                                {"frames", frames},
                                 {"parameters", p.parameters}};
         if (!p.error.empty()) point["error"] = p.error;
         points.push_back(std::move(point));
@@ -79,7 +83,8 @@ SweepResult sweep_from_json(const nlohmann::json& json, const std::string& file)
             point.point.scenario = p.at("scenario").get<std::string>();
             // JSON objects come back sorted by key; the plan's order is the header's.
             for (const std::string& k : parameter_keys(r.header))
-                if (p.at("varied").contains(k)) point.point.parameters.emplace_back(k, p.at("varied").at(k).get<std::string>());
+                if (p.at("varied").contains(k))
+                    point.point.parameters.emplace_back(k, p.at("varied").at(k).get<std::string>());
             point.error = p.value("error", std::string());
             point.parameters = p.at("parameters");
             for (const auto& f : p.at("frames")) {
@@ -111,7 +116,8 @@ std::string sweep_to_csv(const SweepResult& result) {
     out += "\n";
     for (const SweepPointResult& p : result.points) {
         std::string lead = fmt::format("{},{}", p.point.index, csv_cell(p.point.scenario));
-        for (const std::string& k : keys) append(lead, csv_cell(p.parameters.contains(k) ? value_text(p.parameters[k]) : std::string()));
+        for (const std::string& k : keys)
+            append(lead, csv_cell(p.parameters.contains(k) ? value_text(p.parameters[k]) : std::string()));
         if (!p.error.empty()) {
             out += lead + ",,," + csv_cell("error: " + p.error) + std::string(result.columns.size(), ',') + "\n";
             continue;
@@ -141,25 +147,33 @@ SweepResult merge_sweep_shards(const std::vector<std::pair<std::string, nlohmann
             merged.header = part.header;
             merged.columns = part.columns;
         } else if (n != *count) {
-            throw InputError(file, "shard.count", fmt::format("is {} but {} was split {} ways", n, shards.front().first, *count));
+            throw InputError(file, "shard.count",
+                             fmt::format("is {} but {} was split {} ways", n, shards.front().first, *count));
         } else if (part.header != merged.header) {
-            throw InputError(file, "sweep", "differs from " + shards.front().first + "'s: the shards are of different sweeps");
+            throw InputError(file, "sweep",
+                             "differs from " + shards.front().first + "'s: the shards are of different sweeps");
         }
         if (index >= n || !seen_shards.insert(index).second)
-            throw InputError(file, "shard.index", fmt::format("shard {} of {} is given twice or is out of range", index, n));
+            throw InputError(file, "shard.index",
+                             fmt::format("shard {} of {} is given twice or is out of range", index, n));
         for (SweepPointResult& p : part.points) {
             if (p.point.index % n != index || !seen_points.insert(p.point.index).second)
-                throw InputError(file, "results", fmt::format("point {} does not belong to shard {} of {}", p.point.index, index, n));
+                throw InputError(file, "results",
+                                 fmt::format("point {} does not belong to shard {} of {}", p.point.index, index, n));
             merged.points.push_back(std::move(p));
         }
     }
     for (std::size_t k = 0; k < *count; ++k)
         if (!seen_shards.count(k))
-            throw InputError("--merge", "--merge", fmt::format("{} is missing: every one of the {} shards is needed", shard_file_name({k, *count}), *count));
+            throw InputError("--merge", "--merge",
+                             fmt::format("{} is missing: every one of the {} shards is needed",
+                                         shard_file_name({k, *count}), *count));
     const auto total = merged.header.at("total_points").get<std::size_t>();
     if (merged.points.size() != total)
-        throw InputError("--merge", "--merge", fmt::format("the shards hold {} points of {}", merged.points.size(), total));
-    std::sort(merged.points.begin(), merged.points.end(), [](const SweepPointResult& a, const SweepPointResult& b) { return a.point.index < b.point.index; });
+        throw InputError("--merge", "--merge",
+                         fmt::format("the shards hold {} points of {}", merged.points.size(), total));
+    std::sort(merged.points.begin(), merged.points.end(),
+              [](const SweepPointResult& a, const SweepPointResult& b) { return a.point.index < b.point.index; });
     return merged;
 }
 
@@ -200,9 +214,11 @@ std::vector<std::pair<std::string, PlotSpec>> sweep_plots(const SweepResult& res
         if (metric.empty() && kernel_varies) metric = "simulated_seconds";
         if (metric.empty()) {
             const Kernel* kernel = find_kernel(header["kernels"].value(scenario, std::string()));
-            metric = kernel != nullptr && !kernel->metrics().empty() ? kernel->metrics().front().name : "simulated_seconds";
+            metric =
+                kernel != nullptr && !kernel->metrics().empty() ? kernel->metrics().front().name : "simulated_seconds";
         }
-        const auto column = std::find_if(result.columns.begin(), result.columns.end(), [&](const SweepColumn& c) { return c.name == metric; });
+        const auto column = std::find_if(result.columns.begin(), result.columns.end(),
+                                         [&](const SweepColumn& c) { return c.name == metric; });
         if (column == result.columns.end()) continue;
         const auto c = static_cast<std::size_t>(column - result.columns.begin());
         // With --uncertainty, the metric's band: error bars over the frames' mean band.
@@ -216,7 +232,8 @@ std::vector<std::pair<std::string, PlotSpec>> sweep_plots(const SweepResult& res
         std::vector<std::string> order;
         for (const SweepPointResult& p : result.points) {
             if (p.point.scenario != scenario || !p.error.empty()) continue;
-            if (p.point.index % (grid + header["points"].size()) >= grid) continue;  // explicit points are not on the grid's lines
+            if (p.point.index % (grid + header["points"].size()) >= grid)
+                continue;  // explicit points are not on the grid's lines
             std::string title, x;
             for (const auto& [k, v] : p.point.parameters) {
                 if (k == x_key) x = v;
@@ -238,7 +255,9 @@ std::vector<std::pair<std::string, PlotSpec>> sweep_plots(const SweepResult& res
                 std::string shown = title.empty() ? scenario : title;
                 std::replace(shown.begin(), shown.end(), '_', ' ');  // gnuplot reads _ as a subscript
                 const int point_type = 5 + 2 * static_cast<int>(order.size() % 4);
-                lines[title] = PlotSeries{shown, {}, {}, fmt::format("{} pt {} lw 2", banded ? "yerrorlines" : "linespoints", point_type), {}, {}};
+                lines[title] = PlotSeries{
+                    shown, {}, {}, fmt::format("{} pt {} lw 2", banded ? "yerrorlines" : "linespoints", point_type),
+                    {},    {}};
             }
             PlotSeries& line = lines[title];
             line.x.push_back(xs[static_cast<std::size_t>(at - x_values.begin())]);
@@ -253,8 +272,9 @@ std::vector<std::pair<std::string, PlotSpec>> sweep_plots(const SweepResult& res
         std::string shown_metric = metric, shown_x = x_key;
         std::replace(shown_metric.begin(), shown_metric.end(), '_', ' ');
         std::replace(shown_x.begin(), shown_x.end(), '_', ' ');
-        spec.title = fmt::format("{}: {} against {} (mean over frames{})", header["name"].get<std::string>(), shown_metric, shown_x,
-                                 low && high ? ", with its 95% band over the guesses' ranges" : "");
+        spec.title =
+            fmt::format("{}: {} against {} (mean over frames{})", header["name"].get<std::string>(), shown_metric,
+                        shown_x, low && high ? ", with its 95% band over the guesses' ranges" : "");
         spec.x_label = shown_x;
         spec.y_label = fmt::format("{} [{}]", shown_metric, column->unit);
         if (numeric && xs.size() > 1) {
@@ -265,12 +285,14 @@ std::vector<std::pair<std::string, PlotSpec>> sweep_plots(const SweepResult& res
                                                      : fmt::format("set xrange [{}:{}]", *lo - pad, *hi + pad));
             if (spec.log_x) {
                 std::string tics;
-                for (std::size_t i = 0; i < xs.size(); ++i) tics += fmt::format("{}\"{}\" {}", i ? ", " : "", x_values[i], xs[i]);
+                for (std::size_t i = 0; i < xs.size(); ++i)
+                    tics += fmt::format("{}\"{}\" {}", i ? ", " : "", x_values[i], xs[i]);
                 spec.extra_commands.push_back("set xtics (" + tics + ")");
             }
         } else if (!numeric) {
             std::string tics;
-            for (std::size_t i = 0; i < x_values.size(); ++i) tics += fmt::format("{}\"{}\" {}", i ? ", " : "", x_values[i], i);
+            for (std::size_t i = 0; i < x_values.size(); ++i)
+                tics += fmt::format("{}\"{}\" {}", i ? ", " : "", x_values[i], i);
             spec.extra_commands.push_back("set xtics (" + tics + ")");
         }
         // Many lines: the legend goes beside the plot, so it hides no data.

@@ -103,8 +103,8 @@ public:
     // InputError naming the machine key when a volume of `dims` could not be set up on `machine`: asked
     // before the volume is read when the scenario gives its size (a resampled dataset), so a volume
     // that cannot fit is refused without loading it. start() checks the same again.
-    virtual void check_volume_fits(const Machine& /*machine*/, const MachineConfig& /*config*/, const Scenario& /*scenario*/,
-                                   glm::ivec3 /*dims*/) const {}
+    virtual void check_volume_fits(const Machine& /*machine*/, const MachineConfig& /*config*/,
+                                   const Scenario& /*scenario*/, glm::ivec3 /*dims*/) const {}
     // Sets the scenario up on the machine (InputError when the data cannot fit, naming the key).
     virtual std::unique_ptr<KernelRun> start(Machine& machine, const MachineConfig& config, const Scenario& scenario,
                                              const Volume& volume) const = 0;

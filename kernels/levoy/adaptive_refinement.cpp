@@ -55,7 +55,8 @@ bool AdaptiveRefinement::needs_split(const Square& s) const {
 }
 
 void AdaptiveRefinement::record(std::span<const glm::vec4> colors) {
-    if (colors.size() != pending_.size()) throw std::invalid_argument("adaptive refinement: one colour per pending pixel");
+    if (colors.size() != pending_.size())
+        throw std::invalid_argument("adaptive refinement: one colour per pending pixel");
     for (std::size_t i = 0; i < colors.size(); ++i) {
         colors_[pending_[i]] = colors[i];
         cast_[pending_[i]] = 1;
@@ -88,8 +89,8 @@ void AdaptiveRefinement::record(std::span<const glm::vec4> colors) {
             for (int i = 0; i < nx; ++i) {
                 const Square child{xr[i].first, yr[j].first, xr[i].second, yr[j].second};
                 next.push_back(child);
-                for (const std::uint32_t p : {index(child.x0, child.y0), index(child.x1, child.y0), index(child.x0, child.y1),
-                                              index(child.x1, child.y1)}) {
+                for (const std::uint32_t p : {index(child.x0, child.y0), index(child.x1, child.y0),
+                                              index(child.x0, child.y1), index(child.x1, child.y1)}) {
                     if (cast_[p] == 0) cast_[p] = 2;  // chosen for the next pass
                 }
             }

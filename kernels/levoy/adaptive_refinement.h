@@ -48,7 +48,9 @@ private:
     struct Square {
         int x0, y0, x1, y1;
     };
-    std::uint32_t index(int x, int y) const { return static_cast<std::uint32_t>(y) * static_cast<std::uint32_t>(width_) + static_cast<std::uint32_t>(x); }
+    std::uint32_t index(int x, int y) const {
+        return static_cast<std::uint32_t>(y) * static_cast<std::uint32_t>(width_) + static_cast<std::uint32_t>(x);
+    }
     bool needs_split(const Square& s) const;
 
     int width_;
@@ -58,8 +60,8 @@ private:
     std::vector<glm::vec4> colors_;
     std::vector<std::uint8_t> cast_;
     std::uint64_t pixels_cast_ = 0;
-    std::vector<Square> active_;  // squares whose corners are cast or pending, not yet split
-    std::vector<Square> leaves_;  // squares that will never split
+    std::vector<Square> active_;     // squares whose corners are cast or pending, not yet split
+    std::vector<Square> leaves_;     // squares that will never split
     std::vector<Square> splitting_;  // squares split by the last decision, shown whole until the next pass
     std::vector<std::uint32_t> pending_;
     std::vector<std::uint32_t> tested_;

@@ -29,8 +29,10 @@ public:
     bool occupied(int level, glm::ivec3 cell) const {
         const Level& l = levels_[static_cast<std::size_t>(level)];
         const glm::ivec3 b = cell >> 2;
-        const std::size_t word = static_cast<std::size_t>(b.x) +
-                                 static_cast<std::size_t>(l.bricks.x) * (static_cast<std::size_t>(b.y) + static_cast<std::size_t>(l.bricks.y) * static_cast<std::size_t>(b.z));
+        const std::size_t word =
+            static_cast<std::size_t>(b.x) +
+            static_cast<std::size_t>(l.bricks.x) *
+                (static_cast<std::size_t>(b.y) + static_cast<std::size_t>(l.bricks.y) * static_cast<std::size_t>(b.z));
         const int bit = (cell.x & 3) | ((cell.y & 3) << 2) | ((cell.z & 3) << 4);
         return ((l.words[word] >> bit) & 1u) != 0;
     }

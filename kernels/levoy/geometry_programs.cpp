@@ -36,7 +36,8 @@ glm::dvec3 volume_upper(glm::ivec3 dims) { return glm::dvec3(dims); }
 // The largest |f| over the volume's box (a linear function peaks at a corner), plus a voxel of margin.
 double bound(glm::dvec3 g, double h, glm::ivec3 dims) {
     double most = 0.0;
-    for (int c = 0; c < 8; ++c) most = std::max(most, std::abs(glm::dot(g, box_corner(c, volume_lower(), volume_upper(dims))) + h));
+    for (int c = 0; c < 8; ++c)
+        most = std::max(most, std::abs(glm::dot(g, box_corner(c, volume_lower(), volume_upper(dims))) + h));
     return most + glm::length(g) + 1.0;
 }
 
@@ -47,7 +48,8 @@ int signed_bits(double magnitude) {
 
 }  // namespace
 
-PpProgram build_polygon_program(const PreparedPolygon& polygon, int samples, glm::ivec3 dims, const PpProgramInputs& inputs) {
+PpProgram build_polygon_program(const PreparedPolygon& polygon, int samples, glm::ivec3 dims,
+                                const PpProgramInputs& inputs) {
     const VoxelRecordLayout& layout = inputs.layout;
     const std::int64_t color_max = (std::int64_t{1} << layout.color_bits) - 1;
     const std::int64_t opacity_max = (std::int64_t{1} << layout.opacity_bits) - 1;
@@ -66,7 +68,8 @@ PpProgram build_polygon_program(const PreparedPolygon& polygon, int samples, glm
         b.enable_if(ad, PpCompare::LessEqual, std::int64_t{1} << (kQeeShift - 1));  // within half a voxel
         b.release(ad);
         for (int i = 0; i < edges; ++i) {
-            const int bits = signed_bits(bound(polygon.edge_normals[static_cast<std::size_t>(i)], polygon.edge_offsets[static_cast<std::size_t>(i)], dims));
+            const int bits = signed_bits(bound(polygon.edge_normals[static_cast<std::size_t>(i)],
+                                               polygon.edge_offsets[static_cast<std::size_t>(i)], dims));
             const PpField e = b.qee("edge function", j * per_sample + 1 + i, bits, true, 0);
             b.enable_if(e, PpCompare::GreaterEqual, 0);
             b.release(e);
@@ -163,23 +166,26 @@ std::vector<QeeCoefficients> polygon_expressions(const PreparedPolygon& polygon,
     return out;
 }
 
-bool polygon_reaches_slot(const PreparedPolygon& polygon, const SlotFrame& frame, glm::ivec3 dims, const PpArrayShape& shape) {
+bool polygon_reaches_slot(const PreparedPolygon& polygon, const SlotFrame& frame, glm::ivec3 dims,
+                          const PpArrayShape& shape) {
     if (!frame.used || polygon.degenerate) return false;
     const glm::vec3 lo(frame.origin);
     const glm::vec3 hi = glm::vec3(glm::min(frame.origin + glm::ivec3(shape.columns - 1, shape.rows - 1, 0), dims - 1));
-    return glm::all(glm::lessThanEqual(lo, polygon.upper + 1.0f)) && glm::all(glm::greaterThanEqual(hi, polygon.lower - 1.0f));
+    return glm::all(glm::lessThanEqual(lo, polygon.upper + 1.0f)) &&
+           glm::all(glm::greaterThanEqual(hi, polygon.lower - 1.0f));
 }
 
 namespace {
-constexpr int kDistanceShift = 8;   // distances in 1/256 voxel
-constexpr int kQuadraticShift = 32; // the ellipsoid's quadratic, before the QEE's shift back to 2^16
+constexpr int kDistanceShift = 8;    // distances in 1/256 voxel
+constexpr int kQuadraticShift = 32;  // the ellipsoid's quadratic, before the QEE's shift back to 2^16
 
 // The farthest any voxel lies from the region's centre, with two voxels to spare: what bounds the
 // fields holding a voxel's region coordinates.
 double region_reach(const RegionOfInterest& region, glm::ivec3 dims) {
     double reach = 0.0;
     for (int c = 0; c < 8; ++c)
-        reach = std::max(reach, glm::length(box_corner(c, volume_lower(), volume_upper(dims)) - glm::dvec3(region.center)));
+        reach =
+            std::max(reach, glm::length(box_corner(c, volume_lower(), volume_upper(dims)) - glm::dvec3(region.center)));
     return reach + 2.0;
 }
 }  // namespace
@@ -193,7 +199,8 @@ PpProgram build_region_program(const RegionOfInterest& region, glm::ivec3 dims, 
     PpField distance;
     if (region.shape == RegionOfInterest::Shape::Box) {
         for (int i = 0; i < 3; ++i) {
-            const PpField q = b.qee("region coordinate", i, pp_bits_for_range(-whole(reach * 256), whole(reach * 256)), true, kQeeShift - kDistanceShift);
+            const PpField q = b.qee("region coordinate", i, pp_bits_for_range(-whole(reach * 256), whole(reach * 256)),
+                                    true, kQeeShift - kDistanceShift);
             const PpField aq = b.abs_diff_const("|region coordinate|", q, 0);
             b.release(q);
             const PpField out = b.add_const("face distance", aq, -std::llround(region.half_size[i] * 256.0));
@@ -220,9 +227,12 @@ PpProgram build_region_program(const RegionOfInterest& region, glm::ivec3 dims, 
         if (s_max * 65536.0 >= std::ldexp(1.0, kMaxPpFieldBits - 2)) {
             throw InputError("scenario", "region.half_size",
                              "an ellipsoid this thin (smallest radius " + std::to_string(r_min) +
-                                 " voxels) this far from the volume's voxels is past the PPs' 48-bit fixed point; use a box or thicken it");
+                                 " voxels) this far from the volume's voxels is past the PPs' 48-bit fixed point; use "
+                                 "a box or thicken it");
         }
-        const PpField s = b.qee("ellipsoid quadratic", 0, pp_bits_for_range(-whole(s_max * 65536), whole(s_max * 65536)), true, kQuadraticShift - 16);
+        const PpField s =
+            b.qee("ellipsoid quadratic", 0, pp_bits_for_range(-whole(s_max * 65536), whole(s_max * 65536)), true,
+                  kQuadraticShift - 16);
         const PpField positive = b.max_const("ellipsoid quadratic", s, 0);
         b.release(s);
         const PpField root = b.sqrt("ellipsoid radius", positive);  // sqrt(s) x 256
@@ -249,7 +259,8 @@ PpProgram build_region_program(const RegionOfInterest& region, glm::ivec3 dims, 
         b.enable_all();
     }
     b.release(distance);
-    const PpField change = b.mul_const("factor change", w, std::llround((region.scale_outside - region.scale_inside) * 256.0), 8);
+    const PpField change =
+        b.mul_const("factor change", w, std::llround((region.scale_outside - region.scale_inside) * 256.0), 8);
     b.release(w);
     const PpField factor = b.add_const("opacity factor", change, std::llround(region.scale_inside * 256.0));
     b.release(change);
@@ -266,19 +277,22 @@ PpProgram build_region_program(const RegionOfInterest& region, glm::ivec3 dims, 
     return b.finish();
 }
 
-GradientRewrite region_cap(const RegionOfInterest& region, glm::ivec3 dims, const PpProgramInputs& inputs, int first_expression) {
+GradientRewrite region_cap(const RegionOfInterest& region, glm::ivec3 dims, const PpProgramInputs& inputs,
+                           int first_expression) {
     if (region.shape != RegionOfInterest::Shape::Box || !(region.transition > 0.0f))
         throw std::logic_error("region_cap: capping needs a box with a transition (validate_region refuses the rest)");
     const auto coordinate_limit = static_cast<std::int64_t>(std::ceil(region_reach(region, dims) * 256.0));
-    return [region, inputs, first_expression, coordinate_limit](PpProgramBuilder& b, const PpField& value, std::array<PpField, 3>& gradient) {
+    return [region, inputs, first_expression, coordinate_limit](PpProgramBuilder& b, const PpField& value,
+                                                                std::array<PpField, 3>& gradient) {
         constexpr int kAxisShift = 12;  // the face normals' components, in 1/4096
         const std::int64_t half_band = std::llround(region.transition * 128.0);  // T / 2 in 1/256 voxel
         // The box's face distances, and on which side of each pair of faces the voxel lies, as the
         // region program finds them; then which faces' bands hold the voxel.
         std::array<PpField, 3> face, below, in_band;
         for (int i = 0; i < 3; ++i) {
-            const PpField q = b.qee("cap: region coordinate", first_expression + i, pp_bits_for_range(-coordinate_limit, coordinate_limit), true,
-                                    kQeeShift - kDistanceShift);
+            const PpField q =
+                b.qee("cap: region coordinate", first_expression + i,
+                      pp_bits_for_range(-coordinate_limit, coordinate_limit), true, kQeeShift - kDistanceShift);
             below[i] = b.set_const("cap: below the centre", 0, 1, false);
             b.enable_if(q, PpCompare::Less, 0);
             b.assign_const(below[i], 1);
@@ -309,16 +323,20 @@ GradientRewrite region_cap(const RegionOfInterest& region, glm::ivec3 dims, cons
         b.release(distance);
 
         // f - f_air in gradient codes (value units per voxel times gradient_scale).
-        const double codes_per_value = static_cast<double>(inputs.quantization.gradient_scale / inputs.quantization.value_scale);
+        const double codes_per_value =
+            static_cast<double>(inputs.quantization.gradient_scale / inputs.quantization.value_scale);
         const PpField rise = b.mul_const("cap: value above air", value, std::llround(codes_per_value * 256.0), 8);
         for (int i = 0; i < 3; ++i) {
             const glm::vec3 axis = region.axis(i);
-            const auto component = [&](int k) { return std::llround(static_cast<double>(axis[k]) * (1 << kAxisShift)); };
+            const auto component = [&](int k) {
+                return std::llround(static_cast<double>(axis[k]) * (1 << kAxisShift));
+            };
             PpField along;  // g.a for this face pair's axis a
             for (int k = 0; k < 3; ++k) {
                 if (component(k) == 0) continue;
                 along = b.accumulate("cap: gradient along the axis", along,
-                                     b.mul_const("cap: gradient along the axis", gradient[static_cast<std::size_t>(k)], component(k), kAxisShift));
+                                     b.mul_const("cap: gradient along the axis", gradient[static_cast<std::size_t>(k)],
+                                                 component(k), kAxisShift));
             }
             // Along n = s a (s = -1 below the centre), twice the change of g is s (f - f_air) - g.a.
             const PpField change = b.sub("cap: change", rise, along);

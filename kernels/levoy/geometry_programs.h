@@ -21,7 +21,8 @@
 namespace pp5 {
 
 // The program for one polygon with `samples` subvoxel translations over a volume of `dims` voxels.
-PpProgram build_polygon_program(const PreparedPolygon& polygon, int samples, glm::ivec3 dims, const PpProgramInputs& inputs);
+PpProgram build_polygon_program(const PreparedPolygon& polygon, int samples, glm::ivec3 dims,
+                                const PpProgramInputs& inputs);
 
 // The slot's QEE expressions, in the program's order: for each translation j the plane distance then
 // each edge function (kQeeShift fraction bits, in voxels), then red, green, blue and opacity as codes.
@@ -30,7 +31,8 @@ std::vector<QeeCoefficients> polygon_expressions(const PreparedPolygon& polygon,
 
 // Whether a slot may hold a voxel the polygon reaches: its voxels' box against the polygon's box grown
 // by one voxel. Slots that fail are not run (the controller skips them).
-bool polygon_reaches_slot(const PreparedPolygon& polygon, const SlotFrame& frame, glm::ivec3 dims, const PpArrayShape& shape);
+bool polygon_reaches_slot(const PreparedPolygon& polygon, const SlotFrame& frame, glm::ivec3 dims,
+                          const PpArrayShape& shape);
 
 // Levoy's volume-of-interest tool as a PP program run after classification: each PP finds its voxel's
 // distance to the region's surface (box: three linear QEE expressions; ellipsoid: one quadratic), the
@@ -48,7 +50,8 @@ std::vector<QeeCoefficients> region_expressions(const RegionOfInterest& region, 
 // value (value code 0). A rewrite for build_shading_program; the region's box coordinates are QEE
 // expressions first_expression to first_expression + 2 (region_expressions' order). A voxel outside
 // every band is shaded as before.
-GradientRewrite region_cap(const RegionOfInterest& region, glm::ivec3 dims, const PpProgramInputs& inputs, int first_expression);
+GradientRewrite region_cap(const RegionOfInterest& region, glm::ivec3 dims, const PpProgramInputs& inputs,
+                           int first_expression);
 
 // The first step of rebuilding Levoy's pyramid of binary volumes, after a classification that changes
 // which voxels are empty: each PP sets its voxel's bit (non-empty when its opacity code is not zero),

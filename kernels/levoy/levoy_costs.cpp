@@ -24,21 +24,25 @@ const ParamGroup& levoy_cost_params() {
         flops("refinement_test_flops", 24, "Decide whether to subdivide a square from its corner colours",
               "six corner pairs in three channels: a subtract and a compare each is 36; with early exit about 24");
         // Work that Pixel-planes 5 gives its PPs, done by a lone processor (the `uniprocessor` machine kind).
-        flops("voxel_classification_flops", 8, "Classify one voxel on a processor without PPs: opacity from value and gradient",
+        flops("voxel_classification_flops", 8,
+              "Classify one voxel on a processor without PPs: opacity from value and gradient",
               "a table look-up, the gradient magnitude's scale and a multiply: about 8");
         flops("voxel_shading_flops", 40, "Phong-shade one voxel on a processor without PPs",
               "normalise the gradient (about 12 with a reciprocal square root), the diffuse dot product and "
               "clamp (6), three colour multiply-adds with the ambient term (9), and the opacity-weighted colour (4); "
               "with the look-ups, about 40");
-        flops("voxel_region_flops", 12, "Scale one voxel's opacity by the volume-of-interest tool on a processor without PPs",
+        flops("voxel_region_flops", 12,
+              "Scale one voxel's opacity by the volume-of-interest tool on a processor without PPs",
               "the distance to a box or ellipsoid (about 9) and the scale across the transition (3)");
-        flops("polygon_point_test_flops", 2, "Test one subvoxel sample point against one of a polygon's planes (sheet or edge)",
+        flops("polygon_point_test_flops", 2,
+              "Test one subvoxel sample point against one of a polygon's planes (sheet or edge)",
               "the plane's linear function stepped incrementally along a scanline (an add) and a compare");
         flops("voxel_matte_flops", 12, "Matte a scan-converted polygon over one voxel",
               "coverage times opacity, the opacity update and three colour blends");
         cycles("pyramid_step_cycles", 40, "Visit one cell of the pyramid of binary volumes",
                "a bit test, a level change or a box exit: about 20 flops of bookkeeping at 2 cycles each");
-        cycles("pyramid_build_cycles_per_cell", 2, "Build one cell of the pyramid of binary volumes from the bits below it",
+        cycles("pyramid_build_cycles_per_cell", 2,
+               "Build one cell of the pyramid of binary volumes from the bits below it",
                "an OR of eight bits, done a word of cells at a time");
         return g;
     }();

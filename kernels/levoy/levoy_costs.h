@@ -14,7 +14,7 @@ namespace pp5 {
 // Indices into levoy_op_kinds().
 enum LevoyOp : std::uint32_t {
     kRaySetup,
-    kSample,            // step to the next sample, interpolate, composite
+    kSample,  // step to the next sample, interpolate, composite
     kPyramidStep,
     kRefinementTest,
     kPixelFill,

@@ -23,7 +23,7 @@ LevoyImageSettings levoy_image_settings(const ImageSpec& spec) {
 }
 
 LevoyFrameInputs levoy_frame_inputs(const FrameSpec& frame, const Volume& volume) {
-    return LevoyFrameInputs{frame_camera(frame, volume), frame.classification, frame.colors, frame.lighting,
+    return LevoyFrameInputs{frame_camera(frame, volume),  frame.classification,   frame.colors, frame.lighting,
                             frame.classification_changed, frame.lighting_changed, frame.region};
 }
 
@@ -33,19 +33,21 @@ double seconds(Tick t) { return ticks_to_seconds(t); }
 
 nlohmann::json pass_record(const PpProgramPass& pass) {
     if (!pass.ran) return {{"ran", false}};
-    return {{"ran", true},
-            {"simulated_seconds", static_cast<double>(pass.end_ps - pass.start_ps) / static_cast<double>(kTicksPerSecond)},
-            {"instructions", pass.instructions},
-            {"local_memory_bits_used", pass.local_memory_bits_used},
-            {"slot_cycles", pass.slot_cost.compute_cycles()},
-            {"slot_alu_cycles", pass.slot_cost.alu_cycles},
-            {"slot_controller_cycles", pass.slot_cost.controller_cycles},
-            {"slot_transfer_cycles", pass.slot_cost.transfer_cycles()},
-            {"slots", pass.slots},
-            {"cycles", {{"total", pass.busiest.total},
-                        {"computation", pass.busiest.alu},
-                        {"controller", pass.busiest.controller},
-                        {"backing_store", pass.busiest.backing_store_stall}}}};
+    return {
+        {"ran", true},
+        {"simulated_seconds", static_cast<double>(pass.end_ps - pass.start_ps) / static_cast<double>(kTicksPerSecond)},
+        {"instructions", pass.instructions},
+        {"local_memory_bits_used", pass.local_memory_bits_used},
+        {"slot_cycles", pass.slot_cost.compute_cycles()},
+        {"slot_alu_cycles", pass.slot_cost.alu_cycles},
+        {"slot_controller_cycles", pass.slot_cost.controller_cycles},
+        {"slot_transfer_cycles", pass.slot_cost.transfer_cycles()},
+        {"slots", pass.slots},
+        {"cycles",
+         {{"total", pass.busiest.total},
+          {"computation", pass.busiest.alu},
+          {"controller", pass.busiest.controller},
+          {"backing_store", pass.busiest.backing_store_stall}}}};
 }
 
 // The machine's side of a frame: where the time went and what the GPs did.
@@ -77,7 +79,8 @@ nlohmann::json machine_record(const LevoyFrameReport& f, const std::vector<std::
               {"ring_busy_seconds", seconds(rc.ring_busy)},
               {"renderers_answering_seconds", seconds(rc.renderer_busy)},
               {"note", "each summed over the GPs, channels or renderers; ray_casting_seconds is wall time"},
-              {"gp_busy_fraction", gps > 0 ? static_cast<double>(rc.gp_busy) / static_cast<double>(rc.gp_busy + rc.gp_wait) : 0.0}}},
+              {"gp_busy_fraction",
+               gps > 0 ? static_cast<double>(rc.gp_busy) / static_cast<double>(rc.gp_busy + rc.gp_wait) : 0.0}}},
             {"pyramid_rebuilt", f.pyramid_rebuilt},
             {"pyramid_cells_occupied", f.pyramid_cells_occupied},
             {"caches_invalidated", f.caches_invalidated},
@@ -89,8 +92,10 @@ nlohmann::json machine_record(const LevoyFrameReport& f, const std::vector<std::
             {"pyramid_steps", rc.pyramid_steps},
             {"rays_terminated", rc.rays_terminated},
             {"pixels_filled", rc.pixels_filled},
-            {"cache", {{"hits", rc.cache_hits}, {"misses", rc.cache_misses},
-                       {"hit_rate", lookups == 0 ? 0.0 : static_cast<double>(rc.cache_hits) / static_cast<double>(lookups)}}},
+            {"cache",
+             {{"hits", rc.cache_hits},
+              {"misses", rc.cache_misses},
+              {"hit_rate", lookups == 0 ? 0.0 : static_cast<double>(rc.cache_hits) / static_cast<double>(lookups)}}},
             {"voxel_requests", rc.requests},
             {"blocks_refreshed", rc.blocks_refreshed},
             {"context_switches", rc.context_switches},
@@ -105,7 +110,9 @@ struct LevoyKernelFrame final : KernelFrame {
 class LevoyRun final : public KernelRun {
 public:
     LevoyRun(Machine& machine, const MachineConfig& config, const Scenario& scenario, const Volume& volume)
-        : volume_(volume), renderer_(machine, volume, LevoySettings::for_scenario(config, scenario), levoy_image_settings(scenario.image)) {
+        : volume_(volume),
+          renderer_(machine, volume, LevoySettings::for_scenario(config, scenario),
+                    levoy_image_settings(scenario.image)) {
         renderer_.set_polygons(scenario.polygons);
     }
 
@@ -143,26 +150,30 @@ public:
         for (const char* pass : {"classification", "region_of_interest", "stationary_lights", "shading"}) {
             const auto& p = f["renderers"][pass];
             if (!p["ran"].get<bool>()) continue;
-            line += fmt::format("; PP {} {:.2f} ms ({} cycles a slot)", pass, p["simulated_seconds"].get<double>() * 1e3,
-                                p["slot_cycles"].dump());
+            line += fmt::format("; PP {} {:.2f} ms ({} cycles a slot)", pass,
+                                p["simulated_seconds"].get<double>() * 1e3, p["slot_cycles"].dump());
         }
         if (f["geometry"]["ran"].get<bool>())
-            line += fmt::format("; {} polygons scan-converted in {:.2f} ms ({:.0f} a second)", f["geometry"]["polygons"].dump(),
-                                f["geometry"]["simulated_seconds"].get<double>() * 1e3,
-                                f["geometry"]["polygons_per_second"].get<double>());
+            line +=
+                fmt::format("; {} polygons scan-converted in {:.2f} ms ({:.0f} a second)",
+                            f["geometry"]["polygons"].dump(), f["geometry"]["simulated_seconds"].get<double>() * 1e3,
+                            f["geometry"]["polygons_per_second"].get<double>());
         const auto& m = f["machine"];
         const double crude = m["crude_seconds"].get<double>();
-        line += fmt::format("\n    GPs: {} rays in {} passes, {} samples ({} skipped), cache hit rate {:.1f}%; crude {:.1f} ms{}, "
-                            "refined {:.1f} ms simulated",
-                            m["rays"].dump(), m["passes"].size(), m["samples"].dump(), m["samples_skipped"].dump(),
-                            100.0 * m["cache"]["hit_rate"].get<double>(), crude * 1e3,
-                            crude > 0 ? fmt::format(" ({:.1f} a second)", 1.0 / crude) : std::string(), m["refined_seconds"].get<double>() * 1e3);
+        line += fmt::format(
+            "\n    GPs: {} rays in {} passes, {} samples ({} skipped), cache hit rate {:.1f}%; crude {:.1f} ms{}, "
+            "refined {:.1f} ms simulated",
+            m["rays"].dump(), m["passes"].size(), m["samples"].dump(), m["samples_skipped"].dump(),
+            100.0 * m["cache"]["hit_rate"].get<double>(), crude * 1e3,
+            crude > 0 ? fmt::format(" ({:.1f} a second)", 1.0 / crude) : std::string(),
+            m["refined_seconds"].get<double>() * 1e3);
         // Where the frame's time went, phase by phase (each phase starts when the one before ends).
         const auto& phases = m["phases"];
         const auto ms = [&](const char* key) { return phases[key].get<double>() * 1e3; };
-        line += fmt::format("\n    time: PPs {:.2f} ms, pyramid {:.2f} ms, ray casting {:.2f} ms with the GPs {:.0f}% busy", ms("pixel_processors_seconds"),
-                            ms("pyramid_seconds"), ms("ray_casting_seconds"),
-                            100.0 * m["ray_casting_breakdown"].value("gp_busy_fraction", 0.0));
+        line +=
+            fmt::format("\n    time: PPs {:.2f} ms, pyramid {:.2f} ms, ray casting {:.2f} ms with the GPs {:.0f}% busy",
+                        ms("pixel_processors_seconds"), ms("pyramid_seconds"), ms("ray_casting_seconds"),
+                        100.0 * m["ray_casting_breakdown"].value("gp_busy_fraction", 0.0));
         return line;
     }
 
@@ -188,26 +199,33 @@ class LevoyKernel final : public Kernel {
 public:
     std::string name() const override { return "levoy"; }
     std::string description() const override {
-        return "Levoy 1989: the renderers' PPs classify and shade the volume, the GPs cast rays with the pyramid of binary "
+        return "Levoy 1989: the renderers' PPs classify and shade the volume, the GPs cast rays with the pyramid of "
+               "binary "
                "volumes, early termination and adaptive refinement, fetching voxels over the ring into their caches";
     }
     std::string timing_summary() const override {
-        return "event-driven: PP passes from their programs' operations, the pyramid's distribution and building, and the GPs' "
+        return "event-driven: PP passes from their programs' operations, the pyramid's distribution and building, and "
+               "the GPs' "
                "ray casting with voxel requests over the ring";
     }
-    std::vector<const ParamGroup*> param_groups() const override { return {&VoxelStoreSettings::params(), &LevoySettings::params(), &levoy_cost_params()}; }
+    std::vector<const ParamGroup*> param_groups() const override {
+        return {&VoxelStoreSettings::params(), &LevoySettings::params(), &levoy_cost_params()};
+    }
     bool runs_on_machine() const override { return true; }
     // A pass for each halving of the first pass's spacing, down to one pixel.
     std::size_t most_pictures_per_frame(const MachineConfig& config) const override {
         std::size_t passes = 1;
-        for (std::int64_t spacing = config.integer("levoy.refinement_spacing"); spacing > 1; spacing = (spacing + 1) / 2) ++passes;
+        for (std::int64_t spacing = config.integer("levoy.refinement_spacing"); spacing > 1;
+             spacing = (spacing + 1) / 2)
+            ++passes;
         return passes;
     }
     void check(const Scenario& scenario) const override {
         if (scenario.image.resampling != ResamplingOrder::ShadeThenInterpolate)
-            throw InputError(scenario.file.string(), "image.resampling",
-                             "the levoy kernel shades at the voxels (shade-then-interpolate); use kernel = \"reference\" to "
-                             "interpolate first");
+            throw InputError(
+                scenario.file.string(), "image.resampling",
+                "the levoy kernel shades at the voxels (shade-then-interpolate); use kernel = \"reference\" to "
+                "interpolate first");
     }
     void check_volume_fits(const Machine& machine, const MachineConfig& config, const Scenario& scenario,
                            glm::ivec3 dims) const override {

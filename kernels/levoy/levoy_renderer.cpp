@@ -29,14 +29,16 @@ void LevoyRenderer::check_fits(const Machine& machine, glm::ivec3 dims, const Le
         without.layout.stationary_light_bits = 0;
         if (settings.store.layout.stationary_light_bits == 0) throw;
         PpShading::check_fits(machine, dims, without);  // refuses as before when even that cannot fit
-        throw InputError(refusal.file(), "levoy.stationary_light_bits",
-                         fmt::format("the stationary lights' precomputed sum takes a voxel's record from {} to {} bits, and then: "
-                                     "{}; set levoy.stationary_light_bits=0 to recompute every light at each reshade instead",
-                                     without.layout.bits(), settings.store.layout.bits(), refusal.reason()));
+        throw InputError(
+            refusal.file(), "levoy.stationary_light_bits",
+            fmt::format("the stationary lights' precomputed sum takes a voxel's record from {} to {} bits, and then: "
+                        "{}; set levoy.stationary_light_bits=0 to recompute every light at each reshade instead",
+                        without.layout.bits(), settings.store.layout.bits(), refusal.reason()));
     }
     // Every frame's GPs hold the whole pyramid (a bit a cell) beside their caches.
     const bool any_axis_too_thin = dims.x < 2 || dims.y < 2 || dims.z < 2;  // the pyramid refuses these itself
-    check_gp_memory_fits(machine, true, settings.pyramid_skipping && !any_axis_too_thin ? BinaryPyramid::total_cells_of(dims) : 0);
+    check_gp_memory_fits(machine, true,
+                         settings.pyramid_skipping && !any_axis_too_thin ? BinaryPyramid::total_cells_of(dims) : 0);
 }
 
 LevoyRenderer::LevoyRenderer(Machine& machine, const Volume& volume, const LevoySettings& settings,
@@ -49,8 +51,10 @@ LevoyRenderer::LevoyRenderer(Machine& machine, const Volume& volume, const Levoy
       pixel_processors_(machine, volume, settings.store),
       blocks_(pixel_processors_.placement(), settings.block_cells, voxel_bits_of(settings.store.layout)),
       directory_(blocks_.directory()) {
-    if (image.width < 1 || image.height < 1) throw InputError("scenario", "image.width", "the image needs at least one pixel");
-    for (auto& gp : machine.gps()) gp->cache(blocks_.block_bits());  // InputError if one block does not fit, before any frame
+    if (image.width < 1 || image.height < 1)
+        throw InputError("scenario", "image.width", "the image needs at least one pixel");
+    for (auto& gp : machine.gps())
+        gp->cache(blocks_.block_bits());  // InputError if one block does not fit, before any frame
     depth_.assign(static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height), 0);
 }
 
@@ -119,8 +123,10 @@ Phase LevoyRenderer::pyramid_phase() const {
     const VoxelPlacement& placement = pixel_processors_.placement();
     BroadcastPhase broadcast;
     for (std::size_t r = 0; r < machine_.renderers().size(); ++r)
-        broadcast.messages_per_renderer.push_back(static_cast<std::uint32_t>(placement.slots_used(static_cast<int>(r))));
-    broadcast.bits_per_message = static_cast<std::uint64_t>(placement.shape().columns) * static_cast<std::uint64_t>(placement.shape().rows);
+        broadcast.messages_per_renderer.push_back(
+            static_cast<std::uint32_t>(placement.slots_used(static_cast<int>(r))));
+    broadcast.bits_per_message =
+        static_cast<std::uint64_t>(placement.shape().columns) * static_cast<std::uint64_t>(placement.shape().rows);
     add_op(broadcast.then_each_gp, kPyramidBuildCell, pyramid_.total_cells());
     return Phase{"pyramid", std::move(broadcast)};
 }
@@ -140,9 +146,11 @@ LevoyRenderer::CappedShading LevoyRenderer::capped_shading(const LevoyFrameInput
         return all;
     };
     CappedShading out;
-    out.stationary_lights = pixel_processors_.refresh_stationary_lights(frame.lighting, view, cap, expressions, region_moved);
+    out.stationary_lights =
+        pixel_processors_.refresh_stationary_lights(frame.lighting, view, cap, expressions, region_moved);
     const PpProgram program = build_shading_program(frame.colors, frame.lighting, view, inputs, cap);
-    out.shading = pixel_processors_.execute(program, [](const SlotFrame&) { return true; }, expressions);
+    out.shading = pixel_processors_.execute(
+        program, [](const SlotFrame&) { return true; }, expressions);
     return out;
 }
 
@@ -172,11 +180,17 @@ Phase LevoyRenderer::scan_convert() {
         PpProgram program = build_polygon_program(polygon, settings_.jitter_samples, dims_, inputs);
         // D, E and F of every expression, a word each.
         const auto bits = static_cast<std::uint64_t>(program.expressions) * 3 * 32;
-        PpPhase::Pass pass{pixel_processors_.execute(
-                               program, [&](const SlotFrame& frame) { return polygon_reaches_slot(polygon, frame, dims_, placement.shape()); },
-                               [&](const SlotFrame& frame) { return polygon_expressions(polygon, offsets, frame, settings_.store.layout); }),
-                           bits, {}};
-        const auto visited = static_cast<std::uint64_t>(std::llround(settings_.scan_voxels_per_area * polygon_areas_[k]));
+        PpPhase::Pass pass{
+            pixel_processors_.execute(
+                program,
+                [&](const SlotFrame& frame) { return polygon_reaches_slot(polygon, frame, dims_, placement.shape()); },
+                [&](const SlotFrame& frame) {
+                    return polygon_expressions(polygon, offsets, frame, settings_.store.layout);
+                }),
+            bits,
+            {}};
+        const auto visited =
+            static_cast<std::uint64_t>(std::llround(settings_.scan_voxels_per_area * polygon_areas_[k]));
         const auto tests = static_cast<std::uint64_t>(settings_.jitter_samples) * (polygon.edge_normals.size() + 1);
         add_op(pass.on_one_processor, kPolygonPointTest, visited * tests);
         add_op(pass.on_one_processor, kVoxelMatte, visited);
@@ -248,7 +262,8 @@ Phase LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& report) 
             const BlockTouch& touch = batch.touches[ray.first_touch + i];
             add_step(touch.samples, touch.pyramid_steps, touch.block);
         }
-        if (setup || ray.tail_samples > 0 || ray.tail_pyramid_steps > 0) add_step(ray.tail_samples, ray.tail_pyramid_steps, kNoFetch);
+        if (setup || ray.tail_samples > 0 || ray.tail_pyramid_steps > 0)
+            add_step(ray.tail_samples, ray.tail_pyramid_steps, kNoFetch);
         job.items.push_back(item);
         ++counts.rays;
         counts.samples += ray.samples;
@@ -256,13 +271,15 @@ Phase LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& report) 
         counts.pyramid_steps += ray.pyramid_steps;
         if (ray.terminated) ++counts.rays_terminated;
     };
-    const auto add_task = [&](std::uint32_t pass, int t, std::uint32_t first_item, std::uint32_t tests, std::uint32_t filled) {
+    const auto add_task = [&](std::uint32_t pass, int t, std::uint32_t first_item, std::uint32_t tests,
+                              std::uint32_t filled) {
         GpTask task;
         task.group = pass;
         task.key = tile_key(t);
         {
             const int x0 = (t % tiles_x) * tile, y0 = (t / tiles_x) * tile;
-            task.screen = {static_cast<std::uint16_t>(x0), static_cast<std::uint16_t>(y0), static_cast<std::uint16_t>(std::min(width, x0 + tile) - x0),
+            task.screen = {static_cast<std::uint16_t>(x0), static_cast<std::uint16_t>(y0),
+                           static_cast<std::uint16_t>(std::min(width, x0 + tile) - x0),
                            static_cast<std::uint16_t>(std::min(height, y0 + tile) - y0)};
         }
         task.first_item = first_item;
@@ -284,7 +301,8 @@ Phase LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& report) 
     // The refinement decision's square tests, by the tile of each square's top-left corner.
     const auto tests_per_tile = [&] {
         std::vector<std::uint32_t> tests(static_cast<std::size_t>(tiles), 0);
-        for (const std::uint32_t corner : refinement.tested_squares()) ++tests[static_cast<std::size_t>(tile_of(corner))];
+        for (const std::uint32_t corner : refinement.tested_squares())
+            ++tests[static_cast<std::size_t>(tile_of(corner))];
         return tests;
     };
     std::vector<std::uint32_t> slot_of(static_cast<std::size_t>(width) * static_cast<std::size_t>(height), 0);
@@ -301,7 +319,8 @@ Phase LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& report) 
             std::vector<std::uint32_t> next = tile_start;
             for (const std::uint32_t p : pending) order[next[static_cast<std::size_t>(tile_of(p))]++] = p;
         }
-        CastBatch batch = caster.cast(order, settings_.depth_buffer ? std::span<const std::uint32_t>(depth_) : std::span<const std::uint32_t>());
+        CastBatch batch = caster.cast(
+            order, settings_.depth_buffer ? std::span<const std::uint32_t>(depth_) : std::span<const std::uint32_t>());
         for (std::size_t i = 0; i < pending.size(); ++i) slot_of[pending[i]] = static_cast<std::uint32_t>(i);
         std::vector<glm::vec4> colors(pending.size());
         RefinementPassReport pass_report;
@@ -322,7 +341,8 @@ Phase LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& report) 
 
         for (int t = 0; t < tiles; ++t) {
             const auto first_item = static_cast<std::uint32_t>(job.items.size());
-            for (std::uint32_t r = tile_start[static_cast<std::size_t>(t)]; r < tile_start[static_cast<std::size_t>(t) + 1]; ++r)
+            for (std::uint32_t r = tile_start[static_cast<std::size_t>(t)];
+                 r < tile_start[static_cast<std::size_t>(t) + 1]; ++r)
                 add_ray(batch, batch.rays[r]);
             add_task(static_cast<std::uint32_t>(pass), t, first_item, tests[static_cast<std::size_t>(t)],
                      pixels_in_tile(t) - cast_in_tile[static_cast<std::size_t>(t)]);
@@ -334,7 +354,8 @@ Phase LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& report) 
         const std::vector<std::uint32_t> tests = tests_per_tile();
         for (int t = 0; t < tiles; ++t)
             if (tests[static_cast<std::size_t>(t)] > 0)
-                add_task(job.groups - 1, t, static_cast<std::uint32_t>(job.items.size()), tests[static_cast<std::size_t>(t)], 0);
+                add_task(job.groups - 1, t, static_cast<std::uint32_t>(job.items.size()),
+                         tests[static_cast<std::size_t>(t)], 0);
     }
     return Phase{"ray_casting", std::move(job)};
 }
@@ -358,9 +379,11 @@ LevoyFrameReport LevoyRenderer::record(const LevoyFrameInputs& frame) {
     machine_work.op_kinds = levoy_op_kinds();
     machine_work.image_width = image_.width;
     machine_work.image_height = image_.height;
-    const std::uint64_t voxels = static_cast<std::uint64_t>(dims_.x) * static_cast<std::uint64_t>(dims_.y) * static_cast<std::uint64_t>(dims_.z);
+    const std::uint64_t voxels =
+        static_cast<std::uint64_t>(dims_.x) * static_cast<std::uint64_t>(dims_.y) * static_cast<std::uint64_t>(dims_.z);
     // A PP pass over every voxel, and what one processor would do for it instead.
-    const auto voxel_pass = [&](const char* name, const PpPassWork& pass, LevoyOp per_voxel, std::uint64_t per_voxel_count = 1) {
+    const auto voxel_pass = [&](const char* name, const PpPassWork& pass, LevoyOp per_voxel,
+                                std::uint64_t per_voxel_count = 1) {
         PpPhase phase{{PpPhase::Pass{pass, 0, {}}}};
         add_op(phase.passes.front().on_one_processor, per_voxel, voxels * per_voxel_count);
         return Phase{name, std::move(phase)};
@@ -382,16 +405,19 @@ LevoyFrameReport LevoyRenderer::record(const LevoyFrameInputs& frame) {
     bool classify = first_frame_ || frame.classification_changed || region_changed;
     bool reshade = first_frame_ || frame.classification_changed || frame.lighting_changed || shaded_for_ != view ||
                    (region_changed && (capping || (region_ && region_->cap)));
-    if (!polygons_.empty() && (classify || reshade || polygons_changed_)) classify = reshade = true;  // matte into fresh voxels
+    if (!polygons_.empty() && (classify || reshade || polygons_changed_))
+        classify = reshade = true;  // matte into fresh voxels
     polygons_changed_ = false;
-    const PpFrameWork pp =
-        pixel_processors_.compute(frame.classification, frame.colors, frame.lighting, view, classify, reshade && !capping);
-    if (pp.classification) machine_work.phases.push_back(voxel_pass("classification", *pp.classification, kVoxelClassification));
+    const PpFrameWork pp = pixel_processors_.compute(frame.classification, frame.colors, frame.lighting, view, classify,
+                                                     reshade && !capping);
+    if (pp.classification)
+        machine_work.phases.push_back(voxel_pass("classification", *pp.classification, kVoxelClassification));
     const auto stationary_pass = [&](const PpPassWork& pass) {
         machine_work.phases.push_back(voxel_pass("stationary_lights", pass, kVoxelShading, stationary_lights));
     };
     if (pp.stationary_lights) stationary_pass(*pp.stationary_lights);
-    if (pp.shading) machine_work.phases.push_back(voxel_pass("shading", *pp.shading, kVoxelShading, lights_per_shading));
+    if (pp.shading)
+        machine_work.phases.push_back(voxel_pass("shading", *pp.shading, kVoxelShading, lights_per_shading));
     if (reshade && capping) {
         const CappedShading capped = capped_shading(frame, view, region_changed);
         if (capped.stationary_lights) stationary_pass(*capped.stationary_lights);
@@ -417,7 +443,8 @@ LevoyFrameReport LevoyRenderer::record(const LevoyFrameInputs& frame) {
         const PpProgram program = build_region_program(*region_, dims_, pixel_processors_.program_inputs());
         const RegionOfInterest& region = *region_;
         const PpPassWork pass = pixel_processors_.execute(
-            program, [](const SlotFrame&) { return true; }, [&](const SlotFrame& f) { return region_expressions(region, f); });
+            program, [](const SlotFrame&) { return true; },
+            [&](const SlotFrame& f) { return region_expressions(region, f); });
         machine_work.phases.push_back(voxel_pass("region_of_interest", pass, kVoxelRegion));
     }
     if (!polygons_.empty() && reshade) {

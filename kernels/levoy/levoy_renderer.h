@@ -15,13 +15,13 @@
 // non-empty set stay, rays start at the depth buffer's first non-empty sample.
 
 #include "kernels/levoy/binary_pyramid.h"
-#include "kernels/levoy/levoy_settings.h"
 #include "kernels/levoy/levoy_costs.h"
+#include "kernels/levoy/levoy_settings.h"
 #include "kernels/levoy/voxel_blocks.h"
 #include "kernels/render/camera.h"
+#include "kernels/render/image.h"
 #include "kernels/render/polygon.h"
 #include "kernels/render/region_of_interest.h"
-#include "kernels/render/image.h"
 #include "sim/timing/frame_timing.h"
 #include "sim/timing/recorded_work.h"
 
@@ -36,7 +36,7 @@ struct LevoyFrameInputs {
     ColorMap colors;
     PhongLighting lighting;
     bool classification_changed = true;
-    bool lighting_changed = true;  // lights or colours
+    bool lighting_changed = true;            // lights or colours
     std::optional<RegionOfInterest> region;  // the volume-of-interest tool, when in use
 };
 
@@ -58,7 +58,7 @@ struct RayCastReport : RayCastCounts {
     std::vector<Tick> pass_end;  // when each refinement pass's last tile reached the frame buffer
     std::uint64_t cache_hits = 0;
     std::uint64_t cache_misses = 0;
-    std::uint64_t requests = 0;  // fetch requests to renderers
+    std::uint64_t requests = 0;          // fetch requests to renderers
     std::uint64_t blocks_refreshed = 0;  // asked for again, in refresh messages, after the PPs reshaded
     std::uint64_t context_switches = 0;
     Tick gp_busy = 0;
@@ -106,9 +106,11 @@ struct LevoyFrameTiming {
     PpFrameReport pixel_processors;
     PpProgramPass region;  // the volume-of-interest pass, when it ran
     GeometryReport geometry;
-    Tick pyramid_ps = 0;   // distributing the emptiness bits and building
+    Tick pyramid_ps = 0;  // distributing the emptiness bits and building
     RayCastReport ray_cast;
-    Tick crude_ps() const { return ray_cast.pass_end.empty() ? end_ps - start_ps : ray_cast.pass_end.front() - start_ps; }
+    Tick crude_ps() const {
+        return ray_cast.pass_end.empty() ? end_ps - start_ps : ray_cast.pass_end.front() - start_ps;
+    }
     Tick refined_ps() const { return end_ps - start_ps; }
     Tick duration_ps() const { return end_ps - start_ps; }
 };
@@ -126,7 +128,7 @@ struct LevoyFrameReport : LevoyFrameTiming {
     bool caches_refreshed = false;    // ... and the GPs asked again for the blocks they had used (levoy.after_reshade)
     bool depth_buffer_used = false;
     std::vector<RefinementPassReport> passes;
-    Image final_image;  // the last pass's picture
+    Image final_image;    // the last pass's picture
     LevoyFrameWork work;  // what the frame asked of the machine, to time again elsewhere
     Tick duration_ps() const { return end_ps - start_ps; }
 };
@@ -142,7 +144,8 @@ struct LevoyImageSettings {
 class LevoyRenderer {
 public:
     // Places the volume in the PPs (InputError if it does not fit).
-    LevoyRenderer(Machine& machine, const Volume& volume, const LevoySettings& settings, const LevoyImageSettings& image);
+    LevoyRenderer(Machine& machine, const Volume& volume, const LevoySettings& settings,
+                  const LevoyImageSettings& image);
 
     // Polygons to scan-convert into the volume (voxel coordinates), from the next frame on. With
     // polygons, any change that reruns a PP pass reruns classification and shading too, so that the

@@ -16,7 +16,10 @@ namespace pp5 {
 
 RayCaster::RayCaster(const ShadedCodes& volume, const BinaryPyramid& pyramid, const VoxelBlocks& blocks,
                      const Camera& camera, const RayCastSettings& settings)
-    : volume_(volume), pyramid_(pyramid), blocks_(blocks), settings_(settings),
+    : volume_(volume),
+      pyramid_(pyramid),
+      blocks_(blocks),
+      settings_(settings),
       rays_((validate_camera(camera), camera), settings.width, settings.height) {
     if (pyramid.levels() == 0 || pyramid.cell_dims(0) != volume.dims() - 1)
         throw std::invalid_argument("ray caster: pyramid of another volume");
@@ -58,7 +61,8 @@ void RayCaster::cast_one(std::uint32_t pixel, std::uint32_t start, glm::vec4& co
     const glm::vec4 code_max = volume_.code_max();
     // A leap stops short of the empty cell's exit by a little more than the error in a sample's
     // position, so no sample past the exit is ever passed over; one that falls short is tested again.
-    const float fastest = std::max({std::abs(ray->direction.x), std::abs(ray->direction.y), std::abs(ray->direction.z)});
+    const float fastest =
+        std::max({std::abs(ray->direction.x), std::abs(ray->direction.y), std::abs(ray->direction.z)});
     const float margin = 2e-3f / fastest;
     const int top = pyramid_.levels() - 1;
 
@@ -118,7 +122,8 @@ void RayCaster::cast_one(std::uint32_t pixel, std::uint32_t start, glm::vec4& co
 }
 
 CastBatch RayCaster::cast(std::span<const std::uint32_t> pixels, std::span<const std::uint32_t> start_samples) const {
-    const std::size_t image_pixels = static_cast<std::size_t>(settings_.width) * static_cast<std::size_t>(settings_.height);
+    const std::size_t image_pixels =
+        static_cast<std::size_t>(settings_.width) * static_cast<std::size_t>(settings_.height);
     if (!start_samples.empty() && start_samples.size() != image_pixels)
         throw std::invalid_argument("ray caster: a depth buffer of another image size");
     CastBatch batch;
@@ -141,11 +146,13 @@ CastBatch RayCaster::cast(std::span<const std::uint32_t> pixels, std::span<const
     });
     std::size_t total = 0;
     for (const auto& t : chunk_touches) total += t.size();
-    if (total >= std::numeric_limits<std::uint32_t>::max()) throw std::length_error("ray caster: too many block look-ups in one batch");
+    if (total >= std::numeric_limits<std::uint32_t>::max())
+        throw std::length_error("ray caster: too many block look-ups in one batch");
     batch.touches.reserve(total);
     for (std::size_t c = 0; c < chunks; ++c) {
         const auto offset = static_cast<std::uint32_t>(batch.touches.size());
-        for (std::size_t i = c * kChunk; i < std::min(pixels.size(), (c + 1) * kChunk); ++i) batch.rays[i].first_touch += offset;
+        for (std::size_t i = c * kChunk; i < std::min(pixels.size(), (c + 1) * kChunk); ++i)
+            batch.rays[i].first_touch += offset;
         batch.touches.insert(batch.touches.end(), chunk_touches[c].begin(), chunk_touches[c].end());
     }
     return batch;

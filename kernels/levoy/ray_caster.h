@@ -49,9 +49,9 @@ struct RayWork {
     std::uint32_t pixel = 0;        // y * width + x
     std::uint32_t first_touch = 0;  // into CastBatch::touches
     std::uint32_t touch_count = 0;
-    std::uint32_t tail_samples = 0;        // after the last look-up
+    std::uint32_t tail_samples = 0;  // after the last look-up
     std::uint32_t tail_pyramid_steps = 0;
-    std::uint32_t samples = 0;             // in all
+    std::uint32_t samples = 0;  // in all
     std::uint32_t samples_skipped = 0;
     std::uint32_t pyramid_steps = 0;
     std::uint32_t first_sample = 0;  // the first sample not known empty (the depth a depth buffer keeps)

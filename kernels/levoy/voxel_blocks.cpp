@@ -42,7 +42,8 @@ std::shared_ptr<const BlockDirectory> VoxelBlocks::directory() const {
     for (std::uint64_t block = 0; block < block_count(); ++block) {
         const auto bx = static_cast<std::uint64_t>(blocks_.x);
         const auto by = static_cast<std::uint64_t>(blocks_.y);
-        const glm::ivec3 b{static_cast<int>(block % bx), static_cast<int>(block / bx % by), static_cast<int>(block / (bx * by))};
+        const glm::ivec3 b{static_cast<int>(block % bx), static_cast<int>(block / bx % by),
+                           static_cast<int>(block / (bx * by))};
         const glm::ivec3 lo = b * block_cells_;
         const glm::ivec3 hi = glm::min(lo + block_cells_, placement_.volume_dims() - 1);  // inclusive
         // Within one z and one tile of PP columns x rows, every voxel is on the same renderer.
@@ -54,17 +55,20 @@ std::shared_ptr<const BlockDirectory> VoxelBlocks::directory() const {
                     const int x_end = std::min(hi.x + 1, (x / columns + 1) * columns);
                     const auto renderer = static_cast<std::uint32_t>(placement_.locate({x, y, z}).renderer);
                     const auto voxels = static_cast<std::uint32_t>((x_end - x) * (y_end - y));
-                    const auto it = std::find_if(by_renderer.begin(), by_renderer.end(), [&](const BlockPart& p) { return p.renderer == renderer; });
+                    const auto it = std::find_if(by_renderer.begin(), by_renderer.end(),
+                                                 [&](const BlockPart& p) { return p.renderer == renderer; });
                     if (it == by_renderer.end()) by_renderer.push_back(BlockPart{renderer, voxels});
                     else it->units += voxels;
                 }
             }
         }
-        std::sort(by_renderer.begin(), by_renderer.end(), [](const BlockPart& p, const BlockPart& q) { return p.renderer < q.renderer; });
+        std::sort(by_renderer.begin(), by_renderer.end(),
+                  [](const BlockPart& p, const BlockPart& q) { return p.renderer < q.renderer; });
         all.insert(all.end(), by_renderer.begin(), by_renderer.end());
         first.push_back(static_cast<std::uint32_t>(all.size()));
     }
-    return std::make_shared<const BlockDirectory>(block_bits(), static_cast<std::uint32_t>(voxel_bits_), std::move(first), std::move(all));
+    return std::make_shared<const BlockDirectory>(block_bits(), static_cast<std::uint32_t>(voxel_bits_),
+                                                  std::move(first), std::move(all));
 }
 
 }  // namespace pp5

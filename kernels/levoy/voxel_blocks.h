@@ -22,7 +22,10 @@ public:
     VoxelBlocks(const VoxelPlacement& placement, int block_cells, int voxel_bits);
 
     int block_cells() const { return block_cells_; }
-    std::uint64_t block_count() const { return static_cast<std::uint64_t>(blocks_.x) * static_cast<std::uint64_t>(blocks_.y) * static_cast<std::uint64_t>(blocks_.z); }
+    std::uint64_t block_count() const {
+        return static_cast<std::uint64_t>(blocks_.x) * static_cast<std::uint64_t>(blocks_.y) *
+               static_cast<std::uint64_t>(blocks_.z);
+    }
     // The cache's unit: a whole block's voxels (blocks at the volume's far faces are smaller, but take a
     // whole cache block).
     std::uint64_t block_bits() const;
@@ -30,7 +33,8 @@ public:
 
     // Called for every sample a GP resamples: three table look-ups instead of three divisions.
     std::uint32_t block_of(glm::ivec3 cell) const {
-        return x_part_[static_cast<std::size_t>(cell.x)] + y_part_[static_cast<std::size_t>(cell.y)] + z_part_[static_cast<std::size_t>(cell.z)];
+        return x_part_[static_cast<std::size_t>(cell.x)] + y_part_[static_cast<std::size_t>(cell.y)] +
+               z_part_[static_cast<std::size_t>(cell.z)];
     }
     // Every block's parts (the renderers holding its voxels, with how many each, in renderer order),
     // for the timing engine: a unit is one voxel's colour and opacity.

@@ -16,15 +16,20 @@ const ParamGroup& perm_cost_params() {
         flops("sample_step_flops", 6, "Step to the next sample", "three adds and the loop test, as Levoy's");
         flops("lookup_flops", 6, "Find the sample's quantized position: the three fractions' QBM-ths",
               "three subtractions of the floor and three multiplies");
-        cycles("lookup_cycles", 8, "Read the three mapping tables, combine the digits, read the index volume and the record",
+        cycles("lookup_cycles", 8,
+               "Read the three mapping tables, combine the digits, read the index volume and the record",
                "three table loads, two multiply-adds of the digits, the index load and the sign decode");
-        flops("classification_flops", 8, "Classify the looked-up value and gradient magnitude", "as Levoy's per-voxel classification");
-        flops("shading_flops", 40, "Phong-shade the sample from the looked-up gradient", "as Levoy's per-voxel shading");
+        flops("classification_flops", 8, "Classify the looked-up value and gradient magnitude",
+              "as Levoy's per-voxel classification");
+        flops("shading_flops", 40, "Phong-shade the sample from the looked-up gradient",
+              "as Levoy's per-voxel shading");
         flops("compositing_flops", 10, "Composite the sample front to back", "as Levoy's");
-        cycles("index_test_cycles", 4, "Find a sample's cell empty in the index volume", "the cell's index, a load and a compare");
+        cycles("index_test_cycles", 4, "Find a sample's cell empty in the index volume",
+               "the cell's index, a load and a compare");
         cycles("leap_cycles_per_sample", 1, "Leap one sample of empty space through the occupancy distance map",
                "a distance-map read every few samples and the jump, spread over the samples leapt");
-        flops("depth_cue_flops", 4, "Depth-cue a PP-shaded sample: its depth along the view, then the colour over k1 + k2 d",
+        flops("depth_cue_flops", 4,
+              "Depth-cue a PP-shaded sample: its depth along the view, then the colour over k1 + k2 d",
               "a dot product's three multiply-adds and one divide (perm.shading = pp only)");
         flops("pixel_fill_flops", 18, "Pack one pixel for the frame buffer", "as Levoy's");
         return g;
@@ -36,12 +41,14 @@ std::vector<GpOpKind> perm_op_kinds() {
     const auto key = [](const char* name) { return std::string("gp_cost.perm.") + name; };
     return {
         {"perm.ray_setup", {key("ray_setup_flops")}},
-        {"perm.sample", {key("sample_step_flops"), key("lookup_flops"), key("lookup_cycles"), key("classification_flops"),
-                         key("shading_flops"), key("compositing_flops")}},
+        {"perm.sample",
+         {key("sample_step_flops"), key("lookup_flops"), key("lookup_cycles"), key("classification_flops"),
+          key("shading_flops"), key("compositing_flops")}},
         {"perm.empty_sample", {key("sample_step_flops"), key("index_test_cycles")}},
         {"perm.leaped_sample", {key("leap_cycles_per_sample")}},
         {"perm.pixel", {key("pixel_fill_flops")}},
-        {"perm.shaded_sample", {key("sample_step_flops"), key("lookup_flops"), key("lookup_cycles"), key("compositing_flops")}},
+        {"perm.shaded_sample",
+         {key("sample_step_flops"), key("lookup_flops"), key("lookup_cycles"), key("compositing_flops")}},
         {"perm.depth_cue", {key("depth_cue_flops")}},
         {"perm.position_classification", {key("classification_flops")}},
         {"perm.position_shading", {key("shading_flops")}},

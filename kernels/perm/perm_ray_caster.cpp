@@ -38,12 +38,16 @@ PermRayCaster::PermRayCaster(const PermStructure& structure, glm::vec3 spacing, 
     : structure_(&structure), spacing_(spacing), settings_(settings), shaded_(shaded) {
     // A block may be leapt over when none of its cells is a candidate: mark every candidate's corners.
     const glm::ivec3 d = structure.dims();
-    std::vector<float> marks(static_cast<std::size_t>(d.x) * static_cast<std::size_t>(d.y) * static_cast<std::size_t>(d.z), 0.0f);
+    std::vector<float> marks(
+        static_cast<std::size_t>(d.x) * static_cast<std::size_t>(d.y) * static_cast<std::size_t>(d.z), 0.0f);
     for (std::uint32_t c = 0; c < structure.candidates(); ++c) {
         const glm::ivec3 o = structure.cell_origin(c);
         for (int k = 0; k < 8; ++k) {
             const glm::ivec3 v = o + glm::ivec3(k & 1, (k >> 1) & 1, k >> 2);
-            marks[static_cast<std::size_t>(v.x) + static_cast<std::size_t>(d.x) * (static_cast<std::size_t>(v.y) + static_cast<std::size_t>(d.y) * static_cast<std::size_t>(v.z))] = 1.0f;
+            marks[static_cast<std::size_t>(v.x) +
+                  static_cast<std::size_t>(d.x) *
+                      (static_cast<std::size_t>(v.y) + static_cast<std::size_t>(d.y) * static_cast<std::size_t>(v.z))] =
+                1.0f;
         }
     }
     occupancy_ = occupancy_from_opacity(d, marks);
@@ -56,7 +60,8 @@ PermRayCaster::PermRayCaster(const PermStructure& structure, glm::vec3 spacing, 
                 parts.push_back(BlockPart{renderer_of_cell(structure.cell_origin(c)), words});
             }
             first_part.push_back(static_cast<std::uint32_t>(parts.size()));
-            return std::make_shared<const BlockDirectory>(std::uint64_t{words} * 32, 32, std::move(first_part), std::move(parts));
+            return std::make_shared<const BlockDirectory>(std::uint64_t{words} * 32, 32, std::move(first_part),
+                                                          std::move(parts));
         };
         if (shaded_ != nullptr) {
             records_ = directory(shaded_->fetched_words(false));
@@ -67,8 +72,8 @@ PermRayCaster::PermRayCaster(const PermStructure& structure, glm::vec3 spacing, 
     }
 }
 
-PermFrame PermRayCaster::cast(const Classification& classification, const ColorMap& colors, const PhongLighting& lighting,
-                              const Camera& camera, const PermCastSettings& cs) const {
+PermFrame PermRayCaster::cast(const Classification& classification, const ColorMap& colors,
+                              const PhongLighting& lighting, const Camera& camera, const PermCastSettings& cs) const {
     const PermStructure& perm = *structure_;
     const glm::ivec3 dims = perm.dims();
     const detail::MarchFrame frame(dims, spacing_, cs.sample_step);
@@ -92,7 +97,7 @@ PermFrame PermRayCaster::cast(const Classification& classification, const ColorM
                 RayRecord record;
                 FrontToBack color(cs.sample_step, cs.termination_opacity);
                 ++result.counts.rays;
-                std::int64_t current = -1;  // the cell whose record the ray holds
+                std::int64_t current = -1;                       // the cell whose record the ray holds
                 std::uint32_t samples = 0, empty = 0, cued = 0;  // since the last fetch
                 std::uint64_t ray_samples = 0, ray_empty = 0;
                 if (const auto ray = detail::clip_to_volume(rays.ray(px, py), frame)) {
@@ -120,14 +125,18 @@ PermFrame PermRayCaster::cast(const Classification& classification, const ColorM
                             if (!(rgba.a > 0.0f)) return false;
                             glm::vec3 rgb(rgba);
                             if (cue) {
-                                const glm::vec3 ambient = colors.color(perm.density_at(static_cast<std::uint32_t>(candidate), at)) * lighting.ambient;
-                                const float divisor = lighting.depth_cue_k1 + lighting.depth_cue_k2 * view.depth(p * spacing_);
+                                const glm::vec3 ambient =
+                                    colors.color(perm.density_at(static_cast<std::uint32_t>(candidate), at)) *
+                                    lighting.ambient;
+                                const float divisor =
+                                    lighting.depth_cue_k1 + lighting.depth_cue_k2 * view.depth(p * spacing_);
                                 rgb = ambient + glm::max(rgb - ambient, glm::vec3(0.0f)) / divisor;
                                 ++cued;
                             }
                             return color.add(glm::clamp(rgb, 0.0f, 1.0f), rgba.a);
                         }
-                        const PermStructure::Sample s = perm.lookup(static_cast<std::uint32_t>(candidate), fraction, &result.counts.carried_lookups);
+                        const PermStructure::Sample s = perm.lookup(static_cast<std::uint32_t>(candidate), fraction,
+                                                                    &result.counts.carried_lookups);
                         const float alpha = classification.opacity(s.value, glm::length(s.gradient));
                         if (!(alpha > 0.0f)) return false;
                         return color.add(shader.shade(s.value, s.gradient, p * spacing_), alpha);
@@ -152,7 +161,8 @@ PermFrame PermRayCaster::cast(const Classification& classification, const ColorM
     work.assignment = TaskAssignment::Static;
     work.blocks = cue ? cued_records_ : records_;
     constexpr int kRowSkew = 7;  // as Levoy's kernel: each row of tile keys skewed, so a GP's tiles spread out
-    const auto step = [&](std::uint32_t samples, std::uint32_t empty, std::uint32_t leaped, std::uint32_t cued, std::uint32_t block, bool setup) {
+    const auto step = [&](std::uint32_t samples, std::uint32_t empty, std::uint32_t leaped, std::uint32_t cued,
+                          std::uint32_t block, bool setup) {
         GpStep s{static_cast<std::uint32_t>(work.ops.size()), 0, records_ ? block : kNoFetch};
         if (setup) append_ops(work.ops, kPermRaySetup, 1);
         append_ops(work.ops, shaded_ != nullptr ? kPermShadedSample : kPermSample, samples);
@@ -169,7 +179,8 @@ PermFrame PermRayCaster::cast(const Classification& classification, const ColorM
         {
             const int x0 = (t % tiles_x) * tile, y0 = (t / tiles_x) * tile;
             task.screen = {static_cast<std::uint16_t>(x0), static_cast<std::uint16_t>(y0),
-                           static_cast<std::uint16_t>(std::min(cs.width, x0 + tile) - x0), static_cast<std::uint16_t>(std::min(cs.height, y0 + tile) - y0)};
+                           static_cast<std::uint16_t>(std::min(cs.width, x0 + tile) - x0),
+                           static_cast<std::uint16_t>(std::min(cs.height, y0 + tile) - y0)};
         }
         task.first_item = static_cast<std::uint32_t>(work.items.size());
         for (const RayRecord& r : result.rays) {

@@ -33,7 +33,7 @@ struct PermCastCounts {
     std::uint64_t samples = 0;        // in candidate cells: looked up
     std::uint64_t empty_samples = 0;  // in cells that are no candidate
     std::uint64_t leaped_samples = 0;
-    std::uint64_t cell_fetches = 0;   // cells a ray entered (fetches through the GP's cache)
+    std::uint64_t cell_fetches = 0;     // cells a ray entered (fetches through the GP's cache)
     std::uint64_t carried_lookups = 0;  // paper rule: a digit carried into the next axis
 };
 
@@ -57,8 +57,8 @@ public:
     // of the records, and must outlive the caster.
     PermRayCaster(const PermStructure& structure, glm::vec3 spacing, const PermSettings& settings,
                   std::function<std::uint32_t(glm::ivec3)> renderer_of_cell, const PermRecordShading* shaded = nullptr);
-    PermFrame cast(const Classification& classification, const ColorMap& colors, const PhongLighting& lighting, const Camera& camera,
-                   const PermCastSettings& settings) const;
+    PermFrame cast(const Classification& classification, const ColorMap& colors, const PhongLighting& lighting,
+                   const Camera& camera, const PermCastSettings& settings) const;
     // What every GP holds to cast, wherever the records live: the occupancy distance map it leaps
     // empty space with, a byte a block (distances reach OccupancyGrid::kMaxDistance).
     std::uint64_t distance_map_bytes() const { return occupancy_.block_count(); }
@@ -69,8 +69,8 @@ private:
     PermSettings settings_;
     OccupancyGrid occupancy_;
     const PermRecordShading* shaded_;
-    std::shared_ptr<const BlockDirectory> records_;        // null: no fetches
-    std::shared_ptr<const BlockDirectory> cued_records_;   // PP-shaded records with their densities
+    std::shared_ptr<const BlockDirectory> records_;       // null: no fetches
+    std::shared_ptr<const BlockDirectory> cued_records_;  // PP-shaded records with their densities
 };
 
 }  // namespace pp5

@@ -30,12 +30,14 @@ namespace pp5 {
 class PermRecordShading {
 public:
     // What the records take in each renderer's backing store: whole slots of `layout` bits per PP.
-    static std::uint64_t backing_store_bits_needed(std::uint64_t positions_on_renderer, int pps, const VoxelRecordLayout& layout);
+    static std::uint64_t backing_store_bits_needed(std::uint64_t positions_on_renderer, int pps,
+                                                   const VoxelRecordLayout& layout);
 
     // Places every record's density positions on its renderer (renderer_of gives it per candidate)
     // and loads their values and gradients. Throws InputError (renderer.backing_store_bits) when they
     // do not fit.
-    PermRecordShading(Machine& machine, const PermStructure& structure, glm::vec3 spacing, const VoxelRecordLayout& layout,
+    PermRecordShading(Machine& machine, const PermStructure& structure, glm::vec3 spacing,
+                      const VoxelRecordLayout& layout,
                       const std::function<std::uint32_t(std::uint32_t candidate)>& renderer_of);
 
     // The programs' runs on every renderer, recorded; each leaves its results in the slots, and
@@ -66,7 +68,7 @@ private:
     std::vector<std::vector<std::uint32_t>> records_;  // per renderer, its candidates in order
     std::vector<int> slots_;                           // per renderer
     std::uint64_t positions_ = 0;
-    std::vector<std::uint16_t> results_;               // per candidate and position: red, green, blue, opacity codes
+    std::vector<std::uint16_t> results_;  // per candidate and position: red, green, blue, opacity codes
 };
 
 }  // namespace pp5

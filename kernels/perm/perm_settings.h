@@ -29,13 +29,13 @@ struct PermSettings {
     int density_positions = 5;   // D_Nqc: quantized positions per axis for the density
     int gradient_positions = 5;  // G_Nqc: ... for the gradient
     QuantizedPositions positions = QuantizedPositions::Centers;
-    int qbm = 1000;              // entries of each axis's mapping table
+    int qbm = 1000;  // entries of each axis's mapping table
     CandidateRule candidates = CandidateRule::AnyCorner;
-    int index_bytes = 2;         // bytes per index-volume entry (2: per-slice indices and a summed table)
+    int index_bytes = 2;  // bytes per index-volume entry (2: per-slice indices and a summed table)
     PermResidence residence = PermResidence::Renderers;
     PermShading shading = PermShading::Gp;
-    int tile_pixels = 16;        // edge of the screen tiles dealt to GPs
-    int reduction_cells = 0;     // t_e: keep candidates at most this many opaque cells deep (0: keep all)
+    int tile_pixels = 16;            // edge of the screen tiles dealt to GPs
+    int reduction_cells = 0;         // t_e: keep candidates at most this many opaque cells deep (0: keep all)
     double reduction_opacity = 0.5;  // alpha_e: a cell counts as opaque when no sample in it is below this
 
     static const ParamGroup& params();

@@ -14,13 +14,16 @@ namespace pp5 {
 
 namespace {
 
-std::uint64_t cube(int n) { return static_cast<std::uint64_t>(n) * static_cast<std::uint64_t>(n) * static_cast<std::uint64_t>(n); }
+std::uint64_t cube(int n) {
+    return static_cast<std::uint64_t>(n) * static_cast<std::uint64_t>(n) * static_cast<std::uint64_t>(n);
+}
 
 // Trilinear interpolation inside one cell from its eight corners (index by x + 2y + 4z).
 template <class T>
 T in_cell(const T (&c)[8], glm::vec3 w) {
     const auto lerp = [](const T& a, const T& b, float t) { return a + (b - a) * t; };
-    const T x00 = lerp(c[0], c[1], w.x), x10 = lerp(c[2], c[3], w.x), x01 = lerp(c[4], c[5], w.x), x11 = lerp(c[6], c[7], w.x);
+    const T x00 = lerp(c[0], c[1], w.x), x10 = lerp(c[2], c[3], w.x), x01 = lerp(c[4], c[5], w.x),
+            x11 = lerp(c[6], c[7], w.x);
     return lerp(lerp(x00, x10, w.y), lerp(x01, x11, w.y), w.z);
 }
 
@@ -29,16 +32,20 @@ T in_cell(const T (&c)[8], glm::vec3 w) {
 // cells whose every sample is at least alpha_e opaque is never reached before the ray terminates.
 // Sources are the outside, the cells connected to it through non-candidates, and every candidate that
 // is not opaque (rays pass through those); cavities enclosed by opaque cells are not sources.
-void reduce(const Volume& volume, const GradientField& gradients, const Classification& classification, const PermSettings& s,
-            std::vector<std::vector<glm::ivec3>>& per_slice) {
+void reduce(const Volume& volume, const GradientField& gradients, const Classification& classification,
+            const PermSettings& s, std::vector<std::vector<glm::ivec3>>& per_slice) {
     const glm::ivec3 c = volume.dims() - 1;
     const auto cell = [&](glm::ivec3 q) {
-        return static_cast<std::size_t>(q.x) + static_cast<std::size_t>(c.x) * (static_cast<std::size_t>(q.y) + static_cast<std::size_t>(c.y) * static_cast<std::size_t>(q.z));
+        return static_cast<std::size_t>(q.x) +
+               static_cast<std::size_t>(c.x) *
+                   (static_cast<std::size_t>(q.y) + static_cast<std::size_t>(c.y) * static_cast<std::size_t>(q.z));
     };
-    const std::size_t cells = static_cast<std::size_t>(c.x) * static_cast<std::size_t>(c.y) * static_cast<std::size_t>(c.z);
+    const std::size_t cells =
+        static_cast<std::size_t>(c.x) * static_cast<std::size_t>(c.y) * static_cast<std::size_t>(c.z);
     enum : std::uint8_t { kEmpty, kTranslucent, kOpaque };
     std::vector<std::uint8_t> kind(cells, kEmpty);
-    const PositionTable density(s.density_positions, s.qbm, s.positions), gradient(s.gradient_positions, s.qbm, s.positions);
+    const PositionTable density(s.density_positions, s.qbm, s.positions),
+        gradient(s.gradient_positions, s.qbm, s.positions);
     pp5::parallel_for(std::size_t{0}, per_slice.size(), [&](std::size_t z) {
         for (const glm::ivec3& o : per_slice[z]) {
             float values[8];
@@ -53,13 +60,15 @@ void reduce(const Volume& volume, const GradientField& gradients, const Classifi
             float least_gradient = 1e30f;
             const int gn = gradient.positions(), dn = density.positions();
             for (int i = 0; i < gn * gn * gn; ++i) {
-                const glm::vec3 w(static_cast<float>(gradient.offset(i % gn)), static_cast<float>(gradient.offset((i / gn) % gn)),
+                const glm::vec3 w(static_cast<float>(gradient.offset(i % gn)),
+                                  static_cast<float>(gradient.offset((i / gn) % gn)),
                                   static_cast<float>(gradient.offset(i / (gn * gn))));
                 least_gradient = std::min(least_gradient, glm::length(in_cell(grads, w)));
             }
             float least = 1;
             for (int i = 0; i < dn * dn * dn && least >= s.reduction_opacity; ++i) {
-                const glm::vec3 w(static_cast<float>(density.offset(i % dn)), static_cast<float>(density.offset((i / dn) % dn)),
+                const glm::vec3 w(static_cast<float>(density.offset(i % dn)),
+                                  static_cast<float>(density.offset((i / dn) % dn)),
                                   static_cast<float>(density.offset(i / (dn * dn))));
                 least = std::min(least, classification.opacity(in_cell(values, w), least_gradient));
             }
@@ -87,13 +96,17 @@ void reduce(const Volume& volume, const GradientField& gradients, const Classifi
                 }
             }
     const auto coords = [&](std::size_t i) {
-        return glm::ivec3(static_cast<int>(i % static_cast<std::size_t>(c.x)), static_cast<int>((i / static_cast<std::size_t>(c.x)) % static_cast<std::size_t>(c.y)),
+        return glm::ivec3(static_cast<int>(i % static_cast<std::size_t>(c.x)),
+                          static_cast<int>((i / static_cast<std::size_t>(c.x)) % static_cast<std::size_t>(c.y)),
                           static_cast<int>(i / (static_cast<std::size_t>(c.x) * static_cast<std::size_t>(c.y))));
     };
-    const auto inside = [&](glm::ivec3 q) { return q.x >= 0 && q.y >= 0 && q.z >= 0 && q.x < c.x && q.y < c.y && q.z < c.z; };
+    const auto inside = [&](glm::ivec3 q) {
+        return q.x >= 0 && q.y >= 0 && q.z >= 0 && q.x < c.x && q.y < c.y && q.z < c.z;
+    };
     for (std::size_t k = 0; k < open.size(); ++k) {
         const glm::ivec3 q = coords(open[k]);
-        for (const glm::ivec3 step : {glm::ivec3(1, 0, 0), glm::ivec3(-1, 0, 0), glm::ivec3(0, 1, 0), glm::ivec3(0, -1, 0), glm::ivec3(0, 0, 1), glm::ivec3(0, 0, -1)}) {
+        for (const glm::ivec3 step : {glm::ivec3(1, 0, 0), glm::ivec3(-1, 0, 0), glm::ivec3(0, 1, 0),
+                                      glm::ivec3(0, -1, 0), glm::ivec3(0, 0, 1), glm::ivec3(0, 0, -1)}) {
             const glm::ivec3 n = q + step;
             if (!inside(n)) continue;
             const std::size_t i = cell(n);
@@ -104,7 +117,8 @@ void reduce(const Volume& volume, const GradientField& gradients, const Classifi
         }
     }
     // Depth through opaque cells: each source's neighbours first (stable order keeps it deterministic).
-    std::sort(frontier.begin(), frontier.end(), [&](std::size_t a, std::size_t b) { return depth[a] != depth[b] ? depth[a] < depth[b] : a < b; });
+    std::sort(frontier.begin(), frontier.end(),
+              [&](std::size_t a, std::size_t b) { return depth[a] != depth[b] ? depth[a] < depth[b] : a < b; });
     for (std::size_t k = 0; k < frontier.size(); ++k) {
         const std::size_t from = frontier[k];
         const glm::ivec3 q = coords(from);
@@ -131,18 +145,22 @@ void reduce(const Volume& volume, const GradientField& gradients, const Classifi
 }  // namespace
 
 std::uint64_t PermMemory::index_volume_bytes() const {
-    return static_cast<std::uint64_t>(dims.x) * static_cast<std::uint64_t>(dims.y) * static_cast<std::uint64_t>(dims.z) *
-           static_cast<std::uint64_t>(index_bytes);
+    return static_cast<std::uint64_t>(dims.x) * static_cast<std::uint64_t>(dims.y) *
+           static_cast<std::uint64_t>(dims.z) * static_cast<std::uint64_t>(index_bytes);
 }
 
-std::uint64_t PermMemory::summed_table_bytes() const { return index_bytes == 2 ? 4 * static_cast<std::uint64_t>(dims.z) : 0; }
+std::uint64_t PermMemory::summed_table_bytes() const {
+    return index_bytes == 2 ? 4 * static_cast<std::uint64_t>(dims.z) : 0;
+}
 
 std::uint64_t PermMemory::record_bytes() const {
     return cube(density_positions) * static_cast<std::uint64_t>(density_bytes) +
            cube(gradient_positions) * static_cast<std::uint64_t>(3 * kGradientBytes + kSignBytes);
 }
 
-std::uint64_t PermMemory::total_bytes() const { return index_volume_bytes() + summed_table_bytes() + candidates * record_bytes(); }
+std::uint64_t PermMemory::total_bytes() const {
+    return index_volume_bytes() + summed_table_bytes() + candidates * record_bytes();
+}
 
 PositionTable::PositionTable(int positions, int qbm, QuantizedPositions rule)
     : positions_(positions), qbm_(qbm), rule_(rule), table_(static_cast<std::size_t>(qbm)) {
@@ -211,9 +229,10 @@ PermStructure PermStructure::build(const Volume& volume, const Classification& c
     if (s.reduction_cells > 0) reduce(volume, gradients, classification, s, per_slice);
     for (std::size_t z = 0; z < per_slice.size(); ++z) {
         if (s.index_bytes == 2 && per_slice[z].size() > 65535)
-            reject_field("perm.index_bytes",
-                         fmt::format("z slice {} holds {} candidate cells, more than 2-byte per-slice indices can number; use 4",
-                                     z, per_slice[z].size()));
+            reject_field(
+                "perm.index_bytes",
+                fmt::format("z slice {} holds {} candidate cells, more than 2-byte per-slice indices can number; use 4",
+                            z, per_slice[z].size()));
         for (const glm::ivec3& c : per_slice[z]) {
             p.index_[volume.index(c.x, c.y, c.z)] = static_cast<std::int32_t>(p.cell_origin_.size());
             p.cell_origin_.push_back(c);
@@ -239,13 +258,16 @@ PermStructure PermStructure::build(const Volume& volume, const Classification& c
         }
         const auto offset = [](const PositionTable& t, std::size_t i) {
             const int n_ = t.positions();
-            const int a = static_cast<int>(i % static_cast<std::size_t>(n_)), b = static_cast<int>((i / static_cast<std::size_t>(n_)) % static_cast<std::size_t>(n_)),
+            const int a = static_cast<int>(i % static_cast<std::size_t>(n_)),
+                      b = static_cast<int>((i / static_cast<std::size_t>(n_)) % static_cast<std::size_t>(n_)),
                       c = static_cast<int>(i / static_cast<std::size_t>(n_ * n_));
-            return glm::vec3(static_cast<float>(t.offset(a)), static_cast<float>(t.offset(b)), static_cast<float>(t.offset(c)));
+            return glm::vec3(static_cast<float>(t.offset(a)), static_cast<float>(t.offset(b)),
+                             static_cast<float>(t.offset(c)));
         };
         for (std::size_t i = 0; i < dn; ++i) {
             const float v = in_cell(values, offset(p.density_table_, i));
-            p.density_[m * dn + i] = static_cast<std::uint16_t>(std::lround(std::clamp((v - p.value_min_) / p.value_range_, 0.0f, 1.0f) * p.density_steps_));
+            p.density_[m * dn + i] = static_cast<std::uint16_t>(
+                std::lround(std::clamp((v - p.value_min_) / p.value_range_, 0.0f, 1.0f) * p.density_steps_));
         }
         for (std::size_t i = 0; i < gn; ++i) {
             const glm::vec3 g = in_cell(grads, offset(p.gradient_table_, i));
@@ -278,9 +300,11 @@ PermStructure::Sample PermStructure::lookup(std::uint32_t candidate, glm::vec3 f
 
 PermStructure::Sample PermStructure::at_density_position(std::uint32_t candidate, int position) const {
     const int n = density_table_.positions();
-    const glm::vec3 where(static_cast<float>(density_table_.offset(position % n)), static_cast<float>(density_table_.offset((position / n) % n)),
+    const glm::vec3 where(static_cast<float>(density_table_.offset(position % n)),
+                          static_cast<float>(density_table_.offset((position / n) % n)),
                           static_cast<float>(density_table_.offset(position / (n * n))));
-    return decode(candidate, static_cast<std::size_t>(position), static_cast<std::size_t>(combined(gradient_table_, where, nullptr)));
+    return decode(candidate, static_cast<std::size_t>(position),
+                  static_cast<std::size_t>(combined(gradient_table_, where, nullptr)));
 }
 
 PermStructure::Sample PermStructure::decode(std::uint32_t candidate, std::size_t di, std::size_t gi) const {
@@ -289,22 +313,27 @@ PermStructure::Sample PermStructure::decode(std::uint32_t candidate, std::size_t
     out.value = density_at(candidate, static_cast<int>(di));
     const std::size_t g = candidate * gn + gi;
     for (int a = 0; a < 3; ++a) {
-        const float magnitude = static_cast<float>(gradient_[g * 3 + static_cast<std::size_t>(a)]) / 255.0f * gradient_max_[a];
+        const float magnitude =
+            static_cast<float>(gradient_[g * 3 + static_cast<std::size_t>(a)]) / 255.0f * gradient_max_[a];
         out.gradient[a] = (signs_[g] >> (2 * a)) & 1u ? -magnitude : magnitude;
     }
     return out;
 }
 
 glm::vec3 PermStructure::snapped_density_fraction(glm::vec3 f) const {
-    return {static_cast<float>(density_table_.offset(std::min(density_table_.index(f.x), density_table_.positions() - 1))),
-            static_cast<float>(density_table_.offset(std::min(density_table_.index(f.y), density_table_.positions() - 1))),
-            static_cast<float>(density_table_.offset(std::min(density_table_.index(f.z), density_table_.positions() - 1)))};
+    return {
+        static_cast<float>(density_table_.offset(std::min(density_table_.index(f.x), density_table_.positions() - 1))),
+        static_cast<float>(density_table_.offset(std::min(density_table_.index(f.y), density_table_.positions() - 1))),
+        static_cast<float>(density_table_.offset(std::min(density_table_.index(f.z), density_table_.positions() - 1)))};
 }
 
 glm::vec3 PermStructure::snapped_gradient_fraction(glm::vec3 f) const {
-    return {static_cast<float>(gradient_table_.offset(std::min(gradient_table_.index(f.x), gradient_table_.positions() - 1))),
-            static_cast<float>(gradient_table_.offset(std::min(gradient_table_.index(f.y), gradient_table_.positions() - 1))),
-            static_cast<float>(gradient_table_.offset(std::min(gradient_table_.index(f.z), gradient_table_.positions() - 1)))};
+    return {static_cast<float>(
+                gradient_table_.offset(std::min(gradient_table_.index(f.x), gradient_table_.positions() - 1))),
+            static_cast<float>(
+                gradient_table_.offset(std::min(gradient_table_.index(f.y), gradient_table_.positions() - 1))),
+            static_cast<float>(
+                gradient_table_.offset(std::min(gradient_table_.index(f.z), gradient_table_.positions() - 1)))};
 }
 
 }  // namespace pp5

@@ -16,8 +16,8 @@
 
 #include <glm/vec3.hpp>
 
-#include <cstdint>
 #include <algorithm>
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -25,12 +25,12 @@ namespace pp5 {
 
 // The paper's memory equations, for any data set.
 struct PermMemory {
-    glm::ivec3 dims{0};          // the volume: S = x y z
-    std::uint64_t candidates = 0;  // N_cc
-    int density_positions = 5;   // D
-    int gradient_positions = 5;  // G
-    int index_bytes = 2;         // b_iv
-    int density_bytes = 1;       // b_db (the source's sample size: 1 for 8-bit data)
+    glm::ivec3 dims{0};                       // the volume: S = x y z
+    std::uint64_t candidates = 0;             // N_cc
+    int density_positions = 5;                // D
+    int gradient_positions = 5;               // G
+    int index_bytes = 2;                      // b_iv
+    int density_bytes = 1;                    // b_db (the source's sample size: 1 for 8-bit data)
     static constexpr int kGradientBytes = 1;  // b_gb: each magnitude in a byte
     static constexpr int kSignBytes = 1;      // b_sb: two bits per axis
 
@@ -85,15 +85,20 @@ public:
     };
     Sample lookup(std::uint32_t candidate, glm::vec3 fraction, std::uint64_t* carried = nullptr) const;
     // The density position (0 .. D^3 - 1) a sample at `fraction` of its cell reads, as lookup() does.
-    int density_position(glm::vec3 fraction, std::uint64_t* carried = nullptr) const { return combined(density_table_, fraction, carried); }
+    int density_position(glm::vec3 fraction, std::uint64_t* carried = nullptr) const {
+        return combined(density_table_, fraction, carried);
+    }
     // What the record holds at density position `position`: its density, and the gradient of the
     // gradient position whose sub-cube holds it (the same position when D = G). What the PPs shade.
     Sample at_density_position(std::uint32_t candidate, int position) const;
     float density_at(std::uint32_t candidate, int position) const {
         const std::size_t dn = static_cast<std::size_t>(density_positions_per_record());
-        return value_min_ + static_cast<float>(density_[candidate * dn + static_cast<std::size_t>(position)]) / density_steps_ * value_range_;
+        return value_min_ + static_cast<float>(density_[candidate * dn + static_cast<std::size_t>(position)]) /
+                                density_steps_ * value_range_;
     }
-    int density_positions_per_record() const { return static_cast<int>(memory_.density_positions * memory_.density_positions * memory_.density_positions); }
+    int density_positions_per_record() const {
+        return static_cast<int>(memory_.density_positions * memory_.density_positions * memory_.density_positions);
+    }
     // The ranges the records were stored over: what a fixed-point copy of them must cover.
     float value_min() const { return value_min_; }
     float value_max() const { return value_min_ + value_range_; }
@@ -106,7 +111,9 @@ public:
 
 private:
     std::size_t volume_index(int x, int y, int z) const {
-        return static_cast<std::size_t>(x) + static_cast<std::size_t>(dims_.x) * (static_cast<std::size_t>(y) + static_cast<std::size_t>(dims_.y) * static_cast<std::size_t>(z));
+        return static_cast<std::size_t>(x) +
+               static_cast<std::size_t>(dims_.x) *
+                   (static_cast<std::size_t>(y) + static_cast<std::size_t>(dims_.y) * static_cast<std::size_t>(z));
     }
     int combined(const PositionTable& t, glm::vec3 fraction, std::uint64_t* carried) const;
 
@@ -114,17 +121,17 @@ private:
     PermMemory memory_;
     PositionTable density_table_{5, 1000, QuantizedPositions::Centers};
     PositionTable gradient_table_{5, 1000, QuantizedPositions::Centers};
-    std::vector<std::int32_t> index_;          // per voxel (the cell it is the origin of)
-    std::vector<glm::ivec3> cell_origin_;      // per candidate
-    std::vector<std::uint16_t> density_;       // per candidate, D^3 values quantized over the value range
-    std::vector<std::uint8_t> gradient_;       // per candidate, G^3 x 3 magnitudes
-    std::vector<std::uint8_t> signs_;          // per candidate, G^3 sign bytes
+    std::vector<std::int32_t> index_;      // per voxel (the cell it is the origin of)
+    std::vector<glm::ivec3> cell_origin_;  // per candidate
+    std::vector<std::uint16_t> density_;   // per candidate, D^3 values quantized over the value range
+    std::vector<std::uint8_t> gradient_;   // per candidate, G^3 x 3 magnitudes
+    std::vector<std::uint8_t> signs_;      // per candidate, G^3 sign bytes
     Sample decode(std::uint32_t candidate, std::size_t density_index, std::size_t gradient_index) const;
 
     float value_min_ = 0, value_range_ = 1;
     bool integer_values_ = true;
     float density_steps_ = 255;
-    glm::vec3 gradient_max_{0.0f};             // per axis, what magnitude 255 means
+    glm::vec3 gradient_max_{0.0f};  // per axis, what magnitude 255 means
     std::uint64_t unreduced_ = 0;
 };
 

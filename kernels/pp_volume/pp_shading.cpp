@@ -15,7 +15,6 @@ namespace pp5 {
 
 namespace {
 
-
 std::uint64_t mask(int bits) { return bits >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << bits) - 1; }
 
 // Calls visit(pp, voxel) for every PP of `frame` that holds a voxel of a volume of `dims`.
@@ -33,7 +32,8 @@ void for_each_voxel(const SlotFrame& frame, glm::ivec3 dims, const PpArrayShape&
 PpArrayShape shape_of(const Machine& machine) {
     const MachineConfig& c = machine.config();
     return {static_cast<int>(c.integer("renderer.count")), static_cast<int>(c.integer("renderer.pp_columns")),
-            static_cast<int>(c.integer("renderer.pp_rows")), static_cast<int>(c.integer("renderer.backing_store_bits"))};
+            static_cast<int>(c.integer("renderer.pp_rows")),
+            static_cast<int>(c.integer("renderer.backing_store_bits"))};
 }
 
 void refuse_unless_placed(const VoxelPlacement& placement) {
@@ -44,16 +44,18 @@ void refuse_unless_placed(const VoxelPlacement& placement) {
 
 const ParamGroup& VoxelStoreSettings::params() {
     static const ParamGroup group = [] {
-        ParamGroup g("voxel_store", "The volume in the renderers' backing stores: where each voxel goes, the bits of its fields");
+        ParamGroup g("voxel_store",
+                     "The volume in the renderers' backing stores: where each voxel goes, the bits of its fields");
         g.text("placement", "bricks", {"bricks", "slices"},
                "Which renderer, PP and slot holds each voxel: solid bricks per renderer, or z-slices dealt round-robin",
                Provenance::Default, "pp5sim: Levoy gives each PP 64 voxels but not their arrangement")
             .integer("value_bits", 8, "bits", 1, 16, "Bits of each voxel's scalar value in the backing store",
                      Provenance::Default,
-                     "pp5sim: one byte, as the 8-bit volumes are; Levoy 1989 gives 8 bytes a voxel for value, gradient, colour and "
+                     "pp5sim: one byte, as the 8-bit volumes are; Levoy 1989 gives 8 bytes a voxel for value, "
+                     "gradient, colour and "
                      "opacity together, not how they divide")
-            .integer("gradient_bits", 8, "bits", 2, 16, "Bits of each signed gradient component",
-                     Provenance::Default, "pp5sim: one byte each fills Levoy's 8-byte budget")
+            .integer("gradient_bits", 8, "bits", 2, 16, "Bits of each signed gradient component", Provenance::Default,
+                     "pp5sim: one byte each fills Levoy's 8-byte budget")
             .integer("color_bits", 8, "bits", 1, 16, "Bits of each shaded colour channel", Provenance::Default,
                      "pp5sim: one byte each fills Levoy's 8-byte budget")
             .integer("opacity_bits", 8, "bits", 1, 16, "Bits of each voxel's opacity", Provenance::Default,
@@ -102,9 +104,10 @@ void PpShading::load_volume(const Volume& volume) {
             if (!frame.used) continue;
             const int base = slot * record_bits;
             const PpBackingWriter value = array.backing_writer(base + layout.value_offset(), layout.value_bits);
-            const PpBackingWriter gradient[3] = {array.backing_writer(base + layout.gradient_offset(0), layout.gradient_bits),
-                                                 array.backing_writer(base + layout.gradient_offset(1), layout.gradient_bits),
-                                                 array.backing_writer(base + layout.gradient_offset(2), layout.gradient_bits)};
+            const PpBackingWriter gradient[3] = {
+                array.backing_writer(base + layout.gradient_offset(0), layout.gradient_bits),
+                array.backing_writer(base + layout.gradient_offset(1), layout.gradient_bits),
+                array.backing_writer(base + layout.gradient_offset(2), layout.gradient_bits)};
             for_each_voxel(frame, dims_, placement_.shape(), [&](int pp, glm::ivec3 v) {
                 const std::size_t i = volume.index(v.x, v.y, v.z);
                 value.write(pp, static_cast<std::uint64_t>(quantization_.value_code(volume.samples()[i])));
@@ -128,17 +131,21 @@ PpPassWork PpShading::execute_program(const PpProgram& program, const ShadingVie
             return std::vector<QeeCoefficients>(e.begin(), e.end());
         };
     }
-    return execute(program, [](const SlotFrame&) { return true; }, expressions);
+    return execute(
+        program, [](const SlotFrame&) { return true; }, expressions);
 }
 
 PpProgramInputs PpShading::program_inputs() const {
-    return PpProgramInputs{settings_.layout, quantization_, spacing_, static_cast<int>(machine_.config().integer("renderer.local_memory_bits"))};
+    return PpProgramInputs{settings_.layout, quantization_, spacing_,
+                           static_cast<int>(machine_.config().integer("renderer.local_memory_bits"))};
 }
 
-PpPassWork PpShading::execute(const PpProgram& program, const SlotSelector& select, const SlotExpressions& expressions) {
+PpPassWork PpShading::execute(const PpProgram& program, const SlotSelector& select,
+                              const SlotExpressions& expressions) {
     auto& renderers = machine_.renderers();
     const int record_bits = settings_.layout.bits();
-    PpPassWork work{program, std::vector<std::uint64_t>(renderers.size(), 0), std::vector<PpRunCounts>(renderers.size())};
+    PpPassWork work{program, std::vector<std::uint64_t>(renderers.size(), 0),
+                    std::vector<PpRunCounts>(renderers.size())};
     // Every renderer's PPs run the program over their slots (renderers in parallel; each renderer's
     // result depends on its own data only, so the thread count changes nothing).
     pp5::parallel_for(std::size_t{0}, renderers.size(), [&](std::size_t r) {
@@ -161,9 +168,11 @@ PpPassWork PpShading::execute(const PpProgram& program, const SlotSelector& sele
 PpFrameReport PpShading::update(const Classification& classification, const ColorMap& color_map,
                                 const PhongLighting& lighting, const ShadingView& view, bool classification_changed,
                                 bool shading_changed) {
-    const PpFrameWork work = compute(classification, color_map, lighting, view, classification_changed, shading_changed);
+    const PpFrameWork work =
+        compute(classification, color_map, lighting, view, classification_changed, shading_changed);
     FrameWork frame;
-    if (work.classification) frame.phases.push_back(Phase{"classification", PpPhase{{PpPhase::Pass{*work.classification, 0, {}}}}});
+    if (work.classification)
+        frame.phases.push_back(Phase{"classification", PpPhase{{PpPhase::Pass{*work.classification, 0, {}}}}});
     if (work.stationary_lights)
         frame.phases.push_back(Phase{"stationary_lights", PpPhase{{PpPhase::Pass{*work.stationary_lights, 0, {}}}}});
     if (work.shading) frame.phases.push_back(Phase{"shading", PpPhase{{PpPhase::Pass{*work.shading, 0, {}}}}});
@@ -172,16 +181,19 @@ PpFrameReport PpShading::update(const Classification& classification, const Colo
     report.start_ps = timing.start_ps;
     report.end_ps = timing.end_ps;
     if (const PhaseTiming* p = timing.phase("classification")) report.classification = PpProgramPass(p->passes.front());
-    if (const PhaseTiming* p = timing.phase("stationary_lights")) report.stationary_lights = PpProgramPass(p->passes.front());
+    if (const PhaseTiming* p = timing.phase("stationary_lights"))
+        report.stationary_lights = PpProgramPass(p->passes.front());
     if (const PhaseTiming* p = timing.phase("shading")) report.shading = PpProgramPass(p->passes.front());
     return report;
 }
 
-PpFrameWork PpShading::compute(const Classification& classification, const ColorMap& color_map, const PhongLighting& lighting,
-                               const ShadingView& view, bool classification_changed, bool shading_changed) {
+PpFrameWork PpShading::compute(const Classification& classification, const ColorMap& color_map,
+                               const PhongLighting& lighting, const ShadingView& view, bool classification_changed,
+                               bool shading_changed) {
     const PpProgramInputs inputs = program_inputs();
     PpFrameWork work;
-    if (classification_changed) work.classification = execute_program(build_classification_program(classification, inputs), nullptr);
+    if (classification_changed)
+        work.classification = execute_program(build_classification_program(classification, inputs), nullptr);
     if (shading_changed) {
         work.stationary_lights = refresh_stationary_lights(lighting, view);
         const PpProgram program = build_shading_program(color_map, lighting, view, inputs);
@@ -191,7 +203,8 @@ PpFrameWork PpShading::compute(const Classification& classification, const Color
 }
 
 std::optional<PpPassWork> PpShading::refresh_stationary_lights(const PhongLighting& lighting, const ShadingView& view,
-                                                               const GradientRewrite& rewrite, const SlotExpressions& expressions,
+                                                               const GradientRewrite& rewrite,
+                                                               const SlotExpressions& expressions,
                                                                bool rewrite_changed) {
     if (settings_.layout.stationary_light_bits <= 0) return std::nullopt;
     if (lighting.stationary_lights.empty()) {
@@ -200,12 +213,18 @@ std::optional<PpPassWork> PpShading::refresh_stationary_lights(const PhongLighti
         stationary_for_.reset();
         return std::nullopt;
     }
-    StationaryLightKey key{lighting.stationary_lights, lighting.diffuse, lighting.specular, lighting.shininess,
-                           lighting.specular > 0.0f ? view.forward : glm::vec3(0.0f), static_cast<bool>(rewrite)};
+    StationaryLightKey key{lighting.stationary_lights,
+                           lighting.diffuse,
+                           lighting.specular,
+                           lighting.shininess,
+                           lighting.specular > 0.0f ? view.forward : glm::vec3(0.0f),
+                           static_cast<bool>(rewrite)};
     if (stationary_for_ == key && !rewrite_changed) return std::nullopt;
     const PpProgram program = build_stationary_light_program(lighting, view, program_inputs(), rewrite);
     stationary_for_ = std::move(key);
-    if (expressions) return execute(program, [](const SlotFrame&) { return true; }, expressions);
+    if (expressions)
+        return execute(
+            program, [](const SlotFrame&) { return true; }, expressions);
     return execute_program(program, program.expressions > 0 ? &view : nullptr);
 }
 
@@ -220,7 +239,8 @@ void PpShading::read_shaded_codes(ShadedCodes& shaded) const {
     const int record_bits = layout.bits();
     const auto color_max = static_cast<float>(mask(layout.color_bits));
     // Every voxel lies in a used slot, so each code is overwritten below.
-    shaded.reset(dims_, spacing_, glm::vec4(color_max, color_max, color_max, static_cast<float>(mask(layout.opacity_bits))));
+    shaded.reset(dims_, spacing_,
+                 glm::vec4(color_max, color_max, color_max, static_cast<float>(mask(layout.opacity_bits))));
     auto& renderers = machine_.renderers();
     pp5::parallel_for(std::size_t{0}, renderers.size(), [&](std::size_t r) {
         const PpArray& array = renderers[r]->array();
@@ -228,15 +248,19 @@ void PpShading::read_shaded_codes(ShadedCodes& shaded) const {
             const SlotFrame frame = placement_.frame(static_cast<int>(r), slot);
             if (!frame.used) continue;
             const int base = slot * record_bits;
-            const PpBackingReader channel[4] = {array.backing_reader(base + layout.color_offset(0), layout.color_bits),
-                                                array.backing_reader(base + layout.color_offset(1), layout.color_bits),
-                                                array.backing_reader(base + layout.color_offset(2), layout.color_bits),
-                                                array.backing_reader(base + layout.opacity_offset(), layout.opacity_bits)};
+            const PpBackingReader channel[4] = {
+                array.backing_reader(base + layout.color_offset(0), layout.color_bits),
+                array.backing_reader(base + layout.color_offset(1), layout.color_bits),
+                array.backing_reader(base + layout.color_offset(2), layout.color_bits),
+                array.backing_reader(base + layout.opacity_offset(), layout.opacity_bits)};
             for_each_voxel(frame, dims_, placement_.shape(), [&](int pp, glm::ivec3 v) {
                 glm::u16vec4 code;
                 for (int c = 0; c < 4; ++c) code[c] = static_cast<std::uint16_t>(channel[c].read(pp));
-                shaded.set(static_cast<std::size_t>(v.x) + static_cast<std::size_t>(dims_.x) *
-                               (static_cast<std::size_t>(v.y) + static_cast<std::size_t>(dims_.y) * static_cast<std::size_t>(v.z)), code);
+                shaded.set(static_cast<std::size_t>(v.x) +
+                               static_cast<std::size_t>(dims_.x) *
+                                   (static_cast<std::size_t>(v.y) +
+                                    static_cast<std::size_t>(dims_.y) * static_cast<std::size_t>(v.z)),
+                           code);
             });
         }
     });

@@ -94,7 +94,8 @@ public:
     using SlotSelector = std::function<bool(const SlotFrame&)>;
     using SlotExpressions = std::function<std::vector<QeeCoefficients>(const SlotFrame&)>;
     std::optional<PpPassWork> refresh_stationary_lights(const PhongLighting& lighting, const ShadingView& view,
-                                                        const GradientRewrite& rewrite = {}, const SlotExpressions& expressions = {},
+                                                        const GradientRewrite& rewrite = {},
+                                                        const SlotExpressions& expressions = {},
                                                         bool rewrite_changed = false);
 
     // Runs `program` on every renderer over the slots `select` accepts, each with the QEE expressions

@@ -8,8 +8,10 @@ ShadedCodes::ShadedCodes(glm::ivec3 dims, glm::vec3 spacing, glm::vec4 code_max)
 
 void ShadedCodes::reset(glm::ivec3 dims, glm::vec3 spacing, glm::vec4 code_max) {
     for (int c = 0; c < 4; ++c)
-        if (!(code_max[c] >= 1.0f && code_max[c] <= 65535.0f)) throw std::invalid_argument("shaded codes: a channel of 1 to 16 bits");
-    const std::size_t voxels = static_cast<std::size_t>(dims.x) * static_cast<std::size_t>(dims.y) * static_cast<std::size_t>(dims.z);
+        if (!(code_max[c] >= 1.0f && code_max[c] <= 65535.0f))
+            throw std::invalid_argument("shaded codes: a channel of 1 to 16 bits");
+    const std::size_t voxels =
+        static_cast<std::size_t>(dims.x) * static_cast<std::size_t>(dims.y) * static_cast<std::size_t>(dims.z);
     dims_ = dims;
     spacing_ = spacing;
     code_max_ = code_max;

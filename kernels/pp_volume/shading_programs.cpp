@@ -16,7 +16,9 @@ namespace {
 constexpr int kOneShift = 8;
 constexpr std::int64_t kOne = std::int64_t{1} << kOneShift;
 
-std::int64_t fixed(double x, int shift) { return static_cast<std::int64_t>(std::llround(x * static_cast<double>(std::int64_t{1} << shift))); }
+std::int64_t fixed(double x, int shift) {
+    return static_cast<std::int64_t>(std::llround(x * static_cast<double>(std::int64_t{1} << shift)));
+}
 
 // The inputs every program starts from: the value and the three gradient codes of the slot's voxel.
 struct VoxelInputs {
@@ -28,7 +30,8 @@ VoxelInputs load_inputs(PpProgramBuilder& b, const VoxelRecordLayout& layout) {
     VoxelInputs in;
     in.value = b.load("value", layout.value_offset(), layout.value_bits, false);
     static const char* names[3] = {"gx", "gy", "gz"};
-    for (int axis = 0; axis < 3; ++axis) in.gradient[axis] = b.load(names[axis], layout.gradient_offset(axis), layout.gradient_bits, true);
+    for (int axis = 0; axis < 3; ++axis)
+        in.gradient[axis] = b.load(names[axis], layout.gradient_offset(axis), layout.gradient_bits, true);
     return in;
 }
 
@@ -56,7 +59,8 @@ PpTable value_table(const std::string& name, const PpField& value, const VoxelQu
     PpTable table{name, {}};
     const std::size_t size = std::size_t{1} << value.bits;
     table.entries.resize(size);
-    for (std::size_t code = 0; code < size; ++code) table.entries[code] = entry(q.value_of_code(static_cast<double>(code)));
+    for (std::size_t code = 0; code < size; ++code)
+        table.entries[code] = entry(q.value_of_code(static_cast<double>(code)));
     return table;
 }
 
@@ -70,7 +74,8 @@ PpField isovalue_opacity(PpProgramBuilder& b, const IsovalueContour& contour, Pp
     const PpField distance = b.abs_diff_const("iso_distance", value16, target16);
     // |g| = gmag4 / (4 gradient_scale), so 16 value_scale r |g| = gmag4 (4 r value_scale / gradient_scale).
     constexpr int kShift = 12;
-    const PpField reach = b.mul_const("iso_reach", gmag4, fixed(4.0 * contour.thickness * q.value_scale / q.gradient_scale, kShift), kShift);
+    const PpField reach = b.mul_const(
+        "iso_reach", gmag4, fixed(4.0 * contour.thickness * q.value_scale / q.gradient_scale, kShift), kShift);
 
     const PpField ratio = b.set_const("iso_ratio", 0, kOneShift + 1, false);
     b.enable_if(reach, PpCompare::Greater, 0);
@@ -99,7 +104,8 @@ PpField isovalue_opacity(PpProgramBuilder& b, const IsovalueContour& contour, Pp
 PpField opacity_256(PpProgramBuilder& b, const Classification& c, const VoxelInputs& in, const VoxelQuantization& q) {
     switch (c.kind) {
         case ClassificationKind::PiecewiseLinear: {
-            PpTable table = value_table("opacity", in.value, q, [&](float f) { return fixed(c.opacity(f, 0.0f), kOneShift); });
+            PpTable table =
+                value_table("opacity", in.value, q, [&](float f) { return fixed(c.opacity(f, 0.0f), kOneShift); });
             return b.lookup("opacity256", in.value, std::move(table), kOneShift + 1, false);
         }
         case ClassificationKind::RegionBoundaries: {
@@ -111,7 +117,8 @@ PpField opacity_256(PpProgramBuilder& b, const Classification& c, const VoxelInp
             });
             std::int64_t largest = 0;
             for (auto e : table.entries) largest = std::max(largest, e);
-            const PpField weight = b.lookup("boundary_weight", in.value, std::move(table), std::max(1, pp_bits_for_range(0, largest)), false);
+            const PpField weight = b.lookup("boundary_weight", in.value, std::move(table),
+                                            std::max(1, pp_bits_for_range(0, largest)), false);
             const PpField product = b.mul("boundary_product", gmag4, weight, kOneShift);
             b.release(weight);
             b.release(gmag4);
@@ -173,7 +180,8 @@ PpField to_code(PpProgramBuilder& b, const std::string& name, PpField fraction25
 
 // min(1, (numerator << shift) / denominator) in 1/256ths where the numerator is positive, and 0
 // where it is not: a voxel with no gradient (zero over zero) has no normal and gets no direct light.
-PpField positive_ratio(PpProgramBuilder& b, const std::string& name, PpField numerator, PpField denominator, int shift) {
+PpField positive_ratio(PpProgramBuilder& b, const std::string& name, PpField numerator, PpField denominator,
+                       int shift) {
     const PpField ratio = b.set_const(name + "_ratio", 0, kOneShift + 2, false);
     b.enable_if(numerator, PpCompare::Greater, 0);
     const PpField quotient = b.div(name + "_quotient", numerator, denominator, shift, kOneShift + 2);
@@ -290,8 +298,8 @@ void release(PpProgramBuilder& b, const NormalInputs& n) {
 
 // s [k_d (N.L) + k_s (N.H)^n] in 1/256ths for a light in a fixed direction, zero where it does not
 // reach the face (N.L <= 0). Every PP is enabled on return.
-PpField fixed_light_lit(PpProgramBuilder& b, const std::string& name, const NormalInputs& n, const PhongLighting& lighting,
-                        glm::vec3 to_light, glm::vec3 to_viewer, float intensity) {
+PpField fixed_light_lit(PpProgramBuilder& b, const std::string& name, const NormalInputs& n,
+                        const PhongLighting& lighting, glm::vec3 to_light, glm::vec3 to_viewer, float intensity) {
     const PpField n_dot_l = normal_dot(b, name + "_n_dot_l", n.w, n.gmag4, to_light);
     PpField n_dot_h;
     const glm::vec3 halfway = to_light + to_viewer;
@@ -325,8 +333,9 @@ PpField fixed_light_lit(PpProgramBuilder& b, const std::string& name, const Norm
 PpField stationary_lit(PpProgramBuilder& b, const NormalInputs& n, const PhongLighting& lighting, glm::vec3 to_viewer) {
     PpField sum;
     for (const StationaryLight& light : lighting.stationary_lights)
-        sum = b.accumulate("stationary_sum", sum,
-                           fixed_light_lit(b, "stationary", n, lighting, glm::normalize(light.direction), to_viewer, light.intensity));
+        sum = b.accumulate(
+            "stationary_sum", sum,
+            fixed_light_lit(b, "stationary", n, lighting, glm::normalize(light.direction), to_viewer, light.intensity));
     return sum;
 }
 
@@ -378,9 +387,11 @@ PpProgram build_shading_program(const ColorMap& color_map, const PhongLighting& 
     std::array<PpField, 3> base;
     static const char* channel_names[3] = {"red", "green", "blue"};
     for (int c = 0; c < 3; ++c) {
-        PpTable table = value_table(std::string("base_") + channel_names[c], in.value, q,
-                                    [&](float f) { return fixed(color_map.color(f)[c] * static_cast<float>(color_max), 0); });
-        base[c] = b.lookup(std::string("base_") + channel_names[c], in.value, std::move(table), layout.color_bits, false);
+        PpTable table = value_table(std::string("base_") + channel_names[c], in.value, q, [&](float f) {
+            return fixed(color_map.color(f)[c] * static_cast<float>(color_max), 0);
+        });
+        base[c] =
+            b.lookup(std::string("base_") + channel_names[c], in.value, std::move(table), layout.color_bits, false);
     }
     if (rewrite) rewrite(b, in.value, in.gradient);
     b.release(in.value);
@@ -389,8 +400,8 @@ PpProgram build_shading_program(const ColorMap& color_map, const PhongLighting& 
     const glm::vec3 to_viewer = -view.forward;
     const glm::vec3 to_light = lighting.light_follows_camera ? to_viewer : glm::normalize(lighting.light_direction);
     const bool eye_per_voxel = lighting.light_follows_camera && view.projection == Projection::Perspective;
-    const PpField n_dot_l =
-        eye_per_voxel ? normal_dot_eye(b, normals.w, normals.gmag4) : normal_dot(b, "n_dot_l", normals.w, normals.gmag4, to_light);
+    const PpField n_dot_l = eye_per_voxel ? normal_dot_eye(b, normals.w, normals.gmag4)
+                                          : normal_dot(b, "n_dot_l", normals.w, normals.gmag4, to_light);
     PpField n_dot_h;
     const glm::vec3 halfway = to_light + to_viewer;
     const bool headlight = lighting.light_follows_camera;
@@ -430,7 +441,9 @@ PpProgram build_shading_program(const ColorMap& color_map, const PhongLighting& 
     b.release(lit);
     b.release(n_dot_l);
     if (stationary) {
-        if (stored) stationary_light = b.load("stationary_light", layout.stationary_light_offset(), layout.stationary_light_bits, false);
+        if (stored)
+            stationary_light =
+                b.load("stationary_light", layout.stationary_light_offset(), layout.stationary_light_bits, false);
         const PpField total = b.add("all_lights", light, stationary_light);
         b.release(light);
         b.release(stationary_light);
@@ -453,11 +466,12 @@ PpProgram build_shading_program(const ColorMap& color_map, const PhongLighting& 
     return b.finish();
 }
 
-PpProgram build_stationary_light_program(const PhongLighting& lighting, const ShadingView& view, const PpProgramInputs& inputs,
-                                         const GradientRewrite& rewrite) {
+PpProgram build_stationary_light_program(const PhongLighting& lighting, const ShadingView& view,
+                                         const PpProgramInputs& inputs, const GradientRewrite& rewrite) {
     const VoxelRecordLayout& layout = inputs.layout;
     if (layout.stationary_light_bits <= 0 || lighting.stationary_lights.empty())
-        throw std::logic_error("build_stationary_light_program: needs stationary lights and a record field for their sum");
+        throw std::logic_error(
+            "build_stationary_light_program: needs stationary lights and a record field for their sum");
     PpProgramBuilder b("stationary_lights", inputs.local_memory_bits);
     VoxelInputs in = load_inputs(b, layout);
     if (rewrite) rewrite(b, in.value, in.gradient);
@@ -466,7 +480,8 @@ PpProgram build_stationary_light_program(const PhongLighting& lighting, const Sh
     const PpField sum = stationary_lit(b, normals, lighting, -view.forward);
     release(b, normals);
     // A sum beyond the field saturates (documented with levoy.stationary_light_bits).
-    const PpField clamped = b.min_const("stationary_clamped", sum, (std::int64_t{1} << layout.stationary_light_bits) - 1);
+    const PpField clamped =
+        b.min_const("stationary_clamped", sum, (std::int64_t{1} << layout.stationary_light_bits) - 1);
     b.release(sum);
     b.store(clamped, layout.stationary_light_offset(), layout.stationary_light_bits);
     b.release(clamped);
@@ -483,7 +498,8 @@ std::array<QeeCoefficients, 4> slot_expressions(const ShadingView& view, const S
         QeeCoefficients& depth = e[kDepthExpression];
         depth.d = fixed(static_cast<double>(spacing.x * view.forward.x) * scale, kQeeShift);
         depth.e = fixed(static_cast<double>(spacing.y * view.forward.y) * scale, kQeeShift);
-        depth.f = fixed((static_cast<double>(glm::dot(origin - view.center, view.forward)) + view.radius) * scale, kQeeShift);
+        depth.f =
+            fixed((static_cast<double>(glm::dot(origin - view.center, view.forward)) + view.radius) * scale, kQeeShift);
     }
     const double eye_distance = glm::length(view.eye - view.center);
     if (view.projection == Projection::Perspective && eye_distance > 0.0) {

@@ -54,8 +54,8 @@ PpProgram build_shading_program(const ColorMap& color_map, const PhongLighting& 
 
 // Levoy's precomputed stationary lights: sum_i s_i [k_d (N.L_i) + k_s (N.H_i)^n] per voxel, in
 // 1/256ths, saturating at the field's largest code, stored in the record's stationary-light field.
-PpProgram build_stationary_light_program(const PhongLighting& lighting, const ShadingView& view, const PpProgramInputs& inputs,
-                                         const GradientRewrite& rewrite = {});
+PpProgram build_stationary_light_program(const PhongLighting& lighting, const ShadingView& view,
+                                         const PpProgramInputs& inputs, const GradientRewrite& rewrite = {});
 
 // The QEE expressions of one slot frame, linear in PP column and row, with kQeeShift fraction bits:
 //   kDepthExpression        256 x the depth in [0,1] that ShadingView::depth gives

@@ -59,7 +59,9 @@ public:
     int slots_available() const { return shape_.backing_store_bits / record_bits_; }
     int slots_needed() const { return slots_needed_; }  // per PP, on the busiest renderer
     bool fits() const { return slots_needed_ <= slots_available(); }
-    std::uint64_t backing_store_bits_used() const { return static_cast<std::uint64_t>(slots_needed_) * static_cast<std::uint64_t>(record_bits_); }
+    std::uint64_t backing_store_bits_used() const {
+        return static_cast<std::uint64_t>(slots_needed_) * static_cast<std::uint64_t>(record_bits_);
+    }
 
     // Empty when the volume fits; otherwise what the machine would need instead: more backing store
     // per PP, more renderers, or fewer bits per voxel (each on its own).
@@ -78,8 +80,8 @@ private:
     int record_bits_;
     int tiles_x_;
     int tiles_y_;
-    std::int64_t units_;         // tile slices in all
-    int slices_per_renderer_;    // Slices: ceil(dims.z / renderers)
+    std::int64_t units_;       // tile slices in all
+    int slices_per_renderer_;  // Slices: ceil(dims.z / renderers)
     int slots_needed_;
 };
 

@@ -10,8 +10,8 @@ VoxelQuantization VoxelQuantization::choose(const Volume& volume, const VoxelRec
                       largest_gradient_component(volume), layout);
 }
 
-VoxelQuantization VoxelQuantization::for_ranges(float value_min, float value_max, bool integer_values, float largest_gradient,
-                                                const VoxelRecordLayout& layout) {
+VoxelQuantization VoxelQuantization::for_ranges(float value_min, float value_max, bool integer_values,
+                                                float largest_gradient, const VoxelRecordLayout& layout) {
     VoxelQuantization q;
     q.value_max_code = static_cast<int>((std::int64_t{1} << layout.value_bits) - 1);
     q.gradient_max_code = static_cast<int>((std::int64_t{1} << (layout.gradient_bits - 1)) - 1);

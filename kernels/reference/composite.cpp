@@ -18,7 +18,8 @@ void validate_composite_settings(const CompositeSettings& settings) {
         reject_field("render.termination_opacity", "must lie in (0, 1]");
     }
     const glm::vec3 bg = settings.background;
-    if (!(std::isfinite(bg.r) && std::isfinite(bg.g) && std::isfinite(bg.b))) reject_field("render.background", "must be finite");
+    if (!(std::isfinite(bg.r) && std::isfinite(bg.g) && std::isfinite(bg.b)))
+        reject_field("render.background", "must be finite");
 }
 
 CompositeStats& CompositeStats::operator+=(const CompositeStats& other) {

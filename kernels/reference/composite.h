@@ -31,7 +31,7 @@ namespace pp5 {
 struct CompositeSettings {
     int width = 512;
     int height = 512;
-    float sample_step = 1.0f;           // voxels of the smallest spacing between samples; > 0
+    float sample_step = 1.0f;  // voxels of the smallest spacing between samples; > 0
     bool early_termination = true;
     float termination_opacity = 0.95f;  // Levoy's 1 - epsilon, epsilon about 0.05; in (0, 1]
     glm::vec3 background{0.0f};

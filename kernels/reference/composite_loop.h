@@ -25,7 +25,8 @@ Image composite_loop(const ShadedVolume& volume, const OccupancyGrid& occupancy,
     validate_camera(camera);
     validate_composite_settings(settings);
     const glm::ivec3 dims = volume.dims;
-    if (volume.rgba.size() != static_cast<std::size_t>(dims.x) * static_cast<std::size_t>(dims.y) * static_cast<std::size_t>(dims.z)) {
+    if (volume.rgba.size() !=
+        static_cast<std::size_t>(dims.x) * static_cast<std::size_t>(dims.y) * static_cast<std::size_t>(dims.z)) {
         throw std::invalid_argument("composite: rgba size does not match dims");
     }
     if (settings.skip_empty_space && occupancy.volume_dims() != dims) {
@@ -40,21 +41,22 @@ Image composite_loop(const ShadedVolume& volume, const OccupancyGrid& occupancy,
     const float stop_at = settings.early_termination ? settings.termination_opacity : 2.0f;  // 2: never
 
     Image image(settings.width, settings.height);
-    const CompositeStats total = for_each_pixel_tiled<CompositeStats>(image, [&](int px, int py, CompositeStats& counters) {
-        ++counters.rays;
-        FrontToBack ray_color(settings.sample_step, stop_at);
-        if (const auto ray = clip_to_volume(rays.ray(px, py), frame)) {
-            ++counters.rays_hit;
-            const MarchCounts marched = march(*ray, skip, [&](int, glm::vec3 position) {
-                const Cell cell = grid.cell(position);
-                before_cell(cell.corner);
-                const glm::vec4 s = grid.interpolate_rgba(cell, rgba);
-                return ray_color.add(glm::vec3(s), s.a);
-            });
-            tally(counters, marched);
-        }
-        return ray_color.over(settings.background);
-    });
+    const CompositeStats total =
+        for_each_pixel_tiled<CompositeStats>(image, [&](int px, int py, CompositeStats& counters) {
+            ++counters.rays;
+            FrontToBack ray_color(settings.sample_step, stop_at);
+            if (const auto ray = clip_to_volume(rays.ray(px, py), frame)) {
+                ++counters.rays_hit;
+                const MarchCounts marched = march(*ray, skip, [&](int, glm::vec3 position) {
+                    const Cell cell = grid.cell(position);
+                    before_cell(cell.corner);
+                    const glm::vec4 s = grid.interpolate_rgba(cell, rgba);
+                    return ray_color.add(glm::vec3(s), s.a);
+                });
+                tally(counters, marched);
+            }
+            return ray_color.over(settings.background);
+        });
     if (stats != nullptr) *stats = total;
     return image;
 }

@@ -32,9 +32,9 @@ GradientField compute_gradients(const Volume& volume) {
                     const std::size_t yz = static_cast<std::size_t>(y) * row + static_cast<std::size_t>(z) * slice;
                     const std::size_t xz = xs + static_cast<std::size_t>(z) * slice;
                     const std::size_t xy = xs + static_cast<std::size_t>(y) * row;
-                    field.gradients[here + xs] = 0.5f * glm::vec3(f[yz + x_hi] - f[yz + x_lo],
-                                                                  f[xz + y_hi] - f[xz + y_lo],
-                                                                  f[xy + z_hi] - f[xy + z_lo]);
+                    field.gradients[here + xs] =
+                        0.5f * glm::vec3(f[yz + x_hi] - f[yz + x_lo], f[xz + y_hi] - f[xz + y_lo],
+                                         f[xy + z_hi] - f[xy + z_lo]);
                 }
             }
         }

@@ -1,9 +1,9 @@
 #include "kernels/reference/occupancy_grid.h"
 #include "sim/core/parallel.h"
 
+#include <tbb/blocked_range.h>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
-#include <tbb/blocked_range.h>
 
 #include <algorithm>
 #include <cmath>
@@ -33,9 +33,11 @@ OccupancyGrid build_grid(glm::ivec3 dims, Decide&& decide) {
     const OccupancyGrid layout(dims);
     std::vector<std::uint8_t> flags(layout.block_count(), 0);
     const glm::ivec3 blocks = layout.block_dims();
-    pp5::parallel_for(tbb::blocked_range<std::size_t>(0, layout.block_count()), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) flags[i] = decide(layout, block_of_index(i, blocks)) ? 1 : 0;
-    });
+    pp5::parallel_for(tbb::blocked_range<std::size_t>(0, layout.block_count()),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t i = r.begin(); i != r.end(); ++i)
+                              flags[i] = decide(layout, block_of_index(i, blocks)) ? 1 : 0;
+                      });
     return OccupancyGrid(dims, flags);
 }
 
@@ -53,12 +55,14 @@ void chebyshev_pass(std::vector<std::uint8_t>& distance, glm::ivec3 blocks, int 
         for (int l = r.begin(); l != r.end(); ++l) {
             const std::size_t start = static_cast<std::size_t>(l % blocks[u_axis]) * stride[u_axis] +
                                       static_cast<std::size_t>(l / blocks[u_axis]) * stride[v_axis];
-            for (int i = 0; i < length; ++i) line[static_cast<std::size_t>(i)] = distance[start + static_cast<std::size_t>(i) * stride[axis]];
+            for (int i = 0; i < length; ++i)
+                line[static_cast<std::size_t>(i)] = distance[start + static_cast<std::size_t>(i) * stride[axis]];
             for (int i = 0; i < length; ++i) {
                 int best = line[static_cast<std::size_t>(i)];
                 const int reach = std::min(best, OccupancyGrid::kMaxDistance);
                 for (int j = std::max(0, i - reach + 1); j < std::min(length, i + reach); ++j) {
-                    best = std::min(best, std::max(static_cast<int>(line[static_cast<std::size_t>(j)]), std::abs(i - j)));
+                    best =
+                        std::min(best, std::max(static_cast<int>(line[static_cast<std::size_t>(j)]), std::abs(i - j)));
                 }
                 distance[start + static_cast<std::size_t>(i) * stride[axis]] = static_cast<std::uint8_t>(best);
             }
@@ -74,8 +78,9 @@ bool any_in_test_range(const OccupancyGrid& grid, glm::ivec3 block, NonZero&& no
     const glm::ivec3 hi = grid.test_last(block);
     for (int z = lo.z; z <= hi.z; ++z) {
         for (int y = lo.y; y <= hi.y; ++y) {
-            const std::size_t row = static_cast<std::size_t>(dims.x) *
-                                    (static_cast<std::size_t>(y) + static_cast<std::size_t>(dims.y) * static_cast<std::size_t>(z));
+            const std::size_t row =
+                static_cast<std::size_t>(dims.x) *
+                (static_cast<std::size_t>(y) + static_cast<std::size_t>(dims.y) * static_cast<std::size_t>(z));
             for (int x = lo.x; x <= hi.x; ++x) {
                 if (nonzero(row + static_cast<std::size_t>(x))) return true;
             }
@@ -152,7 +157,8 @@ OccupancyGrid occupancy_from_alpha(glm::ivec3 dims, std::span<const glm::vec4> r
 }
 
 BlockValueRanges compute_block_value_ranges(const Volume& volume, const GradientField& gradients) {
-    if (gradients.dims != volume.dims()) throw std::invalid_argument("compute_block_value_ranges: gradients of another volume");
+    if (gradients.dims != volume.dims())
+        throw std::invalid_argument("compute_block_value_ranges: gradients of another volume");
     const OccupancyGrid layout(volume.dims());
     BlockValueRanges ranges;
     ranges.volume_dims = volume.dims();
@@ -160,22 +166,23 @@ BlockValueRanges compute_block_value_ranges(const Volume& volume, const Gradient
     ranges.max_value.resize(layout.block_count());
     ranges.max_gradient.resize(layout.block_count());
     const std::span<const float> values = volume.samples();
-    pp5::parallel_for(tbb::blocked_range<std::size_t>(0, layout.block_count()), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t b = r.begin(); b != r.end(); ++b) {
-            float lo = std::numeric_limits<float>::infinity();
-            float hi = -lo;
-            float longest = 0.0f;  // squared
-            any_in_test_range(layout, block_of_index(b, layout.block_dims()), [&](std::size_t i) {
-                lo = std::min(lo, values[i]);
-                hi = std::max(hi, values[i]);
-                longest = std::max(longest, glm::dot(gradients.at(i), gradients.at(i)));
-                return false;  // visit every voxel
-            });
-            ranges.min_value[b] = lo;
-            ranges.max_value[b] = hi;
-            ranges.max_gradient[b] = std::sqrt(longest);
-        }
-    });
+    pp5::parallel_for(tbb::blocked_range<std::size_t>(0, layout.block_count()),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t b = r.begin(); b != r.end(); ++b) {
+                              float lo = std::numeric_limits<float>::infinity();
+                              float hi = -lo;
+                              float longest = 0.0f;  // squared
+                              any_in_test_range(layout, block_of_index(b, layout.block_dims()), [&](std::size_t i) {
+                                  lo = std::min(lo, values[i]);
+                                  hi = std::max(hi, values[i]);
+                                  longest = std::max(longest, glm::dot(gradients.at(i), gradients.at(i)));
+                                  return false;  // visit every voxel
+                              });
+                              ranges.min_value[b] = lo;
+                              ranges.max_value[b] = hi;
+                              ranges.max_gradient[b] = std::sqrt(longest);
+                          }
+                      });
     return ranges;
 }
 

@@ -52,7 +52,8 @@ public:
     std::size_t block_index(glm::ivec3 block) const {
         return static_cast<std::size_t>(block.x) +
                static_cast<std::size_t>(block_dims_.x) *
-                   (static_cast<std::size_t>(block.y) + static_cast<std::size_t>(block_dims_.y) * static_cast<std::size_t>(block.z));
+                   (static_cast<std::size_t>(block.y) +
+                    static_cast<std::size_t>(block_dims_.y) * static_cast<std::size_t>(block.z));
     }
     bool occupied(glm::ivec3 block) const { return distance_[block_index(block)] == 0; }
     // Chebyshev distance in blocks to the nearest occupied block (0 = occupied), at most kMaxDistance:

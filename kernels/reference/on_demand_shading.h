@@ -2,8 +2,9 @@
 // Voxel shading on demand: a block of voxels is shaded the first time a sample needs one of its
 // voxels, during compositing. With early termination a ray reads only the first surfaces it meets, so
 // in an animation most occupied blocks are never needed in a frame (on the MR head ch2 with a 20->60
-// opacity ramp, 0.52 M of the 4.5 M voxels in occupied blocks are shaded per frame). The colours are the ones shade_voxels computes, so the
-// image is bit-identical to shading everything first; which thread shades a block does not matter.
+// opacity ramp, 0.52 M of the 4.5 M voxels in occupied blocks are shaded per frame). The colours are the ones
+// shade_voxels computes, so the image is bit-identical to shading everything first; which thread shades a block does
+// not matter.
 //
 // Each block has a state: to shade, being shaded, ready. The first sample to need a block claims it
 // (compare-and-swap) and shades it; another sample needing it meanwhile waits for it (a few
@@ -56,7 +57,8 @@ private:
         return glm::min(voxel / OccupancyGrid::kBlockSize, last_block_);
     }
     void ensure_block(glm::ivec3 block, const BlockShader& shader) {
-        if (states_[occupancy_.block_index(block)].load(std::memory_order_acquire) != kReady) shade_or_wait(block, shader);
+        if (states_[occupancy_.block_index(block)].load(std::memory_order_acquire) != kReady)
+            shade_or_wait(block, shader);
     }
     void shade_or_wait(glm::ivec3 block, const BlockShader& shader);
 

@@ -14,7 +14,9 @@ PolygonMattes::PolygonMattes(glm::ivec3 dims, const std::vector<PolygonSpec>& po
     const std::vector<glm::dvec3> offsets = subvoxel_offsets(samples);
     const OccupancyGrid blocks(dims);  // for its block numbering, the one BlockShader::shade applies by
     const auto index = [&](glm::ivec3 v) {
-        return static_cast<std::size_t>(v.x) + static_cast<std::size_t>(dims.x) * (static_cast<std::size_t>(v.y) + static_cast<std::size_t>(dims.y) * static_cast<std::size_t>(v.z));
+        return static_cast<std::size_t>(v.x) +
+               static_cast<std::size_t>(dims.x) *
+                   (static_cast<std::size_t>(v.y) + static_cast<std::size_t>(dims.y) * static_cast<std::size_t>(v.z));
     };
     const auto block_of = [&](glm::ivec3 v) { return blocks.block_index(v / OccupancyGrid::kBlockSize); };
     // A sample point reaches at most half a voxel's diagonal from the centre; the sheet is half a voxel thick.
@@ -35,7 +37,8 @@ PolygonMattes::PolygonMattes(glm::ivec3 dims, const std::vector<PolygonSpec>& po
                     const glm::vec3 p(centre);
                     const float coverage = static_cast<float>(inside) / static_cast<float>(offsets.size());
                     const float opacity = std::clamp(polygon.opacity(p), 0.0f, 1.0f) * coverage;
-                    const glm::vec3 color = glm::clamp(glm::vec3(polygon.red(p), polygon.green(p), polygon.blue(p)), 0.0f, 1.0f);
+                    const glm::vec3 color =
+                        glm::clamp(glm::vec3(polygon.red(p), polygon.green(p), polygon.blue(p)), 0.0f, 1.0f);
                     by_block_[block_of({x, y, z})].push_back({index({x, y, z}), opacity, color});
                     ++voxels_covered_;
                 }

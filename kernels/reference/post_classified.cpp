@@ -27,8 +27,7 @@ Image render_post_classified(const Volume& volume, const GradientField& gradient
 
 Image render_post_classified(const Volume& volume, const GradientField& gradients, const Classification& classification,
                              const ColorMap& color_map, const PhongLighting& lighting, const Camera& camera,
-                             const CompositeSettings& settings, const OccupancyGrid& occupancy,
-                             CompositeStats* stats) {
+                             const CompositeSettings& settings, const OccupancyGrid& occupancy, CompositeStats* stats) {
     validate_camera(camera);
     validate_composite_settings(settings);
     const glm::ivec3 dims = volume.dims();
@@ -48,8 +47,8 @@ Image render_post_classified(const Volume& volume, const GradientField& gradient
     const float stop_at = settings.early_termination ? settings.termination_opacity : 2.0f;  // 2: never
 
     Image image(settings.width, settings.height);
-    const CompositeStats total = detail::for_each_pixel_tiled<CompositeStats>(
-        image, [&](int px, int py, CompositeStats& counters) {
+    const CompositeStats total =
+        detail::for_each_pixel_tiled<CompositeStats>(image, [&](int px, int py, CompositeStats& counters) {
             ++counters.rays;
             FrontToBack ray_color(settings.sample_step, stop_at);
             if (const auto ray = detail::clip_to_volume(rays.ray(px, py), frame)) {

@@ -13,8 +13,8 @@
 #include "kernels/render/camera.h"
 
 #include <glm/common.hpp>
-#include <glm/vector_relational.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vector_relational.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -28,9 +28,9 @@ namespace pp5::detail {
 // The volume's box in voxel coordinates and the sampling step.
 struct MarchFrame {
     glm::vec3 inverse_spacing{1.0f};
-    glm::vec3 upper{0.0f};  // dims - 1: the box is [0, upper] in voxel coordinates
-    float step = 1.0f;      // world units between samples
-    bool degenerate = true; // a dimension of one voxel: the box has no volume, no ray meets it
+    glm::vec3 upper{0.0f};   // dims - 1: the box is [0, upper] in voxel coordinates
+    float step = 1.0f;       // world units between samples
+    bool degenerate = true;  // a dimension of one voxel: the box has no volume, no ray meets it
 
     MarchFrame(glm::ivec3 dims, glm::vec3 spacing, float sample_step_voxels)
         : inverse_spacing(1.0f / spacing),
@@ -41,8 +41,8 @@ struct MarchFrame {
 
 // A ray clipped to the box: position(k) in voxel coordinates.
 struct ClippedRay {
-    glm::vec3 origin{0.0f};     // voxel coordinates at t = 0
-    glm::vec3 direction{0.0f};  // voxel coordinates per world unit
+    glm::vec3 origin{0.0f};             // voxel coordinates at t = 0
+    glm::vec3 direction{0.0f};          // voxel coordinates per world unit
     glm::vec3 inverse_direction{0.0f};  // 1 / direction (infinite along an axis the ray does not move on)
     float t_enter = 0.0f;
     float step = 1.0f;
@@ -155,7 +155,9 @@ MarchCounts march(const ClippedRay& ray, const OccupancyGrid* grid, Visit&& visi
         }
     };
     auto block_at = [&](float t) { return glm::ivec3(glm::floor((ray.origin + t * ray.direction) / kBlock)); };
-    auto inside = [&](glm::ivec3 b) { return glm::all(glm::greaterThanEqual(b, glm::ivec3(0))) && glm::all(glm::lessThan(b, blocks)); };
+    auto inside = [&](glm::ivec3 b) {
+        return glm::all(glm::greaterThanEqual(b, glm::ivec3(0))) && glm::all(glm::lessThan(b, blocks));
+    };
     enter(glm::clamp(block_at(ray.t_enter), glm::ivec3(0), blocks - 1));
     const float t_last = ray.t_of(ray.sample_count - 1);
 
@@ -173,7 +175,8 @@ MarchCounts march(const ClippedRay& ray, const OccupancyGrid* grid, Visit&& visi
             for (int a = 0; a < 3; ++a) {
                 if (step_dir[a] == 0) continue;
                 const int face = step_dir[a] > 0 ? block[a] + r + 1 : block[a] - r;
-                t_cube = std::min(t_cube, (static_cast<float>(face) * kBlock - ray.origin[a]) * ray.inverse_direction[a]);
+                t_cube =
+                    std::min(t_cube, (static_cast<float>(face) * kBlock - ray.origin[a]) * ray.inverse_direction[a]);
             }
             if (t_cube > t_in) {  // always, barring rounding; otherwise take a single step below
                 t_out = t_cube;

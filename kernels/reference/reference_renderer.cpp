@@ -162,8 +162,9 @@ Image ReferenceRenderer::render(const Camera& camera, const RenderSettings& sett
         ensure_colour_view(make_shading_view(camera, volume_.dims(), volume_.spacing()),
                            settings.hold_colours_when_camera_moves, local);
         // Blocks shaded later in a held-colour animation must match the earlier ones: the held view.
-        const BlockShader shader(volume_, capped_gradients_ ? *capped_gradients_ : *gradients_, *opacities_, *occupancy_, color_map_,
-                                 lighting_, *shaded_view_, capped_bricks_ ? &*capped_bricks_ : &*bricks_, brick_opacities_,
+        const BlockShader shader(volume_, capped_gradients_ ? *capped_gradients_ : *gradients_, *opacities_,
+                                 *occupancy_, color_map_, lighting_, *shaded_view_,
+                                 capped_bricks_ ? &*capped_bricks_ : &*bricks_, brick_opacities_,
                                  mattes_ ? &*mattes_ : nullptr);
         const Stopwatch watch;
         image = detail::composite_loop(shaded_, *occupancy_, camera, composite_settings, &local.composite,

@@ -51,8 +51,8 @@ struct RenderSettings {
                                         // changes: rays stop only once fully opaque
     glm::vec3 background{0.0f};
     ResamplingOrder resampling = ResamplingOrder::ShadeThenInterpolate;
-    bool early_termination = true;      // false: rays always run to the far side
-    bool skip_empty_space = true;       // never changes a pixel; off only to measure its effect
+    bool early_termination = true;                // false: rays always run to the far side
+    bool skip_empty_space = true;                 // never changes a pixel; off only to measure its effect
     bool hold_colours_when_camera_moves = false;  // ShadeThenInterpolate: Levoy's approximation
 
     CompositeSettings composite_settings() const;
@@ -71,12 +71,12 @@ struct StageSeconds {
 struct RenderStats {
     CompositeStats composite;
     bool gradients_computed = false;
-    bool opacities_computed = false;   // classification (and its occupancy grid)
-    bool colours_computed = false;     // voxel colours invalidated and (re)shaded on demand
-                                       // (ShadeThenInterpolate only)
-    std::uint64_t voxels_shaded = 0;   // in this render
-    std::uint64_t blocks = 0;          // occupancy blocks of the volume
-    std::uint64_t blocks_occupied = 0; // of them, occupied under this classification
+    bool opacities_computed = false;    // classification (and its occupancy grid)
+    bool colours_computed = false;      // voxel colours invalidated and (re)shaded on demand
+                                        // (ShadeThenInterpolate only)
+    std::uint64_t voxels_shaded = 0;    // in this render
+    std::uint64_t blocks = 0;           // occupancy blocks of the volume
+    std::uint64_t blocks_occupied = 0;  // of them, occupied under this classification
     StageSeconds seconds;
 };
 
@@ -99,7 +99,9 @@ public:
     void set_region(std::optional<RegionOfInterest> region);
     // Polygons scan-converted into the volume and matted over its shaded voxels (polygon_matte.h).
     void set_polygons(const std::vector<PolygonSpec>& polygons);
-    static bool renders_region(const RenderSettings& settings) { return settings.resampling == ResamplingOrder::ShadeThenInterpolate; }
+    static bool renders_region(const RenderSettings& settings) {
+        return settings.resampling == ResamplingOrder::ShadeThenInterpolate;
+    }
 
     const Classification& classification() const { return classification_; }
     const ColorMap& color_map() const { return color_map_; }
@@ -129,7 +131,7 @@ private:
     std::optional<PolygonMattes> mattes_;
 
     std::optional<GradientField> gradients_;
-    std::optional<VoxelBricks> bricks_;            // gradients and values block by block, for shading
+    std::optional<VoxelBricks> bricks_;  // gradients and values block by block, for shading
     // With a capping region: the gradients shading uses (capped in the region's transition zone), and
     // their bricks; classification keeps the volume's own.
     std::optional<GradientField> capped_gradients_;

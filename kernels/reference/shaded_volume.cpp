@@ -14,15 +14,16 @@ namespace {
 
 void check_inputs(const Volume& volume, const GradientField& gradients, std::span<const float> opacities) {
     if (gradients.dims != volume.dims()) throw std::invalid_argument("shade_voxels: gradients of another volume");
-    if (opacities.size() != volume.voxel_count()) throw std::invalid_argument("shade_voxels: opacities of another volume");
+    if (opacities.size() != volume.voxel_count())
+        throw std::invalid_argument("shade_voxels: opacities of another volume");
 }
 
 }  // namespace
 
 BlockShader::BlockShader(const Volume& volume, const GradientField& gradients, std::span<const float> opacities,
                          const OccupancyGrid& occupancy, const ColorMap& color_map, const PhongLighting& lighting,
-                         const ShadingView& view, const VoxelBricks* bricks,
-                         std::span<const float> brick_opacities, const PolygonMattes* mattes)
+                         const ShadingView& view, const VoxelBricks* bricks, std::span<const float> brick_opacities,
+                         const PolygonMattes* mattes)
     : volume_(volume),
       gradients_(gradients),
       opacities_(opacities),
@@ -32,7 +33,8 @@ BlockShader::BlockShader(const Volume& volume, const GradientField& gradients, s
       brick_opacities_(brick_opacities),
       mattes_(mattes) {
     check_inputs(volume, gradients, opacities);
-    if (occupancy.volume_dims() != volume.dims()) throw std::invalid_argument("BlockShader: occupancy of another volume");
+    if (occupancy.volume_dims() != volume.dims())
+        throw std::invalid_argument("BlockShader: occupancy of another volume");
     if (bricks != nullptr && (bricks->volume_dims() != volume.dims() || brick_opacities.size() != opacities.size())) {
         throw std::invalid_argument("BlockShader: bricks of another volume");
     }

@@ -69,7 +69,8 @@ public:
             // One load holds a voxel and its x neighbour, widened to 16 bits a channel.
             const auto* p = &codes[voxel].x;
             __m128i both;
-            if constexpr (sizeof(*p) == 1) both = _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p)), zero);
+            if constexpr (sizeof(*p) == 1)
+                both = _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p)), zero);
             else both = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
             return std::pair{_mm_div_ps(_mm_cvtepi32_ps(_mm_unpacklo_epi16(both, zero)), scale),
                              _mm_div_ps(_mm_cvtepi32_ps(_mm_unpackhi_epi16(both, zero)), scale)};

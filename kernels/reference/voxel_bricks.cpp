@@ -33,23 +33,25 @@ void VoxelBricks::for_each_voxel(Visit&& visit) const {
     const glm::ivec3 blocks = layout.block_dims();
     const std::size_t row = static_cast<std::size_t>(volume_dims_.x);
     const std::size_t slice = row * static_cast<std::size_t>(volume_dims_.y);
-    pp5::parallel_for(tbb::blocked_range<std::size_t>(0, layout.block_count()), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t b = r.begin(); b != r.end(); ++b) {
-            const std::size_t nx = static_cast<std::size_t>(blocks.x);
-            const std::size_t ny = static_cast<std::size_t>(blocks.y);
-            const glm::ivec3 block(static_cast<int>(b % nx), static_cast<int>((b / nx) % ny), static_cast<int>(b / (nx * ny)));
-            const glm::ivec3 lo = layout.first_voxel(block);
-            const glm::ivec3 hi = layout.last_voxel(block);
-            std::size_t out = offsets_[b];
-            for (int z = lo.z; z <= hi.z; ++z) {
-                for (int y = lo.y; y <= hi.y; ++y) {
-                    std::size_t i = static_cast<std::size_t>(lo.x) + row * static_cast<std::size_t>(y) +
-                                    slice * static_cast<std::size_t>(z);
-                    for (int x = lo.x; x <= hi.x; ++x, ++i, ++out) visit(out, i);
+    pp5::parallel_for(
+        tbb::blocked_range<std::size_t>(0, layout.block_count()), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t b = r.begin(); b != r.end(); ++b) {
+                const std::size_t nx = static_cast<std::size_t>(blocks.x);
+                const std::size_t ny = static_cast<std::size_t>(blocks.y);
+                const glm::ivec3 block(static_cast<int>(b % nx), static_cast<int>((b / nx) % ny),
+                                       static_cast<int>(b / (nx * ny)));
+                const glm::ivec3 lo = layout.first_voxel(block);
+                const glm::ivec3 hi = layout.last_voxel(block);
+                std::size_t out = offsets_[b];
+                for (int z = lo.z; z <= hi.z; ++z) {
+                    for (int y = lo.y; y <= hi.y; ++y) {
+                        std::size_t i = static_cast<std::size_t>(lo.x) + row * static_cast<std::size_t>(y) +
+                                        slice * static_cast<std::size_t>(z);
+                        for (int x = lo.x; x <= hi.x; ++x, ++i, ++out) visit(out, i);
+                    }
                 }
             }
-        }
-    });
+        });
 }
 
 std::vector<float> VoxelBricks::gather(std::span<const float> per_voxel) const {

@@ -1,8 +1,8 @@
 #include "kernels/reference/voxel_opacity.h"
 #include "sim/core/parallel.h"
 
-#include <glm/geometric.hpp>
 #include <tbb/blocked_range.h>
+#include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <stdexcept>
@@ -26,13 +26,15 @@ std::vector<float> classify_voxels(const Volume& volume, const GradientField& gr
 }
 
 void scale_by_region(std::vector<float>& opacity, glm::ivec3 dims, const RegionOfInterest& region) {
-    if (opacity.size() != static_cast<std::size_t>(dims.x) * static_cast<std::size_t>(dims.y) * static_cast<std::size_t>(dims.z))
+    if (opacity.size() !=
+        static_cast<std::size_t>(dims.x) * static_cast<std::size_t>(dims.y) * static_cast<std::size_t>(dims.z))
         throw std::invalid_argument("scale_by_region: opacities of another volume");
     pp5::parallel_for(tbb::blocked_range<int>(0, dims.z), [&](const tbb::blocked_range<int>& slices) {
         for (int z = slices.begin(); z < slices.end(); ++z)
             for (int y = 0; y < dims.y; ++y) {
-                const std::size_t row = (static_cast<std::size_t>(z) * static_cast<std::size_t>(dims.y) + static_cast<std::size_t>(y)) *
-                                        static_cast<std::size_t>(dims.x);
+                const std::size_t row =
+                    (static_cast<std::size_t>(z) * static_cast<std::size_t>(dims.y) + static_cast<std::size_t>(y)) *
+                    static_cast<std::size_t>(dims.x);
                 for (int x = 0; x < dims.x; ++x) {
                     float& a = opacity[row + static_cast<std::size_t>(x)];
                     if (a > 0.0f) a = std::clamp(a * region.factor(glm::vec3(x, y, z)), 0.0f, 1.0f);

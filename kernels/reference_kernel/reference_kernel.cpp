@@ -29,7 +29,8 @@ public:
         out->pass_images.push_back(renderer_.render(frame_camera(frame, volume_), settings_, &out->stats));
         return out;
     }
-    nlohmann::json frame_stats(const KernelFrame& frame, const FrameTiming&, const std::vector<std::string>&) const override {
+    nlohmann::json frame_stats(const KernelFrame& frame, const FrameTiming&,
+                               const std::vector<std::string>&) const override {
         return {{"reference", reference_stats(static_cast<const ReferenceFrame&>(frame).stats)}};
     }
     std::string describe(const nlohmann::json&) const override { return {}; }
@@ -48,7 +49,8 @@ public:
     std::vector<const ParamGroup*> param_groups() const override { return {&reference_cost_params()}; }
     bool runs_on_machine() const override { return false; }
     void check(const Scenario&) const override {}
-    std::unique_ptr<KernelRun> start(Machine&, const MachineConfig&, const Scenario& scenario, const Volume& volume) const override {
+    std::unique_ptr<KernelRun> start(Machine&, const MachineConfig&, const Scenario& scenario,
+                                     const Volume& volume) const override {
         return std::make_unique<ReferenceRun>(scenario, volume);
     }
 };

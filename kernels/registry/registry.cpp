@@ -40,7 +40,8 @@ std::string kernel_names() {
 
 const Kernel& kernel_for(const Scenario& scenario) {
     if (const Kernel* k = find_kernel(scenario.kernel)) return *k;
-    throw InputError(scenario.file.string(), "scenario.kernel", "unknown kernel \"" + scenario.kernel + "\"; the known ones are " + kernel_names());
+    throw InputError(scenario.file.string(), "scenario.kernel",
+                     "unknown kernel \"" + scenario.kernel + "\"; the known ones are " + kernel_names());
 }
 
 void register_kernel(const Kernel& kernel) {

@@ -30,12 +30,14 @@ void validate_camera(const Camera& camera) {
     if (glm::length(view) <= 0.0f) reject_field("camera.target", "must differ from camera.eye");
     const glm::vec3 side = glm::cross(glm::normalize(view), camera.up);
     // Up within ~0.06 degrees of the view direction leaves the image's orientation undefined.
-    if (!(glm::length(side) > 1e-6f * glm::length(camera.up))) reject_field("camera.up", "must not be parallel to the view direction");
+    if (!(glm::length(side) > 1e-6f * glm::length(camera.up)))
+        reject_field("camera.up", "must not be parallel to the view direction");
     if (camera.projection == Projection::Perspective &&
         !(camera.fov_y_degrees > 0.0f && camera.fov_y_degrees < 180.0f)) {
         reject_field("camera.fov_y_degrees", "must lie in (0, 180)");
     }
-    if (camera.projection == Projection::Parallel && !(camera.view_height > 0.0f && std::isfinite(camera.view_height))) {
+    if (camera.projection == Projection::Parallel &&
+        !(camera.view_height > 0.0f && std::isfinite(camera.view_height))) {
         reject_field("camera.view_height", "must be positive");
     }
 }

@@ -22,10 +22,10 @@ struct Camera {
     glm::vec3 eye{0.0f, 0.0f, -1.0f};
     glm::vec3 target{0.0f};
     glm::vec3 up{0.0f, 1.0f, 0.0f};
-    float fov_y_degrees = 30.0f;   // perspective: full vertical field of view
-    float view_height = 1.0f;      // parallel: height of the visible window in world units (mm)
+    float fov_y_degrees = 30.0f;  // perspective: full vertical field of view
+    float view_height = 1.0f;     // parallel: height of the visible window in world units (mm)
 
-    glm::vec3 forward() const;     // unit vector from eye towards target
+    glm::vec3 forward() const;  // unit vector from eye towards target
     // The ray through the centre of pixel (px, py) of a width x height image.
     // Parallel: the origin lies on the plane through the eye facing `forward`; perspective: the eye.
     Ray ray_for_pixel(int px, int py, int width, int height) const;

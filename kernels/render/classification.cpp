@@ -32,8 +32,8 @@ Bracket bracket(std::span<const Point> points, float f) {
         return b;
     }
     // The first point above f; equal values (a step) resolve to the later point.
-    const auto above = std::upper_bound(points.begin(), points.end(), f,
-                                        [](float value, const Point& p) { return value < p.value; });
+    const auto above =
+        std::upper_bound(points.begin(), points.end(), f, [](float value, const Point& p) { return value < p.value; });
     b.where = Bracket::Where::Inside;
     b.upper = static_cast<std::size_t>(above - points.begin());
     b.lower = b.upper - 1;
@@ -75,13 +75,13 @@ float contour_opacity(const IsovalueContour& contour, float f, float grad_mag) {
     return 0.0f;
 }
 
-
 bool is_unit_interval(float x) { return x >= 0.0f && x <= 1.0f; }
 
 template <class Point>
 void check_sorted(std::span<const Point> points, const std::string& field) {
     for (std::size_t i = 0; i < points.size(); ++i) {
-        if (!std::isfinite(points[i].value)) reject_field(field + "[" + std::to_string(i) + "].value", "must be finite");
+        if (!std::isfinite(points[i].value))
+            reject_field(field + "[" + std::to_string(i) + "].value", "must be finite");
         if (i > 0 && points[i].value < points[i - 1].value) {
             reject_field(field + "[" + std::to_string(i) + "].value", "points must be sorted by value");
         }
@@ -94,7 +94,8 @@ float Classification::opacity(float f, float grad_mag) const {
     switch (kind) {
         case ClassificationKind::IsovalueContours: {
             float transparency = 1.0f;
-            for (const IsovalueContour& contour : contours) transparency *= 1.0f - contour_opacity(contour, f, grad_mag);
+            for (const IsovalueContour& contour : contours)
+                transparency *= 1.0f - contour_opacity(contour, f, grad_mag);
             return std::clamp(1.0f - transparency, 0.0f, 1.0f);
         }
         case ClassificationKind::RegionBoundaries: {

@@ -49,8 +49,8 @@ enum class ClassificationKind { IsovalueContours, RegionBoundaries, PiecewiseLin
 // opacity of the later point.
 struct Classification {
     ClassificationKind kind = ClassificationKind::IsovalueContours;
-    std::vector<IsovalueContour> contours;   // IsovalueContours: combined as 1 - prod(1 - alpha_n)
-    std::vector<OpacityPoint> points;        // RegionBoundaries, PiecewiseLinear: sorted by value
+    std::vector<IsovalueContour> contours;  // IsovalueContours: combined as 1 - prod(1 - alpha_n)
+    std::vector<OpacityPoint> points;       // RegionBoundaries, PiecewiseLinear: sorted by value
 
     // Opacity in [0,1] of a voxel with value f and gradient magnitude grad_mag (value units per voxel).
     float opacity(float f, float grad_mag) const;

@@ -39,7 +39,8 @@ T at_vertex(const std::vector<T>& values, std::size_t i) {
 }
 
 // value(p) = a (p.u) + b (p.w) + h fitted to the vertices by least squares (exact for a triangle).
-LinearFunction fit(const std::vector<glm::vec3>& vertices, glm::dvec3 u, glm::dvec3 w, const std::vector<double>& values) {
+LinearFunction fit(const std::vector<glm::vec3>& vertices, glm::dvec3 u, glm::dvec3 w,
+                   const std::vector<double>& values) {
     double m[3][3] = {};
     double r[3] = {};
     for (std::size_t i = 0; i < vertices.size(); ++i) {
@@ -74,7 +75,9 @@ LinearFunction fit(const std::vector<glm::vec3>& vertices, glm::dvec3 u, glm::dv
 
 void validate_polygon(const PolygonSpec& polygon, const std::string& file, const std::string& field) {
     const auto& v = polygon.vertices;
-    if (v.size() < 3) throw InputError(file, field + ".vertices", "a polygon needs at least three vertices, got " + std::to_string(v.size()));
+    if (v.size() < 3)
+        throw InputError(file, field + ".vertices",
+                         "a polygon needs at least three vertices, got " + std::to_string(v.size()));
     for (std::size_t i = 0; i < v.size(); ++i)
         if (!std::isfinite(v[i].x) || !std::isfinite(v[i].y) || !std::isfinite(v[i].z))
             throw InputError(file, field + ".vertices", "vertex " + std::to_string(i) + " is not a finite point");
@@ -82,18 +85,22 @@ void validate_polygon(const PolygonSpec& polygon, const std::string& file, const
         for (int k = 0; k < 3; ++k)
             if (std::abs(v[i][k]) > kFarthestPolygonVertex)
                 throw InputError(file, field + ".vertices",
-                                 fmt::format("vertex {} lies {:g} voxels out along an axis; the renderers' fixed-point plane and edge fields "
+                                 fmt::format("vertex {} lies {:g} voxels out along an axis; the renderers' fixed-point "
+                                             "plane and edge fields "
                                              "hold coordinates up to {:g}",
                                              i, std::abs(v[i][k]), kFarthestPolygonVertex));
     const auto check_count = [&](std::size_t n, const char* what) {
         if (n != 1 && n != v.size())
-            throw InputError(file, field + "." + what, "give one value for the polygon or one per vertex (" + std::to_string(v.size()) + "), not " + std::to_string(n));
+            throw InputError(file, field + "." + what,
+                             "give one value for the polygon or one per vertex (" + std::to_string(v.size()) +
+                                 "), not " + std::to_string(n));
     };
     check_count(polygon.colors.size(), "colors");
     check_count(polygon.opacities.size(), "opacities");
     for (const glm::vec3& c : polygon.colors)
         for (int k = 0; k < 3; ++k)
-            if (!(c[k] >= 0.0f && c[k] <= 1.0f)) throw InputError(file, field + ".colors", "colour components must lie in [0, 1]");
+            if (!(c[k] >= 0.0f && c[k] <= 1.0f))
+                throw InputError(file, field + ".colors", "colour components must lie in [0, 1]");
     for (float a : polygon.opacities)
         if (!(a >= 0.0f && a <= 1.0f)) throw InputError(file, field + ".opacities", "opacities must lie in [0, 1]");
 
@@ -104,14 +111,16 @@ void validate_polygon(const PolygonSpec& polygon, const std::string& file, const
     const double d0 = glm::dot(unit, glm::dvec3(v[0]));
     for (std::size_t i = 0; i < v.size(); ++i)
         if (std::abs(glm::dot(unit, glm::dvec3(v[i])) - d0) > 0.01)
-            throw InputError(file, field + ".vertices", "the vertices are not in one plane (vertex " + std::to_string(i) + " is off it)");
+            throw InputError(file, field + ".vertices",
+                             "the vertices are not in one plane (vertex " + std::to_string(i) + " is off it)");
     for (std::size_t i = 0; i < v.size(); ++i) {
         const glm::dvec3 a(v[i]);
         const glm::dvec3 b(v[(i + 1) % v.size()]);
         const glm::dvec3 c(v[(i + 2) % v.size()]);
         if (glm::dot(glm::cross(b - a, c - b), unit) < -1e-9)
-            throw InputError(file, field + ".vertices", "the polygon is not convex at vertex " + std::to_string((i + 1) % v.size()) +
-                                                            "; split it into convex pieces or triangles");
+            throw InputError(file, field + ".vertices",
+                             "the polygon is not convex at vertex " + std::to_string((i + 1) % v.size()) +
+                                 "; split it into convex pieces or triangles");
     }
 }
 

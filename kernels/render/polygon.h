@@ -33,10 +33,10 @@ struct LinearFunction {
 // colour and opacity as linear functions over the plane (exact at a triangle's vertices, a least-squares
 // fit for more).
 struct PreparedPolygon {
-    bool degenerate = false;   // no area: covers nothing
+    bool degenerate = false;  // no area: covers nothing
     double area = 0.0;
-    glm::dvec3 normal{0.0};    // unit
-    double plane_offset = 0.0; // distance(p) = dot(normal, p) + plane_offset
+    glm::dvec3 normal{0.0};                // unit
+    double plane_offset = 0.0;             // distance(p) = dot(normal, p) + plane_offset
     std::vector<glm::dvec3> edge_normals;  // unit, pointing inwards
     std::vector<double> edge_offsets;      // inside edge i when dot(edge_normals[i], p) + edge_offsets[i] >= 0
     LinearFunction red, green, blue, opacity;
@@ -52,8 +52,8 @@ struct PreparedPolygon {
 // about 2^31 voxels; a hundred million leaves room for the volume's own extent.
 inline constexpr double kFarthestPolygonVertex = 1e8;
 
-// Checks a polygon: at least three finite vertices within kFarthestPolygonVertex, one colour and opacity per vertex or one for all,
-// colours and opacities in [0, 1], the vertices in one plane (within 0.01 voxel) and convex. Throws
+// Checks a polygon: at least three finite vertices within kFarthestPolygonVertex, one colour and opacity per vertex or
+// one for all, colours and opacities in [0, 1], the vertices in one plane (within 0.01 voxel) and convex. Throws
 // InputError(file, field, reason). A polygon with no area is accepted (it covers nothing).
 void validate_polygon(const PolygonSpec& polygon, const std::string& file, const std::string& field);
 PreparedPolygon prepare_polygon(const PolygonSpec& polygon);

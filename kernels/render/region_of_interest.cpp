@@ -14,7 +14,8 @@ namespace pp5 {
 glm::vec3 RegionOfInterest::axis(int i) const {
     // Rotation R = Rz Ry Rx; the region's axes are R's columns, and local coordinates use R^T.
     const glm::vec3 r = glm::radians(rotation_degrees);
-    const float cx = std::cos(r.x), sx = std::sin(r.x), cy = std::cos(r.y), sy = std::sin(r.y), cz = std::cos(r.z), sz = std::sin(r.z);
+    const float cx = std::cos(r.x), sx = std::sin(r.x), cy = std::cos(r.y), sy = std::sin(r.y), cz = std::cos(r.z),
+                sz = std::sin(r.z);
     const glm::vec3 columns[3] = {
         {cz * cy, sz * cy, -sy},
         {cz * sy * sx - sz * cx, sz * sy * sx + cz * cx, cy * sx},
@@ -69,14 +70,16 @@ void validate_region(const RegionOfInterest& region, const std::string& file, co
         if (!std::isfinite(region.center[i]) || !std::isfinite(region.rotation_degrees[i]))
             throw InputError(file, field + ".center", "the region's place and turn must be finite");
     }
-    for (const auto& [name, v] : {std::pair{"scale_inside", region.scale_inside}, std::pair{"scale_outside", region.scale_outside}})
+    for (const auto& [name, v] :
+         {std::pair{"scale_inside", region.scale_inside}, std::pair{"scale_outside", region.scale_outside}})
         if (!(v >= 0.0f && v <= 16.0f)) throw InputError(file, field + "." + name, "opacity scales lie in [0, 16]");
     if (!(region.transition >= 0.0f && region.transition <= 1000.0f))
         throw InputError(file, field + ".transition", "the transition is a width in voxels, from 0 to 1000");
     if (region.cap && region.shape != RegionOfInterest::Shape::Box)
         throw InputError(file, field + ".cap", "capping is for a box region (its faces give the caps' normals)");
     if (region.cap && !(region.transition > 0.0f))
-        throw InputError(file, field + ".cap", "capping recolours the transition zone: give the region a transition wider than 0");
+        throw InputError(file, field + ".cap",
+                         "capping recolours the transition zone: give the region a transition wider than 0");
 }
 
 }  // namespace pp5

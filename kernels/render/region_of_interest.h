@@ -16,13 +16,13 @@ namespace pp5 {
 struct RegionOfInterest {
     enum class Shape { Box, Ellipsoid };
     Shape shape = Shape::Box;
-    glm::vec3 center{0.0f};           // voxel coordinates
-    glm::vec3 half_size{10.0f};       // half edges of the box, or the ellipsoid's radii, in voxels
-    glm::vec3 rotation_degrees{0.0f}; // about x, then y, then z
-    float scale_inside = 1.0f;        // opacity factors, in [0, 16]
+    glm::vec3 center{0.0f};            // voxel coordinates
+    glm::vec3 half_size{10.0f};        // half edges of the box, or the ellipsoid's radii, in voxels
+    glm::vec3 rotation_degrees{0.0f};  // about x, then y, then z
+    float scale_inside = 1.0f;         // opacity factors, in [0, 16]
     float scale_outside = 1.0f;
-    float transition = 2.0f;          // voxels across the surface; 0 is a hard edge
-    bool cap = false;                 // shade the transition zone as if the region held air (boxes only)
+    float transition = 2.0f;  // voxels across the surface; 0 is a hard edge
+    bool cap = false;         // shade the transition zone as if the region held air (boxes only)
 
     bool operator==(const RegionOfInterest&) const = default;
 

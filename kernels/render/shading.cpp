@@ -28,7 +28,8 @@ void validate_lighting(const PhongLighting& lighting) {
         if (!(glm::length(light.direction) > 0.0f) || !std::isfinite(glm::length(light.direction)))
             reject_field(field + ".direction", "must be non-zero and finite");
         if (!non_negative(light.intensity) || light.intensity > kMaxLightIntensity)
-            reject_field(field + ".intensity", "must be in [0, " + std::to_string(static_cast<int>(kMaxLightIntensity)) + "]");
+            reject_field(field + ".intensity",
+                         "must be in [0, " + std::to_string(static_cast<int>(kMaxLightIntensity)) + "]");
     }
     // k1 + k2 d is linear in d, so positive on [0,1] iff positive at both ends.
     const float near_divisor = lighting.depth_cue_k1;
@@ -38,8 +39,8 @@ void validate_lighting(const PhongLighting& lighting) {
     }
 }
 
-glm::vec3 phong_shade(const PhongLighting& lighting, glm::vec3 base, glm::vec3 normal,
-                      glm::vec3 to_light, glm::vec3 to_viewer, float depth) {
+glm::vec3 phong_shade(const PhongLighting& lighting, glm::vec3 base, glm::vec3 normal, glm::vec3 to_light,
+                      glm::vec3 to_viewer, float depth) {
     return PhongShader(lighting).shade(base, normal, to_light, to_viewer, depth);
 }
 

@@ -25,7 +25,7 @@ namespace pp5 {
 // A light that stays put while a sequence moves the key light: a direction and a strength.
 struct StationaryLight {
     glm::vec3 direction{0.0f, 0.0f, -1.0f};  // world space, towards the light (normalised on use)
-    float intensity = 1.0f;                   // s: scales its diffuse and specular terms
+    float intensity = 1.0f;                  // s: scales its diffuse and specular terms
 
     bool operator==(const StationaryLight&) const = default;
 };
@@ -36,14 +36,14 @@ constexpr std::size_t kMaxStationaryLights = 8;
 constexpr float kMaxLightIntensity = 10.0f;
 
 struct PhongLighting {
-    float ambient = 0.15f;          // k_a
-    float diffuse = 0.7f;           // k_d
-    float specular = 0.3f;          // k_s
-    float shininess = 20.0f;        // n
+    float ambient = 0.15f;                         // k_a
+    float diffuse = 0.7f;                          // k_d
+    float specular = 0.3f;                         // k_s
+    float shininess = 20.0f;                       // n
     glm::vec3 light_direction{0.0f, 0.0f, -1.0f};  // world space, towards the light (normalised on use)
-    bool light_follows_camera = true;               // a headlight: L = V, light_direction ignored
+    bool light_follows_camera = true;              // a headlight: L = V, light_direction ignored
     float depth_cue_k1 = 1.0f;
-    float depth_cue_k2 = 0.0f;      // 0 disables depth cueing
+    float depth_cue_k2 = 0.0f;                       // 0 disables depth cueing
     std::vector<StationaryLight> stationary_lights;  // beside the key light above
 
     bool operator==(const PhongLighting&) const = default;
@@ -51,16 +51,16 @@ struct PhongLighting {
 
 // Throws pp5::InputError (field "lighting.*") for negative coefficients, a zero light direction
 // (unless the light follows the camera), more than kMaxStationaryLights stationary lights or one with a
-// zero direction or an intensity outside [0, kMaxLightIntensity], or depth cueing whose divisor k1 + k2 d is not positive
-// over d in [0,1].
+// zero direction or an intensity outside [0, kMaxLightIntensity], or depth cueing whose divisor k1 + k2 d is not
+// positive over d in [0,1].
 void validate_lighting(const PhongLighting& lighting);
 
 // Whether voxel colours depend on where the observer is: a headlight, a highlight or depth cueing.
 bool shading_depends_on_view(const PhongLighting& lighting);
 
 // Shade one voxel. base = c_p; normal may be zero (no gradient); to_light and to_viewer are unit.
-glm::vec3 phong_shade(const PhongLighting& lighting, glm::vec3 base, glm::vec3 normal,
-                      glm::vec3 to_light, glm::vec3 to_viewer, float depth);
+glm::vec3 phong_shade(const PhongLighting& lighting, glm::vec3 base, glm::vec3 normal, glm::vec3 to_light,
+                      glm::vec3 to_viewer, float depth);
 
 // The same formula with the per-lighting work done once, for shading millions of voxels: inline, and
 // (N.H)^n by repeated squaring when n is a whole number up to 1024 (within a few ulps of std::pow).

@@ -1,8 +1,8 @@
 #include "kernels/scenario/scenario.h"
 
 #include "kernels/volume/datasets.h"
-#include "kernels/volume/phantoms.h"
 #include "kernels/volume/host_memory.h"
+#include "kernels/volume/phantoms.h"
 #include "kernels/volume/resample.h"
 #include "kernels/volume/volume_io.h"
 #include "sim/core/input_error.h"
@@ -12,11 +12,11 @@
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <tiny_obj_loader.h>
 #include <glm/geometric.hpp>
 #include <glm/gtc/constants.hpp>
 #include <glm/trigonometric.hpp>
 #include <glm/vector_relational.hpp>
-#include <tiny_obj_loader.h>
 
 #include <algorithm>
 #include <charconv>
@@ -163,7 +163,8 @@ DatasetSpec read_dataset(TableReader r, const std::filesystem::path& scenario_fi
         if (!find_packaged_dataset(d.name)) {
             std::vector<std::string> known;
             for (const auto& p : packaged_datasets()) known.push_back(p.name);
-            r.fail("packaged", fmt::format("unknown dataset \"{}\"{} (known: {})", d.name, did_you_mean(d.name, known), fmt::join(known, ", ")));
+            r.fail("packaged", fmt::format("unknown dataset \"{}\"{} (known: {})", d.name, did_you_mean(d.name, known),
+                                           fmt::join(known, ", ")));
         }
     } else if (phantom) {
         d.source = DatasetSpec::Source::Phantom;
@@ -278,7 +279,9 @@ void read_shading(TableReader r, PhongLighting& l) {
             stationary.push_back({glm::normalize(*direction), static_cast<float>(intensity)});
         })) {
         if (stationary.size() > kMaxStationaryLights)
-            r.fail("stationary_lights", fmt::format("at most {} lights (each adds its own Phong terms to every reshade)", kMaxStationaryLights));
+            r.fail("stationary_lights",
+                   fmt::format("at most {} lights (each adds its own Phong terms to every reshade)",
+                               kMaxStationaryLights));
         l.stationary_lights = stationary;
     }
     r.finish();
@@ -313,7 +316,8 @@ ImageSpec read_image(TableReader r) {
     s.height = r.integer("height", 1, 16384).value_or(s.height);
     s.background = r.vec3("background", 0, 1).value_or(s.background);
     s.sample_step = static_cast<float>(r.number("sample_step", 0.01, 16).value_or(s.sample_step));
-    s.termination_opacity = static_cast<float>(r.number("termination_opacity", 0.01, 1).value_or(s.termination_opacity));
+    s.termination_opacity =
+        static_cast<float>(r.number("termination_opacity", 0.01, 1).value_or(s.termination_opacity));
     if (const auto order = r.text("resampling")) {
         if (*order == "shade-then-interpolate") s.resampling = ResamplingOrder::ShadeThenInterpolate;
         else if (*order == "interpolate-then-shade") s.resampling = ResamplingOrder::InterpolateThenShade;
@@ -354,7 +358,9 @@ static NamedFileSearch scenario_search() {
     return {"PP5SIM_SCENARIOS", builtin, "scenario", "traces/scenarios/*.toml"};
 }
 
-std::filesystem::path resolve_scenario_file(const std::string& name_or_path) { return resolve_named_file(name_or_path, scenario_search()); }
+std::filesystem::path resolve_scenario_file(const std::string& name_or_path) {
+    return resolve_named_file(name_or_path, scenario_search());
+}
 
 std::vector<std::filesystem::path> shipped_scenario_files() { return list_named_files(scenario_search()); }
 
@@ -409,14 +415,17 @@ std::string oversized_obj_index(std::string_view text) {
         const std::size_t first = line.find_first_not_of(" \t");
         if (first == std::string_view::npos) continue;
         line.remove_prefix(first);
-        if (line.size() < 2 || (line[0] != 'f' && line[0] != 'l' && line[0] != 'p') || (line[1] != ' ' && line[1] != '\t')) continue;
+        if (line.size() < 2 || (line[0] != 'f' && line[0] != 'l' && line[0] != 'p') ||
+            (line[1] != ' ' && line[1] != '\t'))
+            continue;
         for (std::size_t at = 1; at < line.size();) {
             const std::size_t digits = line.find_first_of("+-0123456789", at);
             if (digits == std::string_view::npos) break;
             const std::size_t stop = std::min(line.find_first_not_of("+-0123456789", digits), line.size());
             long long value = 0;
             const std::string_view number = line.substr(digits, stop - digits);
-            const auto [ptr, ec] = std::from_chars(number.data() + (number[0] == '+' ? 1 : 0), number.data() + number.size(), value);
+            const auto [ptr, ec] =
+                std::from_chars(number.data() + (number[0] == '+' ? 1 : 0), number.data() + number.size(), value);
             if (ec == std::errc::result_out_of_range || (ec == std::errc() && (value > INT_MAX || value < -INT_MAX)))
                 return fmt::format("line {}: index {} is beyond any vertex a mesh can have", line_number, number);
             at = stop;
@@ -446,7 +455,8 @@ std::vector<PolygonSpec> read_mesh(TableReader& item, const std::filesystem::pat
     if (readable) {
         std::ifstream in(path, std::ios::binary);
         text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-        if (const std::string problem = oversized_obj_index(text); !problem.empty()) item.fail("file", path.string() + ": " + problem);
+        if (const std::string problem = oversized_obj_index(text); !problem.empty())
+            item.fail("file", path.string() + ": " + problem);
     }
     if (!readable || !reader.ParseFromString(text, "", config)) {
         std::string why = reader.Error().empty() ? "cannot be read" : reader.Error();
@@ -493,10 +503,13 @@ void read_region(TableReader r, std::optional<RegionOfInterest>& region) {
     // no ramp, and its slope would not fit their fields.
     constexpr float kNarrowest = 0.01f;
     if (g.transition > 0.0f && g.transition < kNarrowest)
-        r.fail("transition", fmt::format("is {} voxels: give 0 for a hard edge, or at least {}", g.transition, kNarrowest));
+        r.fail("transition",
+               fmt::format("is {} voxels: give 0 for a hard edge, or at least {}", g.transition, kNarrowest));
     g.cap = r.boolean("cap").value_or(g.cap);
-    if (g.cap && g.shape != RegionOfInterest::Shape::Box) r.fail("cap", "capping is for a box region (its faces give the caps' normals)");
-    if (g.cap && !(g.transition > 0.0f)) r.fail("cap", "capping recolours the transition zone: give the region a transition wider than 0");
+    if (g.cap && g.shape != RegionOfInterest::Shape::Box)
+        r.fail("cap", "capping is for a box region (its faces give the caps' normals)");
+    if (g.cap && !(g.transition > 0.0f))
+        r.fail("cap", "capping recolours the transition zone: give the region a transition wider than 0");
     const bool off = !r.boolean("enabled").value_or(true);
     r.finish();
     region = off ? std::nullopt : std::optional<RegionOfInterest>(g);
@@ -573,7 +586,8 @@ Scenario read_scenario(const toml::table& root, const std::filesystem::path& pat
         if (item.has("region")) read_region(item.sub("region"), next.region);
         if (item.has("camera")) read_camera(item.sub("camera"), next.camera);
         if (item.has("shading")) read_shading(item.sub("shading"), next.lighting);
-        if (item.has("classification")) read_classification(item.sub("classification"), next.classification, next.colors);
+        if (item.has("classification"))
+            read_classification(item.sub("classification"), next.classification, next.colors);
         s.frames.push_back(next);
         current = next;
     });
@@ -592,7 +606,8 @@ Volume load_dataset(const Scenario& scenario) {
     switch (d.source) {
         case DatasetSpec::Source::Packaged: volume = load_packaged_dataset(d.name); break;
         case DatasetSpec::Source::Phantom:
-            check_volume_fits_host(scenario.file.string(), "dataset.size", glm::ivec3(d.phantom_size), ScalarType::UInt8);
+            check_volume_fits_host(scenario.file.string(), "dataset.size", glm::ivec3(d.phantom_size),
+                                   ScalarType::UInt8);
             try {
                 volume = make_phantom(d.name, d.phantom_size);
             } catch (const InputError& e) {
@@ -601,7 +616,8 @@ Volume load_dataset(const Scenario& scenario) {
             break;
         case DatasetSpec::Source::File: volume = load_volume(d.name); break;
         case DatasetSpec::Source::Raw:
-            volume = load_raw(d.name, RawLayout{d.raw_dims, d.raw_type, d.raw_big_endian, d.raw_header_bytes, d.raw_spacing});
+            volume = load_raw(d.name,
+                              RawLayout{d.raw_dims, d.raw_type, d.raw_big_endian, d.raw_header_bytes, d.raw_spacing});
             break;
     }
     if (d.resample_to) {
@@ -611,8 +627,8 @@ Volume load_dataset(const Scenario& scenario) {
     // Rendering interpolates between neighbouring samples: every axis needs two.
     if (glm::any(glm::lessThan(volume.dims(), glm::ivec3(2))))
         throw InputError(scenario.file.string(), d.resample_to ? "dataset.resample" : "dataset",
-                         fmt::format("the volume is {}x{}x{}; rendering needs at least two voxels along each axis", volume.dims().x,
-                                     volume.dims().y, volume.dims().z));
+                         fmt::format("the volume is {}x{}x{}; rendering needs at least two voxels along each axis",
+                                     volume.dims().x, volume.dims().y, volume.dims().z));
     return volume;
 }
 

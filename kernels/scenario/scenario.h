@@ -25,9 +25,9 @@ namespace pp5 {
 struct DatasetSpec {
     enum class Source { Packaged, File, Phantom, Raw };
     Source source = Source::Phantom;
-    std::string name;                  // packaged name, phantom name, or file path (absolute)
-    int phantom_size = 128;            // n of an n^3 phantom
-    glm::ivec3 raw_dims{0};            // Raw only
+    std::string name;        // packaged name, phantom name, or file path (absolute)
+    int phantom_size = 128;  // n of an n^3 phantom
+    glm::ivec3 raw_dims{0};  // Raw only
     ScalarType raw_type = ScalarType::UInt8;
     bool raw_big_endian = false;
     std::size_t raw_header_bytes = 0;
@@ -47,11 +47,11 @@ struct CameraSpec {
     Projection projection = Projection::Parallel;
     glm::vec3 view_from{0.0f, 1.0f, 0.0f};  // direction from the volume's centre towards the eye at azimuth 0
     glm::vec3 up{0.0f, 0.0f, 1.0f};
-    float azimuth_degrees = 0.0f;            // turn about `up`
-    float elevation_degrees = 0.0f;          // tilt towards `up`
-    float distance = 3.0f;                   // eye distance in bounding-sphere radii
-    float zoom = 1.0f;                       // >1 magnifies
-    std::optional<float> fov_degrees;        // perspective; default fits the bounding sphere
+    float azimuth_degrees = 0.0f;      // turn about `up`
+    float elevation_degrees = 0.0f;    // tilt towards `up`
+    float distance = 3.0f;             // eye distance in bounding-sphere radii
+    float zoom = 1.0f;                 // >1 magnifies
+    std::optional<float> fov_degrees;  // perspective; default fits the bounding sphere
 
     // The camera for a volume whose bounding sphere has this centre and radius (world units).
     Camera camera_for(glm::vec3 center, float radius) const;
@@ -61,8 +61,8 @@ struct ImageSpec {
     int width = 512;
     int height = 512;
     glm::vec3 background{0.0f};
-    float sample_step = 1.0f;            // voxels between samples along a ray
-    float termination_opacity = 0.95f;   // early ray termination; 1 disables
+    float sample_step = 1.0f;           // voxels between samples along a ray
+    float termination_opacity = 0.95f;  // early ray termination; 1 disables
     ResamplingOrder resampling = ResamplingOrder::ShadeThenInterpolate;
 };
 

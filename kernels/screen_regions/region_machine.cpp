@@ -24,14 +24,18 @@ nlohmann::json region_phase_stats(const GpPhaseCounts& g) {
     std::vector<double> drawing;
     for (const Tick t : g.renderer_drawing) drawing.push_back(seconds(t));
     const double busiest = drawing.empty() ? 0.0 : *std::max_element(drawing.begin(), drawing.end());
-    const double mean = drawing.empty() ? 0.0 : std::accumulate(drawing.begin(), drawing.end(), 0.0) / static_cast<double>(drawing.size());
+    const double mean =
+        drawing.empty() ? 0.0
+                        : std::accumulate(drawing.begin(), drawing.end(), 0.0) / static_cast<double>(drawing.size());
     return {{"gp_computing_seconds", seconds(g.gp_busy)},
             {"gp_waiting_seconds", seconds(g.gp_wait)},
             {"ring_busy_seconds", seconds(g.ring_busy)},
             {"renderers_answering_seconds", seconds(g.renderer_busy)},
             {"renderer_drawing_seconds", drawing},
             {"renderer_imbalance", mean > 0 ? busiest / mean : 0.0},
-            {"note", "GP and ring times are summed over GPs and channels; imbalance is the busiest renderer's drawing time over the mean"},
+            {"note",
+             "GP and ring times are summed over GPs and channels; imbalance is the busiest renderer's drawing time "
+             "over the mean"},
             {"brick_fetches", g.fetch_requests},
             {"brick_cache_hits", g.cache_hits},
             {"brick_cache_misses", g.cache_misses},

@@ -72,8 +72,9 @@ Volume load_den(const std::filesystem::path& path) {
     const auto map_length = read_field<std::int32_t>(header, kMapLengthOffset, order);
     const std::size_t count = volume_detail::voxel_count(dims);
     if (map_length < 0 || static_cast<std::size_t>(map_length) != count) {
-        throw InputError(file, "header.map_length",
-                         fmt::format("is {} but map_len {} makes {}", map_length, volume_detail::dims_text(dims), count));
+        throw InputError(
+            file, "header.map_length",
+            fmt::format("is {} but map_len {} makes {}", map_length, volume_detail::dims_text(dims), count));
     }
 
     check_volume_fits_host(file, "header.dims", dims, ScalarType::UInt8);

@@ -248,12 +248,13 @@ struct Inv3Layout {
 };
 
 // The three items of the <array> under `key`; `what` (and `unit`) say what they should be, for the errors.
-std::vector<PlistItem> three_items(std::string_view xml, const char* key, const std::string& file, const std::string& field,
-                                   const char* what, const char* unit = "") {
+std::vector<PlistItem> three_items(std::string_view xml, const char* key, const std::string& file,
+                                   const std::string& field, const char* what, const char* unit = "") {
     const auto body = value_after_key(xml, key, "array");
     if (!body) throw InputError(file, field, fmt::format("missing (an <array> of three {}{})", what, unit));
     auto items = array_items(*body);
-    if (!items || items->size() != 3) throw InputError(file, field, fmt::format("must be an <array> of three {}", what));
+    if (!items || items->size() != 3)
+        throw InputError(file, field, fmt::format("must be an <array> of three {}", what));
     return std::move(*items);
 }
 

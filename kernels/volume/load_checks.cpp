@@ -2,7 +2,6 @@
 
 #include "sim/core/host_memory.h"
 
-
 #include "sim/core/input_error.h"
 
 #include <fmt/core.h>
@@ -37,8 +36,10 @@ void check_spacing(const std::string& file, const std::string& field, double val
     // Beyond these the products and inverses the renderers take of it overflow or underflow a float.
     constexpr double kFinest = 1e-6, kCoarsest = 1e6;
     if (!(std::isfinite(value) && value >= kFinest && value <= kCoarsest))
-        throw InputError(file, field, fmt::format("is {}: a voxel spacing must lie from {} to {} (in the file's units, mm for scans)", value,
-                                                  kFinest, kCoarsest));
+        throw InputError(
+            file, field,
+            fmt::format("is {}: a voxel spacing must lie from {} to {} (in the file's units, mm for scans)", value,
+                        kFinest, kCoarsest));
 }
 
 std::size_t voxel_count(glm::ivec3 dims) {
@@ -57,8 +58,10 @@ std::string size_mismatch(std::size_t held_bytes, glm::ivec3 dims, ScalarType ty
 namespace pp5 {
 
 void check_volume_fits_host(const std::string& file, const std::string& field, glm::ivec3 dims, ScalarType type) {
-    const double needed = static_cast<double>(volume_detail::voxel_count(dims)) * static_cast<double>(scalar_size_bytes(type) + sizeof(float));
-    check_fits_host_memory(file, field, needed, fmt::format("loading a {} volume of {}", volume_detail::dims_text(dims), to_string(type)));
+    const double needed = static_cast<double>(volume_detail::voxel_count(dims)) *
+                          static_cast<double>(scalar_size_bytes(type) + sizeof(float));
+    check_fits_host_memory(file, field, needed,
+                           fmt::format("loading a {} volume of {}", volume_detail::dims_text(dims), to_string(type)));
 }
 
 }  // namespace pp5

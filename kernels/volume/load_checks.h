@@ -28,7 +28,6 @@ void check_spacing(const std::string& file, const std::string& field, double val
 
 std::size_t voxel_count(glm::ivec3 dims);
 
-
 std::string dims_text(glm::ivec3 dims);  // "10x10x11"
 
 // "file holds 1000 bytes of voxel data but dims 10x10x11 of int16 need 2200"

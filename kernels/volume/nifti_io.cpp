@@ -122,9 +122,9 @@ glm::ivec3 read_dims(std::span<const std::byte> header, std::endian order, const
     }
     for (std::size_t i = 4; i <= static_cast<std::size_t>(dim[0]); ++i) {
         if (dim[i] != 1) {
-            throw InputError(file, fmt::format("header.dim[{}]", i),
-                             fmt::format("is {}: only a single 3D volume is read, not a series or vector data",
-                                         dim[i]));
+            throw InputError(
+                file, fmt::format("header.dim[{}]", i),
+                fmt::format("is {}: only a single 3D volume is read, not a series or vector data", dim[i]));
         }
     }
     for (std::size_t i = 1; i <= 3; ++i) volume_detail::check_axis_size(file, fmt::format("header.dim[{}]", i), dim[i]);
@@ -157,7 +157,8 @@ std::size_t read_vox_offset(std::span<const std::byte> header, std::endian order
     }
     // Past 2^53 bytes a double no longer counts whole bytes, and no file is that long anyway.
     constexpr double kLongestFile = 9007199254740992.0;
-    if (v > kLongestFile) throw InputError(file, "header.vox_offset", fmt::format("is {}: past the end of any file", v));
+    if (v > kLongestFile)
+        throw InputError(file, "header.vox_offset", fmt::format("is {}: past the end of any file", v));
     return static_cast<std::size_t>(v);
 }
 
@@ -187,9 +188,9 @@ Volume load_nifti(const std::filesystem::path& path) {
 
     const auto header = in.read_up_to(kNiftiHeaderBytes, "header");
     if (header.size() < kNiftiHeaderBytes) {
-        throw InputError(file, "header",
-                         fmt::format("file holds only {} bytes, a NIfTI-1 header needs 348{}", header.size(),
-                                     cut_short_note(in)));
+        throw InputError(
+            file, "header",
+            fmt::format("file holds only {} bytes, a NIfTI-1 header needs 348{}", header.size(), cut_short_note(in)));
     }
     const std::endian order = header_byte_order(header, file);
     check_magic(header, file);
@@ -209,7 +210,8 @@ Volume load_nifti(const std::filesystem::path& path) {
     check_volume_fits_host(file, "header.dim", dims, type);
     const auto data = in.read_up_to(need, "voxel data");
     if (data.size() < need)
-        throw InputError(file, "voxel data", volume_detail::size_mismatch(data.size(), dims, type) + cut_short_note(in));
+        throw InputError(file, "voxel data",
+                         volume_detail::size_mismatch(data.size(), dims, type) + cut_short_note(in));
     in.require_intact_end("voxel data");
 
     return Volume(dims, spacing, type, volume_detail::decode_samples(data, encoding, dims, file),

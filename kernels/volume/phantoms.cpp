@@ -73,7 +73,8 @@ Volume make_checker_box_phantom(int n, int cell) {
     require(cell >= 1, "make_checker_box_phantom: cell must be at least 1");
     const glm::ivec3 dims(n);
     auto samples = fill(dims, [&](glm::vec3 p) {
-        const int parity = (static_cast<int>(p.x) / cell + static_cast<int>(p.y) / cell + static_cast<int>(p.z) / cell) % 2;
+        const int parity =
+            (static_cast<int>(p.x) / cell + static_cast<int>(p.y) / cell + static_cast<int>(p.z) / cell) % 2;
         return parity == 0 ? 200.0f : 100.0f;
     });
     return Volume(dims, glm::vec3(1.0f), ScalarType::UInt8, std::move(samples), "checker-box");
@@ -112,9 +113,8 @@ Volume make_head_phantom(int n) {
 
 Volume make_constant_volume(glm::ivec3 dims, float value) {
     require(dims.x >= 1 && dims.y >= 1 && dims.z >= 1, "make_constant_volume: every dimension must be at least 1");
-    std::vector<float> samples(static_cast<std::size_t>(dims.x) * static_cast<std::size_t>(dims.y) *
-                                   static_cast<std::size_t>(dims.z),
-                               value);
+    std::vector<float> samples(
+        static_cast<std::size_t>(dims.x) * static_cast<std::size_t>(dims.y) * static_cast<std::size_t>(dims.z), value);
     return Volume(dims, glm::vec3(1.0f), ScalarType::Float32, std::move(samples), "constant");
 }
 
@@ -125,12 +125,12 @@ Volume make_phantom(std::string_view name, int n) {
     if (known == kPhantomNames.end()) {
         throw InputError("", "phantom",
                          fmt::format("unknown phantom \"{}\"{} (known: {})", name,
-                                     did_you_mean(name, std::vector<std::string>(std::begin(kPhantomNames), std::end(kPhantomNames))),
+                                     did_you_mean(name, std::vector<std::string>(std::begin(kPhantomNames),
+                                                                                 std::end(kPhantomNames))),
                                      fmt::join(kPhantomNames, ", ")));
     }
     if (n < 1 || n > kMaxPhantomSize) {
-        throw InputError("", "size",
-                         fmt::format("{} is outside 1..{} for phantom \"{}\"", n, kMaxPhantomSize, name));
+        throw InputError("", "size", fmt::format("{} is outside 1..{} for phantom \"{}\"", n, kMaxPhantomSize, name));
     }
     if (name == "sphere") return make_sphere_phantom(n);
     if (name == "checker-box") return make_checker_box_phantom(n);

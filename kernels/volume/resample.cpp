@@ -51,10 +51,14 @@ Volume resample(const Volume& volume, glm::ivec3 target_dims) {
     for (const Tap& z : tz) {
         for (const Tap& y : ty) {
             for (const Tap& x : tx) {
-                const float c00 = lerp(volume.at(x.lower, y.lower, z.lower), volume.at(x.upper, y.lower, z.lower), x.weight);
-                const float c10 = lerp(volume.at(x.lower, y.upper, z.lower), volume.at(x.upper, y.upper, z.lower), x.weight);
-                const float c01 = lerp(volume.at(x.lower, y.lower, z.upper), volume.at(x.upper, y.lower, z.upper), x.weight);
-                const float c11 = lerp(volume.at(x.lower, y.upper, z.upper), volume.at(x.upper, y.upper, z.upper), x.weight);
+                const float c00 =
+                    lerp(volume.at(x.lower, y.lower, z.lower), volume.at(x.upper, y.lower, z.lower), x.weight);
+                const float c10 =
+                    lerp(volume.at(x.lower, y.upper, z.lower), volume.at(x.upper, y.upper, z.lower), x.weight);
+                const float c01 =
+                    lerp(volume.at(x.lower, y.lower, z.upper), volume.at(x.upper, y.lower, z.upper), x.weight);
+                const float c11 =
+                    lerp(volume.at(x.lower, y.upper, z.upper), volume.at(x.upper, y.upper, z.upper), x.weight);
                 out.push_back(lerp(lerp(c00, c10, y.weight), lerp(c01, c11, y.weight), z.weight));
             }
         }

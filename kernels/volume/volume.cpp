@@ -52,8 +52,7 @@ std::optional<ScalarType> parse_scalar_type(std::string_view name) {
     return std::nullopt;
 }
 
-Volume::Volume(glm::ivec3 dims, glm::vec3 spacing, ScalarType source_type, std::vector<float> samples,
-               std::string name)
+Volume::Volume(glm::ivec3 dims, glm::vec3 spacing, ScalarType source_type, std::vector<float> samples, std::string name)
     : dims_(dims), spacing_(spacing), source_type_(source_type), samples_(std::move(samples)), name_(std::move(name)) {
     if (dims.x < 1 || dims.y < 1 || dims.z < 1) {
         throw std::invalid_argument("Volume: every dimension must be at least 1, got " + std::to_string(dims.x) + "x" +

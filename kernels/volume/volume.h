@@ -34,8 +34,8 @@ public:
            std::string name = {});
 
     glm::ivec3 dims() const { return dims_; }
-    glm::vec3 spacing() const { return spacing_; }          // physical size of a voxel (mm)
-    glm::vec3 physical_extent() const;                      // dims * spacing
+    glm::vec3 spacing() const { return spacing_; }  // physical size of a voxel (mm)
+    glm::vec3 physical_extent() const;              // dims * spacing
     ScalarType source_type() const { return source_type_; }
     const std::string& name() const { return name_; }
     void set_name(std::string name) { name_ = std::move(name); }

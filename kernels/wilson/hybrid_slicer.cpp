@@ -14,9 +14,9 @@ namespace pp5 {
 
 namespace {
 
-constexpr std::uint32_t kUnitBits = 48;          // a texel as the renderers stream it: RGBA and its place in the brick
-constexpr std::uint32_t kCachedTexelBits = 64;   // and as a GP keeps it
-constexpr std::uint64_t kHeaderBits = 64;        // a batch's header: kind, layer, brick, count
+constexpr std::uint32_t kUnitBits = 48;         // a texel as the renderers stream it: RGBA and its place in the brick
+constexpr std::uint32_t kCachedTexelBits = 64;  // and as a GP keeps it
+constexpr std::uint64_t kHeaderBits = 64;       // a batch's header: kind, layer, brick, count
 constexpr std::uint64_t kCoefficientBits = 32;
 constexpr std::uint64_t kConstantBits = 16;
 // A quad: its key and four channels of six coefficients. A point: two span tests of three coefficients
@@ -55,30 +55,54 @@ struct DrawnPoint {
 
 std::size_t linear(glm::ivec3 d, glm::ivec3 p) {
     return static_cast<std::size_t>(p.x) +
-           static_cast<std::size_t>(d.x) * (static_cast<std::size_t>(p.y) + static_cast<std::size_t>(d.y) * static_cast<std::size_t>(p.z));
+           static_cast<std::size_t>(d.x) *
+               (static_cast<std::size_t>(p.y) + static_cast<std::size_t>(d.y) * static_cast<std::size_t>(p.z));
 }
 
 // Over a region, what a layer asks: which regions each primitive reaches, row-major region indices.
 template <class Visit>
 void for_each_region(int x0, int y0, int x1, int y1, int rc, int rr, int regions_x, Visit&& visit) {
     for (int ry = y0 / rr; ry <= y1 / rr; ++ry)
-        for (int rx = x0 / rc; rx <= x1 / rc; ++rx) visit(static_cast<std::size_t>(ry) * static_cast<std::size_t>(regions_x) + static_cast<std::size_t>(rx));
+        for (int rx = x0 / rc; rx <= x1 / rc; ++rx)
+            visit(static_cast<std::size_t>(ry) * static_cast<std::size_t>(regions_x) + static_cast<std::size_t>(rx));
 }
 
 // One frame's construction: the layers, the quads and points, each region drawn by its twins, and the
 // recorded work. Each step reads what the steps before it left.
 class FrameBuilder {
 public:
-    FrameBuilder(const HybridSlicer& slicer, const WilsonSettings& settings, const RegionMachine& machine, const HybridVolume& hybrid,
-                 glm::vec3 spacing, glm::ivec3 bricks, const SliceFormat& format, const SlicePrograms& programs,
-                 const ShadedCodes& shaded_texels, const PointLook& point_look, const Camera& view, int image_width, int image_height,
-                 glm::vec3 image_background)
-        : slicer_(slicer), settings_(settings), machine_(machine), hybrid_(&hybrid), spacing_(spacing), bricks_(bricks), format_(format),
-          programs_(programs), texels(shaded_texels), look(point_look), camera(view), width(image_width), height(image_height),
-          background(image_background), projection(view, image_width, image_height), low(hybrid.low_resolution()), n(low.dims()),
-          k(hybrid.factor()), stack(choose_slices(view_direction(hybrid, spacing, view, projection))), a(stack.axis), b((a + 1) % 3),
-          c((a + 2) % 3), min_spacing(std::min({spacing.x, spacing.y, spacing.z})), one(format.one()), edge(settings.brick_voxels),
-          rc(machine.region_columns), rr(machine.region_rows), regions_x((image_width + rc - 1) / rc),
+    FrameBuilder(const HybridSlicer& slicer, const WilsonSettings& settings, const RegionMachine& machine,
+                 const HybridVolume& hybrid, glm::vec3 spacing, glm::ivec3 bricks, const SliceFormat& format,
+                 const SlicePrograms& programs, const ShadedCodes& shaded_texels, const PointLook& point_look,
+                 const Camera& view, int image_width, int image_height, glm::vec3 image_background)
+        : slicer_(slicer),
+          settings_(settings),
+          machine_(machine),
+          hybrid_(&hybrid),
+          spacing_(spacing),
+          bricks_(bricks),
+          format_(format),
+          programs_(programs),
+          texels(shaded_texels),
+          look(point_look),
+          camera(view),
+          width(image_width),
+          height(image_height),
+          background(image_background),
+          projection(view, image_width, image_height),
+          low(hybrid.low_resolution()),
+          n(low.dims()),
+          k(hybrid.factor()),
+          stack(choose_slices(view_direction(hybrid, spacing, view, projection))),
+          a(stack.axis),
+          b((a + 1) % 3),
+          c((a + 2) % 3),
+          min_spacing(std::min({spacing.x, spacing.y, spacing.z})),
+          one(format.one()),
+          edge(settings.brick_voxels),
+          rc(machine.region_columns),
+          rr(machine.region_rows),
+          regions_x((image_width + rc - 1) / rc),
           regions_y((image_height + rr - 1) / rr),
           region_count(static_cast<std::size_t>(regions_x) * static_cast<std::size_t>(regions_y)),
           gp_sheets(settings.point_path == WilsonPointPath::GpSheets) {
@@ -97,7 +121,8 @@ public:
 
 private:
     // Eye to the volume's centre under perspective, else the camera's forward.
-    static glm::vec3 view_direction(const HybridVolume& hybrid, glm::vec3 spacing, const Camera& camera, const ScreenProjection& projection) {
+    static glm::vec3 view_direction(const HybridVolume& hybrid, glm::vec3 spacing, const Camera& camera,
+                                    const ScreenProjection& projection) {
         const glm::vec3 center = glm::vec3(hybrid.error_grid() / hybrid.error_grid_factor() - 1) * spacing * 0.5f;
         return projection.perspective() ? center - camera.eye : camera.forward();
     }
@@ -134,7 +159,8 @@ private:
         slab_layer.assign(static_cast<std::size_t>(n[a]) + 1, 0);
         for (std::size_t l = 0; l < layers.size(); ++l)
             (layers[l].kind == LayerKind::Plane ? plane_layer[static_cast<std::size_t>(layers[l].index)]
-                                                : slab_layer[static_cast<std::size_t>(layers[l].index + 1)]) = static_cast<std::uint32_t>(l);
+                                                : slab_layer[static_cast<std::size_t>(layers[l].index + 1)]) =
+                static_cast<std::uint32_t>(l);
         for (int s = 0; s < n[a]; ++s) planes.emplace_back(projection, a, s, spacing_, k);
     }
 
@@ -155,10 +181,15 @@ private:
                     p[c] = j;
                     glm::vec4 v = texels.value(linear(n, p));
                     if (settings_.opacity_correction == SliceOpacityCorrection::PerSlice && v.a > 0)
-                        v.a = static_cast<float>(1.0 - std::pow(1.0 - std::min<double>(v.a, 1.0), path_voxels(plane.world(i, j), k)));
-                    texel[static_cast<std::size_t>(i) + static_cast<std::size_t>(n[b]) * static_cast<std::size_t>(j)] = v;
+                        v.a = static_cast<float>(
+                            1.0 - std::pow(1.0 - std::min<double>(v.a, 1.0), path_voxels(plane.world(i, j), k)));
+                    texel[static_cast<std::size_t>(i) + static_cast<std::size_t>(n[b]) * static_cast<std::size_t>(j)] =
+                        v;
                 }
-            const auto at = [&](int i, int j) { return texel[static_cast<std::size_t>(i) + static_cast<std::size_t>(n[b]) * static_cast<std::size_t>(j)]; };
+            const auto at = [&](int i, int j) {
+                return texel[static_cast<std::size_t>(i) +
+                             static_cast<std::size_t>(n[b]) * static_cast<std::size_t>(j)];
+            };
             // Bricks in order, cells in order within each.
             glm::ivec3 brick_lo(0);
             brick_lo[a] = s / edge * edge;
@@ -171,7 +202,8 @@ private:
                         for (int i = bi; i < std::min(bi + edge, n[b] - 1); ++i) {
                             ++pc.cells;
                             const glm::vec4 corner[2][2] = {{at(i, j), at(i, j + 1)}, {at(i + 1, j), at(i + 1, j + 1)}};
-                            if (!(corner[0][0].a > 0 || corner[0][1].a > 0 || corner[1][0].a > 0 || corner[1][1].a > 0)) continue;
+                            if (!(corner[0][0].a > 0 || corner[0][1].a > 0 || corner[1][0].a > 0 || corner[1][1].a > 0))
+                                continue;
                             // Its screen box from the cell's corners.
                             glm::dvec2 lo(1e300), hi(-1e300);
                             bool behind = false;
@@ -200,9 +232,11 @@ private:
                                 ++pc.quads_offscreen;
                                 continue;
                             }
-                            const glm::dvec2 middle = projection.to_screen(projection.to_eye(glm::vec3(plane.world(i + 0.5, j + 0.5))));
+                            const glm::dvec2 middle =
+                                projection.to_screen(projection.to_eye(glm::vec3(plane.world(i + 0.5, j + 0.5))));
                             for (int ch = 0; ch < 4; ++ch) {
-                                const std::array<std::array<double, 2>, 2> f = {{{corner[0][0][ch], corner[0][1][ch]}, {corner[1][0][ch], corner[1][1][ch]}}};
+                                const std::array<std::array<double, 2>, 2> f = {
+                                    {{corner[0][0][ch], corner[0][1][ch]}, {corner[1][0][ch], corner[1][1][ch]}}};
                                 q.channel[static_cast<std::size_t>(ch)] = cell_quadratic(plane, i, j, f, middle);
                             }
                             plane_quads[static_cast<std::size_t>(s)].push_back(q);
@@ -211,7 +245,8 @@ private:
         });
     }
 
-    // The points: shaded, corrected and sized (in parallel), then in (layer, brick, storage) order; then all quads in layer order.
+    // The points: shaded, corrected and sized (in parallel), then in (layer, brick, storage) order; then all quads in
+    // layer order.
     void make_points() {
         const std::span<const HybridPoint> stored = hybrid_->points();
         points.resize(stored.size());
@@ -248,11 +283,14 @@ private:
             const int side = std::max(1, static_cast<int>(std::ceil(sigma)));
             const double alpha = std::min(1.0, added * sigma * sigma / (static_cast<double>(side) * side));
             const glm::vec3 to_viewer = look.view.to_viewer(world);
-            const glm::vec3 to_light = look.lighting.light_follows_camera ? to_viewer : glm::normalize(look.lighting.light_direction);
-            const glm::vec3 color = glm::clamp(phong_shade(look.lighting, look.colors->color(value), normals.direction(hp.normal), to_light, to_viewer,
-                                                           look.view.depth(world)),
-                                               glm::vec3(0.0f), glm::vec3(1.0f));
-            const std::int64_t premultiplied_alpha = std::min<std::int64_t>(std::llround(alpha * static_cast<double>(one)), format_.top());
+            const glm::vec3 to_light =
+                look.lighting.light_follows_camera ? to_viewer : glm::normalize(look.lighting.light_direction);
+            const glm::vec3 color =
+                glm::clamp(phong_shade(look.lighting, look.colors->color(value), normals.direction(hp.normal), to_light,
+                                       to_viewer, look.view.depth(world)),
+                           glm::vec3(0.0f), glm::vec3(1.0f));
+            const std::int64_t premultiplied_alpha =
+                std::min<std::int64_t>(std::llround(alpha * static_cast<double>(one)), format_.top());
             p.side = side;
             if (premultiplied_alpha == 0) return;
             const glm::dvec2 sp = projection.to_screen(eye);
@@ -262,8 +300,9 @@ private:
             sq.x1 = sq.x0 + side - 1;
             sq.y1 = sq.y0 + side - 1;
             for (int ch = 0; ch < 3; ++ch)
-                sq.premultiplied[static_cast<std::size_t>(ch)] =
-                    std::min<std::int64_t>(std::llround(alpha * static_cast<double>(color[ch]) * static_cast<double>(one)), premultiplied_alpha);
+                sq.premultiplied[static_cast<std::size_t>(ch)] = std::min<std::int64_t>(
+                    std::llround(alpha * static_cast<double>(color[ch]) * static_cast<double>(one)),
+                    premultiplied_alpha);
             sq.premultiplied[3] = premultiplied_alpha;
             sq.x0 = std::max(sq.x0, 0);
             sq.y0 = std::max(sq.y0, 0);
@@ -313,7 +352,8 @@ private:
                             [&](std::size_t r) { region_quads[r].push_back(static_cast<std::uint32_t>(q)); });
         for (std::size_t m = 0; m < points.size(); ++m)
             if (points[m].drawn)
-                for_each_region(points[m].square.x0, points[m].square.y0, points[m].square.x1, points[m].square.y1, rc, rr, regions_x,
+                for_each_region(points[m].square.x0, points[m].square.y0, points[m].square.x1, points[m].square.y1, rc,
+                                rr, regions_x,
                                 [&](std::size_t r) { region_points[r].push_back(static_cast<std::uint32_t>(m)); });
     }
 
@@ -322,7 +362,8 @@ private:
         frame.image = Image(width, height);
         frame.low_resolution = Image(width, height);
         struct RegionTally {
-            std::uint64_t quad_pixels = 0, composites = 0, composited_pixels = 0, point_pixels = 0, blocks = 0, block_pixels = 0;
+            std::uint64_t quad_pixels = 0, composites = 0, composited_pixels = 0, point_pixels = 0, blocks = 0,
+                          block_pixels = 0;
         };
         std::vector<RegionTally> tallies(region_count);
         pp5::parallel_for(std::size_t{0}, region_count, [&](std::size_t r) {
@@ -345,7 +386,8 @@ private:
                             draw.key = SliceFormat::key(q.i + 1, q.j + 1);
                             for (std::size_t ch = 0; ch < 4; ++ch) {
                                 const Quadratic local = q.channel[ch].shifted(ox, oy);
-                                draw.channels[ch] = to_qee(local.a, local.b, local.c, local.d, local.e, local.f, static_cast<double>(one));
+                                draw.channels[ch] = to_qee(local.a, local.b, local.c, local.d, local.e, local.f,
+                                                           static_cast<double>(one));
                             }
                             draw.x0 = q.x0 - ox;
                             draw.y0 = q.y0 - oy;
@@ -385,8 +427,11 @@ private:
                             by1 = std::max(by1, std::min(sq.y1, rr - 1));
                             ++end;
                         }
-                        block.assign(static_cast<std::size_t>(bx1 - bx0 + 1) * static_cast<std::size_t>(by1 - by0 + 1), {0, 0, 0, 0});
-                        for (std::size_t m = e; m < end; ++m) tally.point_pixels += composite_point_into(block, bx0, by0, bx1, by1, local(points[rp[m]]), format_);
+                        block.assign(static_cast<std::size_t>(bx1 - bx0 + 1) * static_cast<std::size_t>(by1 - by0 + 1),
+                                     {0, 0, 0, 0});
+                        for (std::size_t m = e; m < end; ++m)
+                            tally.point_pixels +=
+                                composite_point_into(block, bx0, by0, bx1, by1, local(points[rp[m]]), format_);
                         draw_block_over(region, bx0, by0, bx1, by1, block, format_);
                         ++tally.blocks;
                         tally.block_pixels += block.size();
@@ -400,7 +445,8 @@ private:
                         const std::size_t p = region.index(x, y);
                         const float alpha = static_cast<float>(region.alpha[p]) * scale;
                         glm::vec4 v;
-                        for (int ch = 0; ch < 3; ++ch) v[ch] = static_cast<float>(region.color[ch][p]) * scale + (1 - alpha) * background[ch];
+                        for (int ch = 0; ch < 3; ++ch)
+                            v[ch] = static_cast<float>(region.color[ch][p]) * scale + (1 - alpha) * background[ch];
                         v.a = alpha;
                         out.at(ox + x, oy + y) = v;
                     }
@@ -422,7 +468,8 @@ private:
         GpPhase& work = frame.work;
         work.groups = 1;
         work.assignment = TaskAssignment::Static;  // points live in the memory of the GP that owns their brick
-        const std::size_t brick_count = static_cast<std::size_t>(bricks_.x) * static_cast<std::size_t>(bricks_.y) * static_cast<std::size_t>(bricks_.z);
+        const std::size_t brick_count = static_cast<std::size_t>(bricks_.x) * static_cast<std::size_t>(bricks_.y) *
+                                        static_cast<std::size_t>(bricks_.z);
         {
             // A brick's texels and the one-texel apron its cells reach into on the high sides.
             std::vector<std::uint32_t> first_part{0};
@@ -430,20 +477,24 @@ private:
             std::uint32_t largest = 1;
             for (std::size_t brick = 0; brick < brick_count; ++brick) {
                 const glm::ivec3 bc(static_cast<int>(brick % static_cast<std::size_t>(bricks_.x)),
-                                    static_cast<int>((brick / static_cast<std::size_t>(bricks_.x)) % static_cast<std::size_t>(bricks_.y)),
-                                    static_cast<int>(brick / (static_cast<std::size_t>(bricks_.x) * static_cast<std::size_t>(bricks_.y))));
+                                    static_cast<int>((brick / static_cast<std::size_t>(bricks_.x)) %
+                                                     static_cast<std::size_t>(bricks_.y)),
+                                    static_cast<int>(brick / (static_cast<std::size_t>(bricks_.x) *
+                                                              static_cast<std::size_t>(bricks_.y))));
                 const glm::ivec3 lo = bc * edge, hi = glm::min(lo + edge + 1, n);
                 std::vector<std::uint32_t> per(static_cast<std::size_t>(machine_.renderers), 0);
                 std::uint32_t total = 0;
                 for (int z = lo.z; z < hi.z; ++z)
                     for (int y = lo.y; y < hi.y; ++y)
-                        for (int x = lo.x; x < hi.x; ++x, ++total) ++per[static_cast<std::size_t>(machine_.renderer_of_voxel({x, y, z}))];
+                        for (int x = lo.x; x < hi.x; ++x, ++total)
+                            ++per[static_cast<std::size_t>(machine_.renderer_of_voxel({x, y, z}))];
                 for (std::size_t r = 0; r < per.size(); ++r)
                     if (per[r] > 0) parts.push_back(BlockPart{static_cast<std::uint32_t>(r), per[r]});
                 first_part.push_back(static_cast<std::uint32_t>(parts.size()));
                 largest = std::max(largest, total);
             }
-            work.blocks = std::make_shared<const BlockDirectory>(std::uint64_t{largest} * kCachedTexelBits, kUnitBits, std::move(first_part), std::move(parts));
+            work.blocks = std::make_shared<const BlockDirectory>(std::uint64_t{largest} * kCachedTexelBits, kUnitBits,
+                                                                 std::move(first_part), std::move(parts));
         }
         const bool perspective = projection.perspective();
         const auto setup_program = static_cast<std::uint32_t>(work.region_programs.size());
@@ -457,7 +508,9 @@ private:
         const auto readout_program = static_cast<std::uint32_t>(work.region_programs.size());
         work.region_programs.push_back(programs_.readout());
         work.regions.resize(static_cast<std::size_t>(machine_.renderers));
-        const auto renderer_of_region = [&](std::size_t region) { return static_cast<std::uint32_t>(region % static_cast<std::size_t>(machine_.renderers)); };
+        const auto renderer_of_region = [&](std::size_t region) {
+            return static_cast<std::uint32_t>(region % static_cast<std::size_t>(machine_.renderers));
+        };
 
         struct Batch {
             std::uint64_t bits = kHeaderBits;
@@ -475,8 +528,8 @@ private:
             task.first_finish_op = static_cast<std::uint32_t>(work.ops.size());
             return task;
         };
-        const auto end_task = [&](GpTask& task, const std::map<std::uint32_t, Batch>& batches, std::uint32_t program, std::vector<bool>* setup_sent,
-                                  const std::vector<std::uint32_t>* setup_runs) {
+        const auto end_task = [&](GpTask& task, const std::map<std::uint32_t, Batch>& batches, std::uint32_t program,
+                                  std::vector<bool>* setup_sent, const std::vector<std::uint32_t>* setup_runs) {
             std::uint64_t words = 0;
             for (const auto& [renderer, batch] : batches) words += (batch.bits + 31) / 32;
             append_ops(work.ops, kWilsonPackWord, words);
@@ -508,9 +561,11 @@ private:
                 // The regions this slice reaches, and per renderer how many of them it sets up.
                 std::vector<char> reached(region_count, 0);
                 for (std::size_t q = q0; q < q1; ++q)
-                    for_each_region(quads[q].x0, quads[q].y0, quads[q].x1, quads[q].y1, rc, rr, regions_x, [&](std::size_t r) { reached[r] = 1; });
+                    for_each_region(quads[q].x0, quads[q].y0, quads[q].x1, quads[q].y1, rc, rr, regions_x,
+                                    [&](std::size_t r) { reached[r] = 1; });
                 std::vector<std::uint32_t> setup_runs(static_cast<std::size_t>(machine_.renderers), 0);
-                for (std::size_t r = 0; r < region_count; ++r) setup_runs[renderer_of_region(r)] += static_cast<std::uint32_t>(reached[r]);
+                for (std::size_t r = 0; r < region_count; ++r)
+                    setup_runs[renderer_of_region(r)] += static_cast<std::uint32_t>(reached[r]);
                 std::vector<bool> setup_sent(static_cast<std::size_t>(machine_.renderers), false);
                 for (std::size_t first = q0; first < q1;) {
                     std::size_t end = first;
@@ -520,12 +575,13 @@ private:
                     std::uint64_t draws = 0, extra = 0;
                     for (std::size_t q = first; q < end; ++q) {
                         std::uint64_t here = 0;
-                        for_each_region(quads[q].x0, quads[q].y0, quads[q].x1, quads[q].y1, rc, rr, regions_x, [&](std::size_t r) {
-                            Batch& batch = batches[renderer_of_region(r)];
-                            ++batch.runs;
-                            batch.bits += kQuadBits;
-                            ++here;
-                        });
+                        for_each_region(quads[q].x0, quads[q].y0, quads[q].x1, quads[q].y1, rc, rr, regions_x,
+                                        [&](std::size_t r) {
+                                            Batch& batch = batches[renderer_of_region(r)];
+                                            ++batch.runs;
+                                            batch.bits += kQuadBits;
+                                            ++here;
+                                        });
                         draws += here;
                         extra += here - 1;
                     }
@@ -540,12 +596,16 @@ private:
                     glm::ivec3 brick_lo;
                     {
                         const std::uint32_t brick = quads[first].brick;
-                        brick_lo = glm::ivec3(static_cast<int>(brick % static_cast<std::uint32_t>(bricks_.x)),
-                                              static_cast<int>((brick / static_cast<std::uint32_t>(bricks_.x)) % static_cast<std::uint32_t>(bricks_.y)),
-                                              static_cast<int>(brick / static_cast<std::uint32_t>(bricks_.x * bricks_.y))) * edge;
+                        brick_lo =
+                            glm::ivec3(static_cast<int>(brick % static_cast<std::uint32_t>(bricks_.x)),
+                                       static_cast<int>((brick / static_cast<std::uint32_t>(bricks_.x)) %
+                                                        static_cast<std::uint32_t>(bricks_.y)),
+                                       static_cast<int>(brick / static_cast<std::uint32_t>(bricks_.x * bricks_.y))) *
+                            edge;
                     }
-                    const std::uint64_t plane_texels = static_cast<std::uint64_t>(std::min(edge + 1, n[b] - brick_lo[b])) *
-                                                       static_cast<std::uint64_t>(std::min(edge + 1, n[c] - brick_lo[c]));
+                    const std::uint64_t plane_texels =
+                        static_cast<std::uint64_t>(std::min(edge + 1, n[b] - brick_lo[b])) *
+                        static_cast<std::uint64_t>(std::min(edge + 1, n[c] - brick_lo[c]));
                     append_ops(work.ops, kWilsonTexel, plane_texels);
                     append_ops(work.ops, perspective ? kWilsonQuadPerspective : kWilsonQuadParallel, end - first);
                     append_ops(work.ops, kWilsonRegionShift, extra);
@@ -557,13 +617,15 @@ private:
                     first = end;
                 }
                 for (std::size_t r = 0; r < setup_runs.size(); ++r)
-                    if (setup_runs[r] > 0) work.regions[r].steps.push_back(RegionStep{kNoBatch, composite_program, setup_runs[r], 0});
+                    if (setup_runs[r] > 0)
+                        work.regions[r].steps.push_back(RegionStep{kNoBatch, composite_program, setup_runs[r], 0});
                 continue;
             }
             // A slab: the points of each brick in it.
             while (next_point < points.size() && points[next_point].layer == l) {
                 std::size_t end = next_point;
-                while (end < points.size() && points[end].layer == l && points[end].brick == points[next_point].brick) ++end;
+                while (end < points.size() && points[end].layer == l && points[end].brick == points[next_point].brick)
+                    ++end;
                 GpTask task = begin_task(points[next_point].brick, false);
                 std::map<std::uint32_t, Batch> batches;
                 std::uint64_t draws = 0, sheet_pixels = 0;
@@ -582,14 +644,19 @@ private:
                         }
                         const int ox = static_cast<int>(r % static_cast<std::size_t>(regions_x)) * rc;
                         const int oy = static_cast<int>(r / static_cast<std::size_t>(regions_x)) * rr;
-                        const int x0 = std::max(sq.x0, ox), y0 = std::max(sq.y0, oy), x1 = std::min(sq.x1, ox + rc - 1), y1 = std::min(sq.y1, oy + rr - 1);
-                        sheet_pixels += static_cast<std::uint64_t>(x1 - x0 + 1) * static_cast<std::uint64_t>(y1 - y0 + 1);
+                        const int x0 = std::max(sq.x0, ox), y0 = std::max(sq.y0, oy), x1 = std::min(sq.x1, ox + rc - 1),
+                                  y1 = std::min(sq.y1, oy + rr - 1);
+                        sheet_pixels +=
+                            static_cast<std::uint64_t>(x1 - x0 + 1) * static_cast<std::uint64_t>(y1 - y0 + 1);
                         auto [it, fresh] = blocks.try_emplace(r, std::array<int, 4>{x0, y0, x1, y1});
-                        if (!fresh) it->second = {std::min(it->second[0], x0), std::min(it->second[1], y0), std::max(it->second[2], x1), std::max(it->second[3], y1)};
+                        if (!fresh)
+                            it->second = {std::min(it->second[0], x0), std::min(it->second[1], y0),
+                                          std::max(it->second[2], x1), std::max(it->second[3], y1)};
                     });
                 }
                 for (const auto& [r, box] : blocks) {
-                    const std::uint64_t pixels = static_cast<std::uint64_t>(box[2] - box[0] + 1) * static_cast<std::uint64_t>(box[3] - box[1] + 1);
+                    const std::uint64_t pixels = static_cast<std::uint64_t>(box[2] - box[0] + 1) *
+                                                 static_cast<std::uint64_t>(box[3] - box[1] + 1);
                     Batch& batch = batches[renderer_of_region(r)];
                     ++batch.runs;
                     batch.write_words += 2 * pixels;
@@ -663,32 +730,40 @@ private:
 
 }  // namespace
 
-HybridSlicer::HybridSlicer(const WilsonSettings& settings, const RegionMachine& machine, const HybridVolume& hybrid, glm::vec3 spacing)
-    : settings_(settings), machine_(machine), hybrid_(&hybrid), spacing_(spacing),
+HybridSlicer::HybridSlicer(const WilsonSettings& settings, const RegionMachine& machine, const HybridVolume& hybrid,
+                           glm::vec3 spacing)
+    : settings_(settings),
+      machine_(machine),
+      hybrid_(&hybrid),
+      spacing_(spacing),
       bricks_((hybrid.low_resolution().dims() + settings.brick_voxels - 1) / settings.brick_voxels),
-      format_{settings.accumulator_bits}, programs_(format_, machine.local_memory_bits) {}
+      format_{settings.accumulator_bits},
+      programs_(format_, machine.local_memory_bits) {}
 
 std::uint32_t HybridSlicer::brick_of(const HybridPoint& point) const {
     const glm::vec3 position = hybrid_->position(point);
     const glm::ivec3 n = hybrid_->low_resolution().dims();
     const float k = static_cast<float>(hybrid_->factor());
     glm::ivec3 texel;
-    for (int axis = 0; axis < 3; ++axis) texel[axis] = std::clamp(static_cast<int>(std::floor((position[axis] + 0.5f) / k)), 0, n[axis] - 1);
+    for (int axis = 0; axis < 3; ++axis)
+        texel[axis] = std::clamp(static_cast<int>(std::floor((position[axis] + 0.5f) / k)), 0, n[axis] - 1);
     const glm::ivec3 bc = texel / settings_.brick_voxels;
     return static_cast<std::uint32_t>(bc.x + bricks_.x * (bc.y + bricks_.y * bc.z));
 }
 
 std::vector<std::uint64_t> HybridSlicer::resident_bits_by_brick() const {
-    std::vector<std::uint64_t> bits(static_cast<std::size_t>(bricks_.x) * static_cast<std::size_t>(bricks_.y) * static_cast<std::size_t>(bricks_.z), 0);
+    std::vector<std::uint64_t> bits(
+        static_cast<std::size_t>(bricks_.x) * static_cast<std::size_t>(bricks_.y) * static_cast<std::size_t>(bricks_.z),
+        0);
     const auto record_bits = 8 * static_cast<std::uint64_t>(hybrid_->point_format().record_bytes());
     for (const HybridPoint& p : hybrid_->points()) bits[brick_of(p)] += record_bits;
     return bits;
 }
 
-HybridFrame HybridSlicer::render(const ShadedCodes& texels, const PointLook& look, const Camera& camera, int width, int height,
-                                 glm::vec3 background) const {
-    return FrameBuilder(*this, settings_, machine_, *hybrid_, spacing_, bricks_, format_, programs_, texels, look, camera, width, height,
-                        background)
+HybridFrame HybridSlicer::render(const ShadedCodes& texels, const PointLook& look, const Camera& camera, int width,
+                                 int height, glm::vec3 background) const {
+    return FrameBuilder(*this, settings_, machine_, *hybrid_, spacing_, bricks_, format_, programs_, texels, look,
+                        camera, width, height, background)
         .build();
 }
 

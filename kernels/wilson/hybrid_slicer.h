@@ -47,13 +47,13 @@ struct HybridCounts {
     std::uint64_t quad_pixels = 0;       // pixels a quad wrote
     std::uint64_t slice_composites = 0;  // (slice, region) composites
     std::uint64_t composited_pixels = 0;
-    std::uint64_t points = 0;            // stored
-    std::uint64_t points_drawn = 0;      // with some opacity after the correction, on screen
+    std::uint64_t points = 0;              // stored
+    std::uint64_t points_drawn = 0;        // with some opacity after the correction, on screen
     std::uint64_t points_transparent = 0;  // the correction left nothing to add (the volume is too opaque there)
     std::uint64_t points_offscreen = 0;
-    std::uint64_t point_draws = 0;       // points summed over the regions they reach
+    std::uint64_t point_draws = 0;  // points summed over the regions they reach
     std::uint64_t point_pixels = 0;
-    std::uint64_t point_blocks = 0;      // gp_sheets: (slab, brick, region) blocks sent
+    std::uint64_t point_blocks = 0;  // gp_sheets: (slab, brick, region) blocks sent
     std::uint64_t block_pixels = 0;
     std::map<int, std::uint64_t> point_sizes;  // square side in pixels -> points
     std::uint64_t tasks = 0;
@@ -65,7 +65,7 @@ struct HybridFrame {
     Image image;
     Image low_resolution;  // the slices alone
     HybridCounts counts;
-    GpPhase work;          // the "slicing" phase
+    GpPhase work;  // the "slicing" phase
 };
 
 // How points are coloured this frame (the GPs shade them; the PPs shade the texels).
@@ -79,7 +79,8 @@ struct PointLook {
 class HybridSlicer {
 public:
     // `spacing`: the original voxel size; `hybrid` must outlive the slicer.
-    HybridSlicer(const WilsonSettings& settings, const RegionMachine& machine, const HybridVolume& hybrid, glm::vec3 spacing);
+    HybridSlicer(const WilsonSettings& settings, const RegionMachine& machine, const HybridVolume& hybrid,
+                 glm::vec3 spacing);
     // `texels`: the low-resolution volume's shaded voxels (colour not premultiplied, opacity per voxel).
     HybridFrame render(const ShadedCodes& texels, const PointLook& look, const Camera& camera, int width, int height,
                        glm::vec3 background) const;

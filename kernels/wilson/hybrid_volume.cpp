@@ -21,7 +21,8 @@ constexpr std::uint64_t kMaxErrorSamples = std::uint64_t{1} << 33;
 
 std::size_t linear(glm::ivec3 dims, int x, int y, int z) {
     return static_cast<std::size_t>(x) +
-           static_cast<std::size_t>(dims.x) * (static_cast<std::size_t>(y) + static_cast<std::size_t>(dims.y) * static_cast<std::size_t>(z));
+           static_cast<std::size_t>(dims.x) *
+               (static_cast<std::size_t>(y) + static_cast<std::size_t>(dims.y) * static_cast<std::size_t>(z));
 }
 
 std::uint64_t count(glm::ivec3 d) {
@@ -37,7 +38,8 @@ std::array<double, 4> catmull_rom(double t) {
 // Resamples `in` (dims) along one axis to `out_n` samples, sample j at input coordinate position(j),
 // with Catmull-Rom weights and the grid's edge values repeated beyond it.
 template <class Position>
-std::vector<float> resample_axis(const std::vector<float>& in, glm::ivec3 dims, int axis, int out_n, Position position) {
+std::vector<float> resample_axis(const std::vector<float>& in, glm::ivec3 dims, int axis, int out_n,
+                                 Position position) {
     glm::ivec3 out_dims = dims;
     out_dims[axis] = out_n;
     std::vector<float> out(count(out_dims));
@@ -126,7 +128,8 @@ std::vector<float> downsample(const Volume& v, int k, glm::ivec3 low, const Wils
     std::vector<float> least(count(low));
     const auto range = [&](int j, int n) {
         const double c = centre(j);
-        return std::pair<int, int>{std::max(0, static_cast<int>(std::floor(c - k)) + 1), std::min(n - 1, static_cast<int>(std::ceil(c + k)) - 1)};
+        return std::pair<int, int>{std::max(0, static_cast<int>(std::floor(c - k)) + 1),
+                                   std::min(n - 1, static_cast<int>(std::ceil(c + k)) - 1)};
     };
     pp5::parallel_for(0, low.z, [&](int z) {
         const auto [z0, z1] = range(z, dims.z);
@@ -162,8 +165,8 @@ NormalTable::NormalTable() {
         const double z = 1.0 - (2.0 * i + 1.0) / kDirections;
         const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
         const double phi = golden * i;
-        directions_[static_cast<std::size_t>(i)] = glm::vec3(static_cast<float>(r * std::cos(phi)), static_cast<float>(r * std::sin(phi)),
-                                                             static_cast<float>(z));
+        directions_[static_cast<std::size_t>(i)] = glm::vec3(
+            static_cast<float>(r * std::cos(phi)), static_cast<float>(r * std::sin(phi)), static_cast<float>(z));
     }
 }
 
@@ -208,19 +211,24 @@ HybridVolume HybridVolume::build(const Volume& v, const WilsonSettings& s, bool 
     h.grid_ = dims * g;
     // The renderers' cell keys hold 12-bit indices (slice_programs.h).
     if (glm::any(glm::greaterThan(low, glm::ivec3(4093))))
-        reject_field("wilson.downsample_factor",
-                     fmt::format("a {}x{}x{} low-resolution volume has more than the renderers' 4093 cells along an axis; "
-                                 "raise the factor", low.x, low.y, low.z));
+        reject_field(
+            "wilson.downsample_factor",
+            fmt::format("a {}x{}x{} low-resolution volume has more than the renderers' 4093 cells along an axis; "
+                        "raise the factor",
+                        low.x, low.y, low.z));
     h.grid_factor_ = g;
     if (count(h.grid_) > kMaxErrorSamples)
-        reject_field("wilson.error_grid_factor",
-                     fmt::format("an error grid of {}x{}x{} samples is more than the {} this preprocessing examines; lower "
-                                 "the factor", h.grid_.x, h.grid_.y, h.grid_.z, kMaxErrorSamples));
+        reject_field(
+            "wilson.error_grid_factor",
+            fmt::format("an error grid of {}x{}x{} samples is more than the {} this preprocessing examines; lower "
+                        "the factor",
+                        h.grid_.x, h.grid_.y, h.grid_.z, kMaxErrorSamples));
     if (g > 1)
         check_fits_host_memory("", "wilson.error_grid_factor", static_cast<double>(count(h.grid_)) * sizeof(float),
-                               fmt::format("interpolating the volume onto a {}x{}x{} error grid (lower the factor)", h.grid_.x,
-                                           h.grid_.y, h.grid_.z));
-    h.low_ = Volume(low, v.spacing() * static_cast<float>(k), v.source_type(), downsample(v, k, low, s), v.name() + " (low resolution)");
+                               fmt::format("interpolating the volume onto a {}x{}x{} error grid (lower the factor)",
+                                           h.grid_.x, h.grid_.y, h.grid_.z));
+    h.low_ = Volume(low, v.spacing() * static_cast<float>(k), v.source_type(), downsample(v, k, low, s),
+                    v.name() + " (low resolution)");
 
     // The original on the error grid: itself, or tricubically interpolated.
     std::vector<float> fine;
@@ -234,7 +242,8 @@ HybridVolume HybridVolume::build(const Volume& v, const WilsonSettings& s, bool 
     std::vector<std::vector<Candidate>> per_plane(static_cast<std::size_t>(h.grid_.z));
     std::vector<double> abs_sums(static_cast<std::size_t>(h.grid_.z), 0.0);
     std::vector<float> largest(static_cast<std::size_t>(h.grid_.z), 0.0f);
-    std::vector<std::array<std::uint64_t, 5>> paper_counts(static_cast<std::size_t>(h.grid_.z), std::array<std::uint64_t, 5>{});
+    std::vector<std::array<std::uint64_t, 5>> paper_counts(static_cast<std::size_t>(h.grid_.z),
+                                                           std::array<std::uint64_t, 5>{});
     if (range > 0) {
         pp5::parallel_for(0, h.grid_.z, [&](int z) {
             auto& out = per_plane[static_cast<std::size_t>(z)];
@@ -277,7 +286,8 @@ HybridVolume HybridVolume::build(const Volume& v, const WilsonSettings& s, bool 
                              return ea != eb ? ea > eb : a.index < b.index;
                          });
         chosen.resize(s.max_points);
-        std::sort(chosen.begin(), chosen.end(), [](const Candidate& a, const Candidate& b) { return a.index < b.index; });
+        std::sort(chosen.begin(), chosen.end(),
+                  [](const Candidate& a, const Candidate& b) { return a.index < b.index; });
     }
 
     // The records: gradients by central differences of the (interpolated) original at the point.
@@ -297,12 +307,16 @@ HybridVolume HybridVolume::build(const Volume& v, const WilsonSettings& s, bool 
         p.y = static_cast<std::uint16_t>(y);
         p.z = static_cast<std::uint16_t>(z);
         const float value = original[i];
-        p.value = static_cast<std::uint16_t>(std::lround(std::clamp((value - h.value_min_) / range, 0.0f, 1.0f) * value_steps));
+        p.value = static_cast<std::uint16_t>(
+            std::lround(std::clamp((value - h.value_min_) / range, 0.0f, 1.0f) * value_steps));
         p.error = static_cast<std::int8_t>(std::clamp(std::lround(chosen[n].error * 127.0f), -127L, 127L));
         // Central differences over one original voxel either side, halved (value units per voxel).
-        const auto at = [&](glm::vec3 q) { return trilinear(original, grid, (q + 0.5f) * static_cast<float>(g) - 0.5f); };
+        const auto at = [&](glm::vec3 q) {
+            return trilinear(original, grid, (q + 0.5f) * static_cast<float>(g) - 0.5f);
+        };
         const glm::vec3 pos = (glm::vec3(x, y, z) + 0.5f) / static_cast<float>(g) - 0.5f;
-        const glm::vec3 grad(at(pos + glm::vec3(1, 0, 0)) - at(pos - glm::vec3(1, 0, 0)), at(pos + glm::vec3(0, 1, 0)) - at(pos - glm::vec3(0, 1, 0)),
+        const glm::vec3 grad(at(pos + glm::vec3(1, 0, 0)) - at(pos - glm::vec3(1, 0, 0)),
+                             at(pos + glm::vec3(0, 1, 0)) - at(pos - glm::vec3(0, 1, 0)),
                              at(pos + glm::vec3(0, 0, 1)) - at(pos - glm::vec3(0, 0, 1)));
         gradients[n] = grad * 0.5f;
         const float length = glm::length(gradients[n]);
@@ -310,9 +324,10 @@ HybridVolume HybridVolume::build(const Volume& v, const WilsonSettings& s, bool 
     });
     for (const glm::vec3& grad : gradients) h.gradient_max_ = std::max(h.gradient_max_, glm::length(grad));
     for (std::size_t n = 0; n < h.points_.size(); ++n)
-        h.points_[n].gradient = h.gradient_max_ > 0
-                                    ? static_cast<std::uint8_t>(std::lround(glm::length(gradients[n]) / h.gradient_max_ * 255.0f))
-                                    : 0;
+        h.points_[n].gradient =
+            h.gradient_max_ > 0
+                ? static_cast<std::uint8_t>(std::lround(glm::length(gradients[n]) / h.gradient_max_ * 255.0f))
+                : 0;
     return h;
 }
 
@@ -331,6 +346,8 @@ float HybridVolume::value(const HybridPoint& p) const {
 
 float HybridVolume::error(const HybridPoint& p) const { return static_cast<float>(p.error) / 127.0f * value_range_; }
 
-float HybridVolume::gradient_magnitude(const HybridPoint& p) const { return static_cast<float>(p.gradient) / 255.0f * gradient_max_; }
+float HybridVolume::gradient_magnitude(const HybridPoint& p) const {
+    return static_cast<float>(p.gradient) / 255.0f * gradient_max_;
+}
 
 }  // namespace pp5

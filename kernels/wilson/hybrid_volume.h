@@ -61,7 +61,9 @@ struct HybridStorage {
     std::uint64_t points = 0;
     PointFormat point_format;
 
-    std::uint64_t voxel_bytes() const { return static_cast<std::uint64_t>(voxel_value_bytes + 1 + (voxel_gradient_byte ? 1 : 0)); }
+    std::uint64_t voxel_bytes() const {
+        return static_cast<std::uint64_t>(voxel_value_bytes + 1 + (voxel_gradient_byte ? 1 : 0));
+    }
     std::uint64_t volume_bytes() const;
     std::uint64_t point_bytes() const { return points * static_cast<std::uint64_t>(point_format.record_bytes()); }
     std::uint64_t total_bytes() const { return volume_bytes() + point_bytes(); }
@@ -72,8 +74,8 @@ struct HybridPoint {
     std::uint16_t x = 0, y = 0, z = 0;  // error-grid sample
     std::uint16_t value = 0;            // quantized over the source's value range
     std::uint8_t normal = NormalTable::kNone;
-    std::int8_t error = 0;              // the error, in 127ths of the value range
-    std::uint8_t gradient = 0;          // quantized over [0, the largest point gradient]
+    std::int8_t error = 0;      // the error, in 127ths of the value range
+    std::uint8_t gradient = 0;  // quantized over [0, the largest point gradient]
 };
 
 // The thresholds the paper uses, as shares of the value range (sections 3.1 and 5).
@@ -82,11 +84,11 @@ inline constexpr std::array<double, 5> kPaperThresholds = {1.0 / 64, 1.0 / 32, 1
 // What point selection saw.
 struct PointSelection {
     std::array<std::uint64_t, 5> at_paper_thresholds{};  // samples past each of kPaperThresholds (same sign rule)
-    std::uint64_t error_samples = 0;     // error-grid samples examined
-    std::uint64_t above_threshold = 0;   // of those, past the threshold (before max_points)
-    std::uint64_t underestimates = 0;    // of those, where L was too low
-    double largest_error = 0;            // |e|, as a share of the value range
-    double mean_abs_error = 0;           // over every error sample
+    std::uint64_t error_samples = 0;                     // error-grid samples examined
+    std::uint64_t above_threshold = 0;                   // of those, past the threshold (before max_points)
+    std::uint64_t underestimates = 0;                    // of those, where L was too low
+    double largest_error = 0;                            // |e|, as a share of the value range
+    double mean_abs_error = 0;                           // over every error sample
 };
 
 class HybridVolume {

@@ -15,8 +15,13 @@ SliceStack choose_slices(glm::vec3 view_direction) {
 }
 
 SlicePlane::SlicePlane(const ScreenProjection& projection, int axis, int index, glm::vec3 spacing, int factor)
-    : projection_(&projection), axis_(axis), b_((axis + 1) % 3), c_((axis + 2) % 3),
-      plane_(((index + 0.5) * factor - 0.5) * static_cast<double>(spacing[axis])), spacing_(spacing), factor_(factor),
+    : projection_(&projection),
+      axis_(axis),
+      b_((axis + 1) % 3),
+      c_((axis + 2) % 3),
+      plane_(((index + 0.5) * factor - 0.5) * static_cast<double>(spacing[axis])),
+      spacing_(spacing),
+      factor_(factor),
       perspective_(projection.perspective()) {
     // Each linear function from its values at three screen positions (exact: they are linear).
     const auto numerators = [this](glm::dvec2 s) {
@@ -61,7 +66,8 @@ SliceSetup SlicePlane::setup(int ox, int oy) const {
         const glm::dvec3& l = linear_[static_cast<std::size_t>(e)];
         return Quadratic{0, 0, 0, l.x, l.y, l.z}.shifted(ox, oy);
     };
-    const double scale = perspective_ ? static_cast<double>(std::int64_t{1} << SliceFormat::kPerspectiveScaleBits) : 1.0;
+    const double scale =
+        perspective_ ? static_cast<double>(std::int64_t{1} << SliceFormat::kPerspectiveScaleBits) : 1.0;
     for (int e = 0; e < (perspective_ ? 3 : 2); ++e) {
         const Quadratic q = local(e);
         s.expressions.push_back(to_qee(q.a, q.b, q.c, q.d, q.e, q.f, scale));
@@ -69,7 +75,8 @@ SliceSetup SlicePlane::setup(int ox, int oy) const {
     return s;
 }
 
-Quadratic cell_quadratic(const SlicePlane& plane, int i, int j, const std::array<std::array<double, 2>, 2>& f, glm::dvec2 center) {
+Quadratic cell_quadratic(const SlicePlane& plane, int i, int j, const std::array<std::array<double, 2>, 2>& f,
+                         glm::dvec2 center) {
     const double d_u = f[1][0] - f[0][0], d_v = f[0][1] - f[0][0], d_uv = f[0][0] - f[1][0] - f[0][1] + f[1][1];
     const auto bilinear = [&](double u, double v) { return f[0][0] + d_u * u + d_v * v + d_uv * u * v; };
     const auto at = [&](glm::dvec2 s) {
@@ -81,7 +88,8 @@ Quadratic cell_quadratic(const SlicePlane& plane, int i, int j, const std::array
         const auto linear = [&](int k) {
             const glm::dvec2 t0 = *plane.texel_at({0, 0}), tx = *plane.texel_at({1, 0}), ty = *plane.texel_at({0, 1});
             const double base = k == 0 ? t0.x - i : t0.y - j;
-            return glm::dvec3((k == 0 ? tx.x : tx.y) - (k == 0 ? t0.x : t0.y), (k == 0 ? ty.x : ty.y) - (k == 0 ? t0.x : t0.y), base);
+            return glm::dvec3((k == 0 ? tx.x : tx.y) - (k == 0 ? t0.x : t0.y),
+                              (k == 0 ? ty.x : ty.y) - (k == 0 ? t0.x : t0.y), base);
         };
         const glm::dvec3 a = linear(0), b = linear(1);  // (d/dx, d/dy, value at the origin)
         Quadratic q;
@@ -97,8 +105,9 @@ Quadratic cell_quadratic(const SlicePlane& plane, int i, int j, const std::array
     const double g = at(center);
     const double gxp = at(center + glm::dvec2(1, 0)), gxm = at(center - glm::dvec2(1, 0));
     const double gyp = at(center + glm::dvec2(0, 1)), gym = at(center - glm::dvec2(0, 1));
-    const double gxy = (at(center + glm::dvec2(1, 1)) - at(center + glm::dvec2(1, -1)) - at(center + glm::dvec2(-1, 1)) +
-                        at(center + glm::dvec2(-1, -1))) / 4;
+    const double gxy = (at(center + glm::dvec2(1, 1)) - at(center + glm::dvec2(1, -1)) -
+                        at(center + glm::dvec2(-1, 1)) + at(center + glm::dvec2(-1, -1))) /
+                       4;
     const Quadratic about{(gxp - 2 * g + gxm) / 2, gxy, (gyp - 2 * g + gym) / 2, (gxp - gxm) / 2, (gyp - gym) / 2, g};
     return about.substituted(1, -center.x, 1, -center.y);
 }

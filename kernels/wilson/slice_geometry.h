@@ -50,7 +50,7 @@ public:
 private:
     const ScreenProjection* projection_;
     int axis_, b_, c_;
-    double plane_;            // world coordinate along the axis
+    double plane_;  // world coordinate along the axis
     glm::dvec3 spacing_;
     int factor_;
     bool perspective_;
@@ -60,6 +60,7 @@ private:
 
 // The bilinear colour of a texel cell with corner values `corner[a][b]` (a along u, b along v), as a
 // quadratic of the screen position (see above); `center` is the screen position of the cell's centre.
-Quadratic cell_quadratic(const SlicePlane& plane, int i, int j, const std::array<std::array<double, 2>, 2>& corner, glm::dvec2 center);
+Quadratic cell_quadratic(const SlicePlane& plane, int i, int j, const std::array<std::array<double, 2>, 2>& corner,
+                         glm::dvec2 center);
 
 }  // namespace pp5

@@ -71,7 +71,8 @@ std::int32_t over(std::int64_t target, std::int64_t add, std::int64_t one_minus_
 
 }  // namespace
 
-SlicePrograms::SlicePrograms(const SliceFormat& format, int local_memory_bits) : format_(format), local_memory_bits_(local_memory_bits) {}
+SlicePrograms::SlicePrograms(const SliceFormat& format, int local_memory_bits)
+    : format_(format), local_memory_bits_(local_memory_bits) {}
 
 PpProgram SlicePrograms::setup(bool perspective) const {
     PpProgramBuilder b(perspective ? "wilson slice setup perspective" : "wilson slice setup", local_memory_bits_);
@@ -138,7 +139,8 @@ PpProgram SlicePrograms::composite() const {
     const PpField clear = b.sub("1-a", one, s.slice[3]);
     b.release(one);
     composite_over(b, s, clear, f, [&](int c) {
-        return std::pair{c == 3 ? b.move("a", s.slice[3]) : b.mul("a_c", s.slice[c], s.slice[3], f.accumulator_bits), true};
+        return std::pair{c == 3 ? b.move("a", s.slice[3]) : b.mul("a_c", s.slice[c], s.slice[3], f.accumulator_bits),
+                         true};
     });
     for (int c = 0; c < 4; ++c) b.assign_const(s.slice[c], 0);
     return b.finish();
@@ -159,7 +161,9 @@ PpProgram SlicePrograms::point() const {
     const PpField clear = b.sub("1-a", one, alpha);
     b.release(one);
     b.release(alpha);
-    composite_over(b, s, clear, f, [&](int c) { return std::pair{b.qee("a_c", 2 + c, f.accumulator_bits, false, 0), true}; });
+    composite_over(b, s, clear, f, [&](int c) {
+        return std::pair{b.qee("a_c", 2 + c, f.accumulator_bits, false, 0), true};
+    });
     return b.finish();
 }
 
@@ -196,8 +200,8 @@ std::vector<QeeCoefficients> SlicePrograms::expressions(const PointSquare& p) {
     // [0], [1] the square's extent, [2..5] its premultiplied red, green, blue and opacity (the
     // opacity read twice: composited, and for 1 - a).
     const std::int64_t alpha = p.premultiplied[3];
-    return {span_test(p.x0, p.x1, true), span_test(p.y0, p.y1, false), qee_constant(p.premultiplied[0]), qee_constant(p.premultiplied[1]),
-            qee_constant(p.premultiplied[2]), qee_constant(alpha)};
+    return {span_test(p.x0, p.x1, true),      span_test(p.y0, p.y1, false),     qee_constant(p.premultiplied[0]),
+            qee_constant(p.premultiplied[1]), qee_constant(p.premultiplied[2]), qee_constant(alpha)};
 }
 
 SliceRegion::SliceRegion(int c, int r) : columns(c), rows(r) {
@@ -222,7 +226,8 @@ void setup_slice(SliceRegion& region, const SliceSetup& setup) {
             } else {
                 const std::int64_t w = qee_value(setup.expressions[2], x, y, kShift, kPerspectiveWBits, true);
                 if (!(w > 0)) continue;
-                for (int e = 0; e < 2; ++e) index[e] = std::min(unsigned_value(e, x, y, kPerspectiveIndexBits) / w, kIndexTop);
+                for (int e = 0; e < 2; ++e)
+                    index[e] = std::min(unsigned_value(e, x, y, kPerspectiveIndexBits) / w, kIndexTop);
             }
             region.key[p] = static_cast<std::int32_t>(SliceFormat::key(index[0], index[1]));
         }
@@ -236,8 +241,8 @@ std::uint32_t draw_quad(SliceRegion& region, const QuadDraw& q, const SliceForma
             if (region.key[p] != q.key) continue;
             ++changed;
             for (int c = 0; c < 4; ++c)
-                region.slice[c][p] = static_cast<std::int32_t>(
-                    std::clamp<std::int64_t>(qee_value(q.channels[static_cast<std::size_t>(c)], x, y, kShift, kChannelBits, true), 0, f.top()));
+                region.slice[c][p] = static_cast<std::int32_t>(std::clamp<std::int64_t>(
+                    qee_value(q.channels[static_cast<std::size_t>(c)], x, y, kShift, kChannelBits, true), 0, f.top()));
         }
     return changed;
 }
@@ -249,7 +254,8 @@ std::uint32_t composite_slice(SliceRegion& region, const SliceFormat& f) {
         if ((region.slice[0][p] | region.slice[1][p] | region.slice[2][p] | a) == 0) continue;
         ++held;
         const std::int64_t clear = f.one() - a;
-        for (int c = 0; c < 3; ++c) region.color[c][p] = over(region.color[c][p], (region.slice[c][p] * a) >> f.accumulator_bits, clear, f);
+        for (int c = 0; c < 3; ++c)
+            region.color[c][p] = over(region.color[c][p], (region.slice[c][p] * a) >> f.accumulator_bits, clear, f);
         region.alpha[p] = over(region.alpha[p], a, clear, f);
         for (auto& s : region.slice) s[p] = 0;
     }
@@ -262,15 +268,17 @@ std::uint32_t draw_point_square(SliceRegion& region, const PointSquare& point, c
     for (int y = std::max(point.y0, 0); y <= std::min(point.y1, region.rows - 1); ++y)
         for (int x = std::max(point.x0, 0); x <= std::min(point.x1, region.columns - 1); ++x) {
             const std::size_t p = region.index(x, y);
-            for (int c = 0; c < 3; ++c) region.color[c][p] = over(region.color[c][p], point.premultiplied[static_cast<std::size_t>(c)], clear, f);
+            for (int c = 0; c < 3; ++c)
+                region.color[c][p] =
+                    over(region.color[c][p], point.premultiplied[static_cast<std::size_t>(c)], clear, f);
             region.alpha[p] = over(region.alpha[p], point.premultiplied[3], clear, f);
             ++changed;
         }
     return changed;
 }
 
-std::uint32_t composite_point_into(std::vector<std::array<std::int32_t, 4>>& block, int x0, int y0, int x1, int y1, const PointSquare& point,
-                                   const SliceFormat& f) {
+std::uint32_t composite_point_into(std::vector<std::array<std::int32_t, 4>>& block, int x0, int y0, int x1, int y1,
+                                   const PointSquare& point, const SliceFormat& f) {
     const std::int64_t clear = f.one() - point.premultiplied[3];
     const auto w = static_cast<std::size_t>(x1 - x0 + 1);
     std::uint32_t changed = 0;
@@ -283,15 +291,16 @@ std::uint32_t composite_point_into(std::vector<std::array<std::int32_t, 4>>& blo
     return changed;
 }
 
-void draw_block_over(SliceRegion& region, int x0, int y0, int x1, int y1, const std::vector<std::array<std::int32_t, 4>>& block,
-                     const SliceFormat& f) {
+void draw_block_over(SliceRegion& region, int x0, int y0, int x1, int y1,
+                     const std::vector<std::array<std::int32_t, 4>>& block, const SliceFormat& f) {
     const auto w = static_cast<std::size_t>(x1 - x0 + 1);
     for (int y = std::max(y0, 0); y <= std::min(y1, region.rows - 1); ++y)
         for (int x = std::max(x0, 0); x <= std::min(x1, region.columns - 1); ++x) {
             const auto& cell = block[static_cast<std::size_t>(y - y0) * w + static_cast<std::size_t>(x - x0)];
             const std::size_t p = region.index(x, y);
             const std::int64_t clear = f.one() - cell[3];
-            for (int c = 0; c < 3; ++c) region.color[c][p] = over(region.color[c][p], cell[static_cast<std::size_t>(c)], clear, f);
+            for (int c = 0; c < 3; ++c)
+                region.color[c][p] = over(region.color[c][p], cell[static_cast<std::size_t>(c)], clear, f);
             region.alpha[p] = over(region.alpha[p], cell[3], clear, f);
         }
 }

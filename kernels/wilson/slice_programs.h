@@ -86,7 +86,9 @@ struct SliceRegion {
     int columns = 0, rows = 0;
     std::vector<std::int32_t> color[3], alpha, slice[4], key;
     SliceRegion(int c, int r);
-    std::size_t index(int x, int y) const { return static_cast<std::size_t>(y) * static_cast<std::size_t>(columns) + static_cast<std::size_t>(x); }
+    std::size_t index(int x, int y) const {
+        return static_cast<std::size_t>(y) * static_cast<std::size_t>(columns) + static_cast<std::size_t>(x);
+    }
 };
 
 void setup_slice(SliceRegion& region, const SliceSetup& setup);
@@ -98,7 +100,7 @@ std::uint32_t draw_point_square(SliceRegion& region, const PointSquare& point, c
 // [x0, x1] x [y0, y1] row-major) exactly as the renderer would over its region.
 std::uint32_t composite_point_into(std::vector<std::array<std::int32_t, 4>>& block, int x0, int y0, int x1, int y1,
                                    const PointSquare& point, const SliceFormat& format);
-void draw_block_over(SliceRegion& region, int x0, int y0, int x1, int y1, const std::vector<std::array<std::int32_t, 4>>& block,
-                     const SliceFormat& format);
+void draw_block_over(SliceRegion& region, int x0, int y0, int x1, int y1,
+                     const std::vector<std::array<std::int32_t, 4>>& block, const SliceFormat& format);
 
 }  // namespace pp5

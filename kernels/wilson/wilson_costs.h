@@ -15,21 +15,21 @@ namespace pp5 {
 
 // Indices into wilson_op_kinds().
 enum WilsonOp : std::uint32_t {
-    kWilsonTexel,             // correct one texel's opacity for the distance between slices
-    kWilsonQuadParallel,      // a cell's four bilinear channels as quadratics, and its screen box
-    kWilsonQuadPerspective,   // ... their second-order expansions under perspective
-    kWilsonRegionShift,       // move a quad's quadratics to a further region's origin
-    kWilsonCoefficient,       // convert one coefficient to the QEE's fixed point
-    kWilsonSliceSetup,        // one slice's setup expressions for one region
-    kWilsonPoint,             // transform, classify, shade, correct and size one point
-    kWilsonSheetPixel,        // composite one point into one pixel of a GP's block (gp_sheets)
-    kWilsonBin,               // place a primitive in one region's batch
-    kWilsonPackWord,          // pack one word of a batch
+    kWilsonTexel,                // correct one texel's opacity for the distance between slices
+    kWilsonQuadParallel,         // a cell's four bilinear channels as quadratics, and its screen box
+    kWilsonQuadPerspective,      // ... their second-order expansions under perspective
+    kWilsonRegionShift,          // move a quad's quadratics to a further region's origin
+    kWilsonCoefficient,          // convert one coefficient to the QEE's fixed point
+    kWilsonSliceSetup,           // one slice's setup expressions for one region
+    kWilsonPoint,                // transform, classify, shade, correct and size one point
+    kWilsonSheetPixel,           // composite one point into one pixel of a GP's block (gp_sheets)
+    kWilsonBin,                  // place a primitive in one region's batch
+    kWilsonPackWord,             // pack one word of a batch
     kWilsonVoxelClassification,  // on a processor without PPs
     kWilsonVoxelShading,
-    kWilsonQuadPixel,         // a lone processor interpolates one pixel of a quad
-    kWilsonCompositePixel,    // ... composites one pixel of a slice
-    kWilsonPointPixel,        // ... composites one pixel of a point
+    kWilsonQuadPixel,       // a lone processor interpolates one pixel of a quad
+    kWilsonCompositePixel,  // ... composites one pixel of a slice
+    kWilsonPointPixel,      // ... composites one pixel of a point
 };
 
 const ParamGroup& wilson_cost_params();

@@ -51,7 +51,9 @@ struct WilsonFrame final : KernelFrame {
 class WilsonRun final : public KernelRun {
 public:
     WilsonRun(Machine& machine, const MachineConfig& config, const Scenario& scenario, const Volume& volume)
-        : volume_(volume), image_(scenario.image), settings_(WilsonSettings::from(config)),
+        : volume_(volume),
+          image_(scenario.image),
+          settings_(WilsonSettings::from(config)),
           hybrid_(HybridVolume::build(volume, settings_, uses_gradient(scenario))),
           voxel_store_(machine, hybrid_.low_resolution(), VoxelStoreSettings::from(config)),
           slicer_(settings_, slice_machine(machine, voxel_store_), hybrid_, volume.spacing()),
@@ -69,7 +71,8 @@ public:
         const bool classify = first_frame_ || frame.classification_changed;
         const bool reshade = classify || frame.lighting_changed || shaded_for_ != view;
         if (classify) classification_ = for_voxels_of(frame.classification, hybrid_.factor());
-        const PpFrameWork pp = voxel_store_.compute(classification_, frame.colors, frame.lighting, view, classify, reshade);
+        const PpFrameWork pp =
+            voxel_store_.compute(classification_, frame.colors, frame.lighting, view, classify, reshade);
         FrameWork& work = out->work;
         work.op_kinds = wilson_op_kinds();
         const std::uint64_t voxels = static_cast<std::uint64_t>(low.samples().size());
@@ -147,10 +150,12 @@ public:
     }
 
     std::string describe(const nlohmann::json& f) const override {
-        std::string line = fmt::format("; {} slices along {}: {} quads, {} of {} points drawn; {:.1f} ms simulated", f["slices"].dump(),
-                                       f["slice_axis"].get<std::string>(), f["quads"].dump(), f["points_drawn"].dump(), f["points"].dump(),
-                                       f["simulated_seconds"].get<double>() * 1e3);
-        if (f.contains("slicing")) line += fmt::format(" (renderer imbalance {:.2f})", f["slicing"]["renderer_imbalance"].get<double>());
+        std::string line =
+            fmt::format("; {} slices along {}: {} quads, {} of {} points drawn; {:.1f} ms simulated",
+                        f["slices"].dump(), f["slice_axis"].get<std::string>(), f["quads"].dump(),
+                        f["points_drawn"].dump(), f["points"].dump(), f["simulated_seconds"].get<double>() * 1e3);
+        if (f.contains("slicing"))
+            line += fmt::format(" (renderer imbalance {:.2f})", f["slicing"]["renderer_imbalance"].get<double>());
         return line;
     }
 
@@ -167,8 +172,10 @@ public:
             {"points_gp_memory_bytes", points_bytes},
             {"points_busiest_gp_bytes", most_point_bytes_},
             {"full_resolution_backing_store_bytes", original_voxels * static_cast<std::uint64_t>(p.record_bits()) / 8},
-            {"note", "the voxel store's records (Levoy's 8 bytes a voxel with the default layout) for the low-resolution volume, "
-                     "against the same records for every voxel of the original (Levoy's kernel); points in the GPs' memory"}};
+            {"note",
+             "the voxel store's records (Levoy's 8 bytes a voxel with the default layout) for the low-resolution "
+             "volume, "
+             "against the same records for every voxel of the original (Levoy's kernel); points in the GPs' memory"}};
         return {{"policy", to_string(p.policy())},
                 {"on_machine", on_machine},
                 {"record_bits", p.record_bits()},
@@ -182,8 +189,11 @@ public:
                   {"above_threshold", sel.above_threshold},
                   {"underestimates", sel.underestimates},
                   {"points_at_paper_thresholds",
-                   {{"1/64", sel.at_paper_thresholds[0]}, {"1/32", sel.at_paper_thresholds[1]}, {"1/16", sel.at_paper_thresholds[2]},
-                    {"1/12", sel.at_paper_thresholds[3]}, {"1/8", sel.at_paper_thresholds[4]}}},
+                   {{"1/64", sel.at_paper_thresholds[0]},
+                    {"1/32", sel.at_paper_thresholds[1]},
+                    {"1/16", sel.at_paper_thresholds[2]},
+                    {"1/12", sel.at_paper_thresholds[3]},
+                    {"1/8", sel.at_paper_thresholds[4]}}},
                   {"largest_error", sel.largest_error},
                   {"mean_abs_error", sel.mean_abs_error},
                   {"points", storage.points},
@@ -191,12 +201,15 @@ public:
                   {"points_bytes", points_bytes},
                   {"low_resolution_bytes", storage.volume_bytes()},
                   {"total_megabytes", static_cast<double>(storage.total_bytes()) / 1e6},
-                  {"original_megabytes", static_cast<double>(HybridStorage{volume_.dims(), storage.voxel_value_bytes,
-                                                                           storage.voxel_gradient_byte, 0, storage.point_format}
-                                                                 .total_bytes()) / 1e6},
-                  {"note", "sizes as the paper counts them (section 3.3): a voxel's value and normal index, a point's record; "
-                           "MB = 10^6 bytes. On the machine the low-resolution voxels sit in the voxel store's records and "
-                           "the points in the memory of the GP owning their brick"}}}};
+                  {"original_megabytes",
+                   static_cast<double>(HybridStorage{volume_.dims(), storage.voxel_value_bytes,
+                                                     storage.voxel_gradient_byte, 0, storage.point_format}
+                                           .total_bytes()) /
+                       1e6},
+                  {"note",
+                   "sizes as the paper counts them (section 3.3): a voxel's value and normal index, a point's record; "
+                   "MB = 10^6 bytes. On the machine the low-resolution voxels sit in the voxel store's records and "
+                   "the points in the memory of the GP owning their brick"}}}};
     }
 
 private:
@@ -211,18 +224,21 @@ private:
         const auto& gp = *machine.gps().front();
         const std::uint64_t cache_bytes = gp.cache_bits() / 8;
         if (most_point_bytes_ + cache_bytes > gp.memory_bytes())
-            reject_field("gp.memory_bytes",
-                         fmt::format("GP {} must keep {} bytes of points ({} points of {} bytes in all) besides its {} byte cache: "
-                                     "{} bytes, more than its {}; raise gp.memory_bytes or gp.count, or keep fewer points "
-                                     "(wilson.error_threshold, wilson.max_points)",
-                                     most - per_gp.begin(), most_point_bytes_, hybrid_.points().size(),
-                                     hybrid_.point_format().record_bytes(), cache_bytes, most_point_bytes_ + cache_bytes,
-                                     gp.memory_bytes()));
+            reject_field(
+                "gp.memory_bytes",
+                fmt::format(
+                    "GP {} must keep {} bytes of points ({} points of {} bytes in all) besides its {} byte cache: "
+                    "{} bytes, more than its {}; raise gp.memory_bytes or gp.count, or keep fewer points "
+                    "(wilson.error_threshold, wilson.max_points)",
+                    most - per_gp.begin(), most_point_bytes_, hybrid_.points().size(),
+                    hybrid_.point_format().record_bytes(), cache_bytes, most_point_bytes_ + cache_bytes,
+                    gp.memory_bytes()));
     }
 
     static RegionMachine slice_machine(const Machine& machine, const PpShading& store) {
         const VoxelPlacement* placement = &store.placement();
-        return RegionMachine::from(machine.config(), [placement](glm::ivec3 v) { return placement->locate(v).renderer; });
+        return RegionMachine::from(machine.config(),
+                                   [placement](glm::ivec3 v) { return placement->locate(v).renderer; });
     }
 
     const Volume& volume_;
@@ -243,31 +259,41 @@ class WilsonKernel final : public Kernel {
 public:
     std::string name() const override { return "wilson"; }
     std::string description() const override {
-        return "Wilson, Ma, McCormick 2002: a low-resolution volume plus points where its reconstruction errs; the PPs shade the "
-               "low-resolution voxels, the GPs turn each slice's texel cells into quads and their points into squares and bin them "
+        return "Wilson, Ma, McCormick 2002: a low-resolution volume plus points where its reconstruction errs; the PPs "
+               "shade the "
+               "low-resolution voxels, the GPs turn each slice's texel cells into quads and their points into squares "
+               "and bin them "
                "by screen region, the renderers draw the slices back to front with the points between them";
     }
     std::string timing_summary() const override {
-        return "event-driven: PP shading passes over the low-resolution voxels, then per slice the GPs' bricks fetched over the ring "
-               "and turned into quad and point batches, drawn by each renderer in back-to-front order from its region programs' "
+        return "event-driven: PP shading passes over the low-resolution voxels, then per slice the GPs' bricks fetched "
+               "over the ring "
+               "and turned into quad and point batches, drawn by each renderer in back-to-front order from its region "
+               "programs' "
                "operations";
     }
     std::vector<const ParamGroup*> param_groups() const override {
         return {&VoxelStoreSettings::params(), &WilsonSettings::params(), &wilson_cost_params()};
     }
     bool runs_on_machine() const override { return true; }
-    std::size_t most_pictures_per_frame(const MachineConfig&) const override { return 2; }  // L alone, then with its points
+    std::size_t most_pictures_per_frame(const MachineConfig&) const override {
+        return 2;
+    }  // L alone, then with its points
     bool compares_each_picture() const override { return true; }
     void check(const Scenario& scenario) const override {
         const std::string file = scenario.file.string();
         if (scenario.image.resampling != ResamplingOrder::ShadeThenInterpolate)
-            throw InputError(file, "image.resampling", "the wilson kernel interpolates shaded texels (shade-then-interpolate)");
+            throw InputError(file, "image.resampling",
+                             "the wilson kernel interpolates shaded texels (shade-then-interpolate)");
         if (!scenario.polygons.empty())
-            throw InputError(file, "polygons", "the wilson kernel does not scan-convert polygons; use kernel = \"levoy\"");
+            throw InputError(file, "polygons",
+                             "the wilson kernel does not scan-convert polygons; use kernel = \"levoy\"");
         for (const FrameSpec& frame : scenario.frames)
             if (frame.region)
-                throw InputError(file, "region", "the wilson kernel has no volume-of-interest tool; use kernel = \"levoy\"");
-        refuse_stationary_lights(scenario, "wilson", "its GPs shade each error point with one light (gp_cost.wilson.* counts one)");
+                throw InputError(file, "region",
+                                 "the wilson kernel has no volume-of-interest tool; use kernel = \"levoy\"");
+        refuse_stationary_lights(scenario, "wilson",
+                                 "its GPs shade each error point with one light (gp_cost.wilson.* counts one)");
     }
     std::unique_ptr<KernelRun> start(Machine& machine, const MachineConfig& config, const Scenario& scenario,
                                      const Volume& volume) const override {
@@ -278,32 +304,39 @@ public:
                 {"slicing_seconds", "s", "the GPs' and renderers' slices and points alone"},
                 {"points_drawn", "points", "points with opacity to add, on screen"},
                 {"threshold_trend", "ratio",
-                 "error samples past 1/64 of the value range over those past 1/12: how fast the point count grows as the threshold "
+                 "error samples past 1/64 of the value range over those past 1/12: how fast the point count grows as "
+                 "the threshold "
                  "tightens (the paper's chest at 128^3: 10999K / 3979K = 2.76)"}};
     }
     std::vector<KernelFormula> formulas() const override {
-        return {{"storage_megabytes", "MB",
-                 "the paper's representation of 8-bit data (section 3.3): a value byte and a normal index per low-resolution voxel, "
+        return {{"storage_megabytes",
+                 "MB",
+                 "the paper's representation of 8-bit data (section 3.3): a value byte and a normal index per "
+                 "low-resolution voxel, "
                  "a 6- or 9-byte record per point by the error grid's size; MB = 10^6 bytes",
                  {{"low_resolution", 3}, {"points", 1}, {"error_grid", 3}}},
-                {"point_room_millions", "million points",
+                {"point_room_millions",
+                 "million points",
                  "how many point records fit in the space a lower resolution frees (section 3.3)",
                  {{"original", 3}, {"low_resolution", 3}, {"point_bytes", 1}}}};
     }
     double formula(const std::string& name, const FormulaInputs& inputs) const override {
         const auto dims = [&](const char* key) {
             const std::vector<double>& v = inputs.at(key);
-            if (v.size() != 3 || std::any_of(v.begin(), v.end(), [](double x) { return !(x >= 1 && x <= 65536 && x == std::floor(x)); }))
+            if (v.size() != 3 ||
+                std::any_of(v.begin(), v.end(), [](double x) { return !(x >= 1 && x <= 65536 && x == std::floor(x)); }))
                 throw std::domain_error(std::string(key) + " must be three whole sizes from 1 to 65536");
             return glm::ivec3(static_cast<int>(v[0]), static_cast<int>(v[1]), static_cast<int>(v[2]));
         };
         const auto number = [&](const char* key, double most) {
             const std::vector<double>& v = inputs.at(key);
-            if (v.size() != 1 || !(v[0] >= 0 && v[0] <= most)) throw std::domain_error(fmt::format("{} must be one number from 0 to {}", key, most));
+            if (v.size() != 1 || !(v[0] >= 0 && v[0] <= most))
+                throw std::domain_error(fmt::format("{} must be one number from 0 to {}", key, most));
             return v[0];
         };
         if (name == "storage_megabytes") {
-            const HybridStorage storage{dims("low_resolution"), 1, false, static_cast<std::uint64_t>(number("points", 1e12)),
+            const HybridStorage storage{dims("low_resolution"), 1, false,
+                                        static_cast<std::uint64_t>(number("points", 1e12)),
                                         PointFormat::for_grid(dims("error_grid"), 1, false)};
             return static_cast<double>(storage.total_bytes()) / 1e6;
         }

@@ -28,19 +28,19 @@ enum class WilsonPointPath { Renderer, GpSheets };
 enum class SliceOpacityCorrection { PerSlice, None };
 
 struct WilsonSettings {
-    int downsample_factor = 2;                 // k: one low-resolution voxel per k^3 voxels
+    int downsample_factor = 2;  // k: one low-resolution voxel per k^3 voxels
     Downsample downsample = Downsample::Cubic;
     double overestimate_limit = std::numeric_limits<double>::infinity();  // value units; inf: no limit
-    int error_grid_factor = 1;                 // error samples per voxel along each axis
-    double error_threshold = 1.0 / 64.0;       // of the value range
+    int error_grid_factor = 1;                                            // error samples per voxel along each axis
+    double error_threshold = 1.0 / 64.0;                                  // of the value range
     ErrorSign error_sign = ErrorSign::Magnitude;
-    std::uint64_t max_points = 0;              // 0: every point past the threshold
-    double point_overlap = 1.1;                // a point's side over the projected error-grid spacing
-    double point_opacity_scale = 1.0;          // the paper's global point transparency
+    std::uint64_t max_points = 0;      // 0: every point past the threshold
+    double point_overlap = 1.1;        // a point's side over the projected error-grid spacing
+    double point_opacity_scale = 1.0;  // the paper's global point transparency
     WilsonPointPath point_path = WilsonPointPath::GpSheets;
     SliceOpacityCorrection opacity_correction = SliceOpacityCorrection::PerSlice;
-    int brick_voxels = 16;                     // edge of the low-resolution bricks dealt to GPs
-    int accumulator_bits = 12;                 // fraction bits of the renderers' colour and opacity
+    int brick_voxels = 16;      // edge of the low-resolution bricks dealt to GPs
+    int accumulator_bits = 12;  // fraction bits of the renderers' colour and opacity
 
     static const ParamGroup& params();
     // Reads and checks the settings: a bad combination is an InputError naming the key.

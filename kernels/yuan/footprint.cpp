@@ -10,7 +10,8 @@
 namespace pp5 {
 
 GaussianFootprint::GaussianFootprint(double sigma, double radius)
-    : sigma_(sigma), radius_(radius),
+    : sigma_(sigma),
+      radius_(radius),
       norm_(1.0 / (2 * std::numbers::pi * sigma * sigma * (1 - std::exp(-radius * radius / (2 * sigma * sigma))))) {}
 
 double GaussianFootprint::operator()(double rho) const {
@@ -20,9 +21,13 @@ double GaussianFootprint::operator()(double rho) const {
     return norm_ * std::exp(-rho * rho / (2 * sigma_ * sigma_));
 }
 
-FootprintTables::FootprintTables(const GaussianFootprint& kernel, int table_bits, int accumulator_bits, double alpha_step,
-                                 bool corrected)
-    : kernel_(kernel), table_bits_(table_bits), accumulator_bits_(accumulator_bits), alpha_step_(alpha_step), corrected_(corrected) {}
+FootprintTables::FootprintTables(const GaussianFootprint& kernel, int table_bits, int accumulator_bits,
+                                 double alpha_step, bool corrected)
+    : kernel_(kernel),
+      table_bits_(table_bits),
+      accumulator_bits_(accumulator_bits),
+      alpha_step_(alpha_step),
+      corrected_(corrected) {}
 
 int FootprintTables::row_of(double alpha) const {
     if (!corrected_) return 0;

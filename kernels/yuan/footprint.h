@@ -33,7 +33,8 @@ class FootprintTables {
 public:
     // `alpha_step`: radians between rows; `corrected`: rows hold Yuan's corrected index (else every row is
     // the plain table, for the exact index or a parallel camera).
-    FootprintTables(const GaussianFootprint& kernel, int table_bits, int accumulator_bits, double alpha_step, bool corrected);
+    FootprintTables(const GaussianFootprint& kernel, int table_bits, int accumulator_bits, double alpha_step,
+                    bool corrected);
     // The row for a splat of half cone angle `alpha` (radians): its number and its table.
     int row_of(double alpha) const;
     const PpTable& table(int row) const;  // made when first asked for (thread-safe)

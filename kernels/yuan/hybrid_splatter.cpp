@@ -18,9 +18,9 @@ namespace pp5 {
 
 namespace {
 
-constexpr std::uint32_t kUnitBits = 48;        // a voxel as the renderers stream it: RGBA and its place in the brick
-constexpr std::uint32_t kCachedVoxelBits = 64; // and as a GP keeps it
-constexpr std::uint64_t kHeaderBits = 64;      // a batch's header: kind, band, brick, count
+constexpr std::uint32_t kUnitBits = 48;         // a voxel as the renderers stream it: RGBA and its place in the brick
+constexpr std::uint32_t kCachedVoxelBits = 64;  // and as a GP keeps it
+constexpr std::uint64_t kHeaderBits = 64;       // a batch's header: kind, band, brick, count
 constexpr std::uint64_t kCoefficientBits = 32;
 constexpr std::uint64_t kConstantBits = 16;
 
@@ -51,17 +51,25 @@ struct RegionEntry {
 
 }  // namespace
 
-HybridSplatter::HybridSplatter(const YuanSettings& settings, const RegionMachine& machine, glm::ivec3 dims, glm::vec3 spacing)
-    : settings_(settings), machine_(machine), dims_(dims), spacing_(spacing),
+HybridSplatter::HybridSplatter(const YuanSettings& settings, const RegionMachine& machine, glm::ivec3 dims,
+                               glm::vec3 spacing)
+    : settings_(settings),
+      machine_(machine),
+      dims_(dims),
+      spacing_(spacing),
       bricks_((dims + settings.brick_voxels - 1) / settings.brick_voxels),
       format_{settings.accumulator_bits, settings.footprint_table_bits},
-      programs_(format_, settings.footprint_index == FootprintIndex::Exact ? SplatIndexMode::Exact : SplatIndexMode::Affine,
-                settings.splat_compositing == SplatCompositing::Over ? SplatBlend::Over : SplatBlend::Sheet, machine.local_memory_bits),
+      programs_(format_,
+                settings.footprint_index == FootprintIndex::Exact ? SplatIndexMode::Exact : SplatIndexMode::Affine,
+                settings.splat_compositing == SplatCompositing::Over ? SplatBlend::Over : SplatBlend::Sheet,
+                machine.local_memory_bits),
       kernel_(settings.kernel_sigma, settings.kernel_radius),
-      corrected_(kernel_, settings.footprint_table_bits, settings.accumulator_bits, glm::radians(settings.footprint_alpha_step_degrees), true),
+      corrected_(kernel_, settings.footprint_table_bits, settings.accumulator_bits,
+                 glm::radians(settings.footprint_alpha_step_degrees), true),
       plain_(kernel_, settings.footprint_table_bits, settings.accumulator_bits, 1.0, false) {}
 
-SplatFrame HybridSplatter::render(const ShadedCodes& voxels, const Camera& camera, int width, int height, glm::vec3 background) const {
+SplatFrame HybridSplatter::render(const ShadedCodes& voxels, const Camera& camera, int width, int height,
+                                  glm::vec3 background) const {
     const ScreenProjection projection(camera, width, height);
     const double h = std::min({spacing_.x, spacing_.y, spacing_.z});
     const double kernel_world = settings_.kernel_radius * h;
@@ -74,13 +82,15 @@ SplatFrame HybridSplatter::render(const ShadedCodes& voxels, const Camera& camer
 
     // 1. The non-transparent voxels of each brick, transformed and split (bricks in parallel, then in order).
     const int edge = settings_.brick_voxels;
-    const auto brick_count = static_cast<std::size_t>(bricks_.x) * static_cast<std::size_t>(bricks_.y) * static_cast<std::size_t>(bricks_.z);
+    const auto brick_count =
+        static_cast<std::size_t>(bricks_.x) * static_cast<std::size_t>(bricks_.y) * static_cast<std::size_t>(bricks_.z);
     std::vector<std::vector<Item>> per_brick(brick_count);
     std::vector<std::vector<std::uint32_t>> brick_parts(brick_count);  // per renderer: voxels streamed
     pp5::parallel_for(std::size_t{0}, brick_count, [&](std::size_t b) {
-        const glm::ivec3 bc(static_cast<int>(b % static_cast<std::size_t>(bricks_.x)),
-                            static_cast<int>((b / static_cast<std::size_t>(bricks_.x)) % static_cast<std::size_t>(bricks_.y)),
-                            static_cast<int>(b / (static_cast<std::size_t>(bricks_.x) * static_cast<std::size_t>(bricks_.y))));
+        const glm::ivec3 bc(
+            static_cast<int>(b % static_cast<std::size_t>(bricks_.x)),
+            static_cast<int>((b / static_cast<std::size_t>(bricks_.x)) % static_cast<std::size_t>(bricks_.y)),
+            static_cast<int>(b / (static_cast<std::size_t>(bricks_.x) * static_cast<std::size_t>(bricks_.y))));
         const glm::ivec3 lo = bc * edge;
         const glm::ivec3 hi = glm::min(lo + edge, dims_);
         std::vector<std::uint32_t>& parts = brick_parts[b];
@@ -88,8 +98,10 @@ SplatFrame HybridSplatter::render(const ShadedCodes& voxels, const Camera& camer
         for (int z = lo.z; z < hi.z; ++z)
             for (int y = lo.y; y < hi.y; ++y)
                 for (int x = lo.x; x < hi.x; ++x) {
-                    const std::size_t v = static_cast<std::size_t>(x) + static_cast<std::size_t>(dims_.x) *
-                                          (static_cast<std::size_t>(y) + static_cast<std::size_t>(dims_.y) * static_cast<std::size_t>(z));
+                    const std::size_t v = static_cast<std::size_t>(x) +
+                                          static_cast<std::size_t>(dims_.x) *
+                                              (static_cast<std::size_t>(y) +
+                                               static_cast<std::size_t>(dims_.y) * static_cast<std::size_t>(z));
                     if (voxels.transparent(v)) continue;
                     Item item;
                     item.brick = static_cast<std::uint32_t>(b);
@@ -116,7 +128,8 @@ SplatFrame HybridSplatter::render(const ShadedCodes& voxels, const Camera& camer
     const double band_depth = settings_.band_voxels * h;
     // Bands are centred on the nearest voxel's depth, so that a layer of voxels at one depth (a slab face
     // on) falls in the middle of a band, not on the rounding edge between two.
-    for (Item& item : items) item.band = static_cast<std::uint32_t>(std::floor((item.depth - nearest) / band_depth + 0.5));
+    for (Item& item : items)
+        item.band = static_cast<std::uint32_t>(std::floor((item.depth - nearest) / band_depth + 0.5));
     pp5::parallel_sort(items.begin(), items.end(), key_less);
 
     // 3. Each voxel's primitive (in parallel; each from its own voxel only).
@@ -132,7 +145,8 @@ SplatFrame HybridSplatter::render(const ShadedCodes& voxels, const Camera& camer
             if (splat) p = *splat;
             else item.kind = Kind::Culled;
         } else if (item.kind == Kind::Point) {
-            p = point_primitive(projection, item.eye, h * projection.pixels_per_unit(item.eye.z), rgba, point_radius, format_, width, height);
+            p = point_primitive(projection, item.eye, h * projection.pixels_per_unit(item.eye.z), rgba, point_radius,
+                                format_, width, height);
         }
     });
 
@@ -154,8 +168,8 @@ SplatFrame HybridSplatter::render(const ShadedCodes& voxels, const Camera& camer
         (items[k].kind == Kind::Splat ? counts.splats : counts.points) += 1;
         for (int ry = p.y0 / rr; ry <= p.y1 / rr; ++ry)
             for (int rx = p.x0 / rc; rx <= p.x1 / rc; ++rx)
-                lists[static_cast<std::size_t>(ry) * static_cast<std::size_t>(regions_x) + static_cast<std::size_t>(rx)].push_back(
-                    RegionEntry{static_cast<std::uint32_t>(k), 0});
+                lists[static_cast<std::size_t>(ry) * static_cast<std::size_t>(regions_x) + static_cast<std::size_t>(rx)]
+                    .push_back(RegionEntry{static_cast<std::uint32_t>(k), 0});
     }
 
     // The footprint rows the splats use, made here once rather than looked up under a lock per draw.
@@ -167,7 +181,7 @@ SplatFrame HybridSplatter::render(const ShadedCodes& voxels, const Camera& camer
     // 5. Every region drawn as its renderer draws it (regions in parallel: each depends on its own list).
     frame.image = Image(width, height);
     frame.primitive_map = Image(width, height);
-    std::vector<std::vector<std::uint32_t>> composited(region_count);   // per region: the bands it composited
+    std::vector<std::vector<std::uint32_t>> composited(region_count);  // per region: the bands it composited
     std::vector<std::uint64_t> composited_pixels(region_count, 0);
     const SplatIndexMode mode = exact ? SplatIndexMode::Exact : SplatIndexMode::Affine;
     const SplatBlend blend = programs_.blend();
@@ -176,7 +190,8 @@ SplatFrame HybridSplatter::render(const ShadedCodes& voxels, const Camera& camer
         const int ox = static_cast<int>(r % static_cast<std::size_t>(regions_x)) * rc;
         const int oy = static_cast<int>(r / static_cast<std::size_t>(regions_x)) * rr;
         RegionPixels region(rc, rr);
-        std::vector<std::uint8_t> kinds_drawn(static_cast<std::size_t>(rc) * static_cast<std::size_t>(rr), 0);  // bit 0 splat, 1 point
+        std::vector<std::uint8_t> kinds_drawn(static_cast<std::size_t>(rc) * static_cast<std::size_t>(rr),
+                                              0);  // bit 0 splat, 1 point
         std::vector<RegionEntry>& list = lists[r];
         bool sheet_holds = false;
         std::uint32_t band = 0;
@@ -197,7 +212,8 @@ SplatFrame HybridSplatter::render(const ShadedCodes& voxels, const Camera& camer
             const int lx0 = p.x0 - ox, ly0 = p.y0 - oy, lx1 = p.x1 - ox, ly1 = p.y1 - oy;
             const auto mark = [&](int x0, int y0, int x1, int y1, std::uint8_t bit) {
                 for (int y = std::max(y0, 0); y <= std::min(y1, rr - 1); ++y)
-                    for (int x = std::max(x0, 0); x <= std::min(x1, rc - 1); ++x) kinds_drawn[region.index(x, y)] |= bit;
+                    for (int x = std::max(x0, 0); x <= std::min(x1, rc - 1); ++x)
+                        kinds_drawn[region.index(x, y)] |= bit;
             };
             if (item.kind == Kind::Splat) {
                 const SplatDraw draw = splat_draw(p, ox, oy, mode == SplatIndexMode::Exact);
@@ -218,8 +234,8 @@ SplatFrame HybridSplatter::render(const ShadedCodes& voxels, const Camera& camer
             }
             std::size_t end = e;
             int bx0 = rc, by0 = rr, bx1 = -1, by1 = -1;
-            while (end < list.size() && items[list[end].item].band == item.band && items[list[end].item].brick == item.brick &&
-                   items[list[end].item].kind == Kind::Point) {
+            while (end < list.size() && items[list[end].item].band == item.band &&
+                   items[list[end].item].brick == item.brick && items[list[end].item].kind == Kind::Point) {
                 const ScreenPrimitive& q = primitives[list[end].item];
                 bx0 = std::min(bx0, std::max(q.x0 - ox, 0));
                 by0 = std::min(by0, std::max(q.y0 - oy, 0));
@@ -230,7 +246,8 @@ SplatFrame HybridSplatter::render(const ShadedCodes& voxels, const Camera& camer
             const int bw = bx1 - bx0 + 1;
             block.assign(static_cast<std::size_t>(bw) * static_cast<std::size_t>(by1 - by0 + 1), {0, 0, 0, 0});
             for (std::size_t k = e; k < end; ++k)
-                list[k].pixels = filter_point(point_draw(primitives[list[k].item], ox, oy), format_, bx0, by0, bx1, by1, block);
+                list[k].pixels =
+                    filter_point(point_draw(primitives[list[k].item], ox, oy), format_, bx0, by0, bx1, by1, block);
             add_sheet_block(region, bx0, by0, bx1, by1, block, format_);
             mark(bx0, by0, bx1, by1, 2);
             e = end;
@@ -243,11 +260,14 @@ SplatFrame HybridSplatter::render(const ShadedCodes& voxels, const Camera& camer
                 const std::size_t p = region.index(x, y);
                 const float a = static_cast<float>(region.alpha[p]) * scale;
                 glm::vec4 out;
-                for (int c = 0; c < 3; ++c) out[c] = static_cast<float>(region.color[c][p]) * scale + (1 - a) * background[c];
+                for (int c = 0; c < 3; ++c)
+                    out[c] = static_cast<float>(region.color[c][p]) * scale + (1 - a) * background[c];
                 out.a = a;
                 frame.image.at(ox + x, oy + y) = out;
                 const std::uint8_t k = kinds_drawn[p];
-                frame.primitive_map.at(ox + x, oy + y) = (k & 1) ? glm::vec4(a, 0, 0, 1) : (k & 2) ? glm::vec4(a, a, a, 1) : glm::vec4(0, 0, 0, 1);
+                frame.primitive_map.at(ox + x, oy + y) = (k & 1)   ? glm::vec4(a, 0, 0, 1)
+                                                         : (k & 2) ? glm::vec4(a, a, a, 1)
+                                                                   : glm::vec4(0, 0, 0, 1);
             }
     });
     for (std::size_t r = 0; r < region_count; ++r) {
@@ -273,8 +293,8 @@ SplatFrame HybridSplatter::render(const ShadedCodes& voxels, const Camera& camer
             largest = std::max(largest, total);
             first_part.push_back(static_cast<std::uint32_t>(parts.size()));
         }
-        work.blocks = std::make_shared<const BlockDirectory>(std::uint64_t{largest} * kCachedVoxelBits, kUnitBits, std::move(first_part),
-                                                             std::move(parts));
+        work.blocks = std::make_shared<const BlockDirectory>(std::uint64_t{largest} * kCachedVoxelBits, kUnitBits,
+                                                             std::move(first_part), std::move(parts));
     }
     // Region programs: the splat program of each footprint row used, then the others.
     std::map<int, std::uint32_t> splat_program;
@@ -290,7 +310,9 @@ SplatFrame HybridSplatter::render(const ShadedCodes& voxels, const Camera& camer
     const auto readout_program = static_cast<std::uint32_t>(work.region_programs.size());
     work.region_programs.push_back(programs_.readout());
     work.regions.resize(static_cast<std::size_t>(machine_.renderers));
-    const auto renderer_of_region = [&](std::size_t region) { return region % static_cast<std::size_t>(machine_.renderers); };
+    const auto renderer_of_region = [&](std::size_t region) {
+        return region % static_cast<std::size_t>(machine_.renderers);
+    };
 
     // Where each item stands in each region's list (for its pixel counts), walked in item order.
     std::vector<std::size_t> cursor(region_count, 0);
@@ -301,7 +323,8 @@ SplatFrame HybridSplatter::render(const ShadedCodes& voxels, const Camera& camer
     std::uint64_t splat_pixels = 0, point_pixels = 0;
     for (std::size_t first = 0; first < items.size();) {
         std::size_t end = first;
-        while (end < items.size() && items[end].band == items[first].band && items[end].brick == items[first].brick) ++end;
+        while (end < items.size() && items[end].band == items[first].band && items[end].brick == items[first].brick)
+            ++end;
         ++counts.chunks;
         // Per renderer touched: its batch's bits and its steps.
         struct Batch {
@@ -320,7 +343,8 @@ SplatFrame HybridSplatter::render(const ShadedCodes& voxels, const Camera& camer
             std::uint64_t regions_here = 0;
             for (int ry = p.y0 / rr; ry <= p.y1 / rr; ++ry)
                 for (int rx = p.x0 / rc; rx <= p.x1 / rc; ++rx) {
-                    const std::size_t region = static_cast<std::size_t>(ry) * static_cast<std::size_t>(regions_x) + static_cast<std::size_t>(rx);
+                    const std::size_t region = static_cast<std::size_t>(ry) * static_cast<std::size_t>(regions_x) +
+                                               static_cast<std::size_t>(rx);
                     RegionEntry& entry = lists[region][cursor[region]++];
                     ++regions_here;
                     ++bins;
@@ -335,7 +359,8 @@ SplatFrame HybridSplatter::render(const ShadedCodes& voxels, const Camera& camer
                         ++counts.point_regions;
                         if (gp_sheets) {
                             sheet_pixels += entry.pixels;
-                            auto [it, fresh] = point_blocks.try_emplace(region, glm::ivec2(p.x0, p.y0), glm::ivec2(p.x1, p.y1));
+                            auto [it, fresh] =
+                                point_blocks.try_emplace(region, glm::ivec2(p.x0, p.y0), glm::ivec2(p.x1, p.y1));
                             if (!fresh) {
                                 it->second.first = glm::min(it->second.first, glm::ivec2(p.x0, p.y0));
                                 it->second.second = glm::max(it->second.second, glm::ivec2(p.x1, p.y1));
@@ -356,7 +381,8 @@ SplatFrame HybridSplatter::render(const ShadedCodes& voxels, const Camera& camer
             const int oy = static_cast<int>(region / static_cast<std::size_t>(regions_x)) * rr;
             const glm::ivec2 lo = glm::max(box.first, glm::ivec2(ox, oy));
             const glm::ivec2 hi = glm::min(box.second, glm::ivec2(ox + rc - 1, oy + rr - 1));
-            const std::uint64_t pixels = static_cast<std::uint64_t>(hi.x - lo.x + 1) * static_cast<std::uint64_t>(hi.y - lo.y + 1);
+            const std::uint64_t pixels =
+                static_cast<std::uint64_t>(hi.x - lo.x + 1) * static_cast<std::uint64_t>(hi.y - lo.y + 1);
             Batch& batch = batches[static_cast<std::uint32_t>(renderer_of_region(region))];
             ++batch.runs[point_program];
             batch.write_words += 2 * pixels;
@@ -407,7 +433,8 @@ SplatFrame HybridSplatter::render(const ShadedCodes& voxels, const Camera& camer
             }
             for (std::size_t renderer = 0; renderer < composites.size(); ++renderer)
                 if (composites[renderer] > 0)
-                    work.regions[renderer].steps.push_back(RegionStep{kNoBatch, composite_program, composites[renderer], 0});
+                    work.regions[renderer].steps.push_back(
+                        RegionStep{kNoBatch, composite_program, composites[renderer], 0});
             ++counts.bands;
         }
         first = end;

@@ -15,9 +15,9 @@
 // assignment nor any timing parameter, and the recorded work can be re-timed on any machine.
 
 #include "kernels/pp_volume/shaded_codes.h"
-#include "kernels/screen_regions/region_machine.h"
 #include "kernels/render/camera.h"
 #include "kernels/render/image.h"
+#include "kernels/screen_regions/region_machine.h"
 #include "kernels/yuan/footprint.h"
 #include "kernels/yuan/region_programs.h"
 #include "kernels/yuan/yuan_settings.h"
@@ -34,22 +34,22 @@ namespace pp5 {
 
 // What a frame did, counted as it was done.
 struct SplatCounts {
-    std::uint64_t voxels = 0;      // non-transparent voxels taken by the GPs
+    std::uint64_t voxels = 0;  // non-transparent voxels taken by the GPs
     std::uint64_t splats = 0;
     std::uint64_t points = 0;
-    std::uint64_t culled = 0;      // kernels reaching the eye's plane
-    std::uint64_t offscreen = 0;   // splats and points wholly outside the picture
-    std::uint64_t bands = 0;       // depth bands holding voxels
-    std::uint64_t chunks = 0;      // (band, brick) GP tasks
-    std::uint64_t batches = 0;     // messages to renderers
+    std::uint64_t culled = 0;     // kernels reaching the eye's plane
+    std::uint64_t offscreen = 0;  // splats and points wholly outside the picture
+    std::uint64_t bands = 0;      // depth bands holding voxels
+    std::uint64_t chunks = 0;     // (band, brick) GP tasks
+    std::uint64_t batches = 0;    // messages to renderers
     std::uint64_t batch_words = 0;
     std::uint64_t splat_regions = 0;  // splat draws summed over regions (>= splats drawn)
     std::uint64_t point_regions = 0;
-    std::uint64_t splat_pixels = 0;   // pixels a splat changed, summed
+    std::uint64_t splat_pixels = 0;  // pixels a splat changed, summed
     std::uint64_t point_pixels = 0;
-    std::uint64_t band_composites = 0;   // (band, region) sheet composites
+    std::uint64_t band_composites = 0;  // (band, region) sheet composites
     std::uint64_t composited_pixels = 0;
-    std::uint64_t footprint_rows = 0;    // distinct footprint tables (PP programs) drawn with
+    std::uint64_t footprint_rows = 0;                  // distinct footprint tables (PP programs) drawn with
     std::vector<std::uint64_t> primitives_per_region;  // row-major over the screen's regions
     double splat_fraction() const {
         const auto drawn = splats + points;
@@ -61,14 +61,15 @@ struct SplatFrame {
     Image image;
     Image primitive_map;  // red where splats drew, grey where points did (Yuan et al.'s Figure 8a)
     SplatCounts counts;
-    GpPhase work;          // the "splatting" phase
+    GpPhase work;  // the "splatting" phase
 };
 
 class HybridSplatter {
 public:
     HybridSplatter(const YuanSettings& settings, const RegionMachine& machine, glm::ivec3 dims, glm::vec3 spacing);
     // Splats the shaded voxels (colours not premultiplied; opacity per voxel step) for one camera.
-    SplatFrame render(const ShadedCodes& voxels, const Camera& camera, int width, int height, glm::vec3 background) const;
+    SplatFrame render(const ShadedCodes& voxels, const Camera& camera, int width, int height,
+                      glm::vec3 background) const;
 
     const RegionPrograms& programs() const { return programs_; }
     // The footprint rows: corrected for the cone angle (perspective, Yuan's index), or plain.

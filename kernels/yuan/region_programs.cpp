@@ -185,10 +185,12 @@ RegionPixels::RegionPixels(int c, int r) : columns(c), rows(r) {
 std::uint32_t draw_splat(RegionPixels& region, const SplatDraw& splat, const PpTable& table, const RegionFormat& f,
                          SplatIndexMode mode, SplatBlend blend) {
     const int constants = mode == SplatIndexMode::Affine ? 1 : 2;
-    const std::int64_t opacity = qee_value(splat.expressions[static_cast<std::size_t>(constants)], 0, 0, 0, f.accumulator_bits + 1, false);
+    const std::int64_t opacity =
+        qee_value(splat.expressions[static_cast<std::size_t>(constants)], 0, 0, 0, f.accumulator_bits + 1, false);
     std::int64_t color[3];
     for (int c = 0; c < 3; ++c)
-        color[c] = qee_value(splat.expressions[static_cast<std::size_t>(constants + 1 + c)], 0, 0, 0, f.accumulator_bits + 1, false);
+        color[c] = qee_value(splat.expressions[static_cast<std::size_t>(constants + 1 + c)], 0, 0, 0,
+                             f.accumulator_bits + 1, false);
     const std::int64_t top = limit_of(f.sheet_field_bits());
     const int table_shift = kIndexBits - f.table_bits;
     std::uint32_t changed = 0;
@@ -235,7 +237,8 @@ namespace {
 // Calls visit(x, y, weights) for each pixel of the point's box within [cx0, cx1] x [cy0, cy1] that the
 // point reaches, with its four clamped weights.
 template <class Visit>
-void for_each_point_pixel(const PointDraw& point, const RegionFormat& f, int cx0, int cy0, int cx1, int cy1, Visit&& visit) {
+void for_each_point_pixel(const PointDraw& point, const RegionFormat& f, int cx0, int cy0, int cx1, int cy1,
+                          Visit&& visit) {
     const std::int64_t top = limit_of(f.sheet_field_bits());
     for (int y = std::max(point.y0, cy0); y <= std::min(point.y1, cy1); ++y) {
         for (int x = std::max(point.x0, cx0); x <= std::min(point.x1, cx1); ++x) {
@@ -243,8 +246,11 @@ void for_each_point_pixel(const PointDraw& point, const RegionFormat& f, int cx0
             if (!(opacity > 0)) continue;
             std::array<std::int32_t, 4> v;
             for (int c = 0; c < 4; ++c) {
-                const std::int64_t raw = c == 3 ? opacity : qee_value(point.expressions[static_cast<std::size_t>(c)], x, y, kShift, kQuad, true);
-                v[static_cast<std::size_t>(c)] = static_cast<std::int32_t>(std::min(std::max<std::int64_t>(raw, 0), top));
+                const std::int64_t raw =
+                    c == 3 ? opacity
+                           : qee_value(point.expressions[static_cast<std::size_t>(c)], x, y, kShift, kQuad, true);
+                v[static_cast<std::size_t>(c)] =
+                    static_cast<std::int32_t>(std::min(std::max<std::int64_t>(raw, 0), top));
             }
             visit(x, y, v);
         }
@@ -253,7 +259,8 @@ void for_each_point_pixel(const PointDraw& point, const RegionFormat& f, int cx0
 
 // cell = min(cell + v, top), channel by channel.
 void add_clamped(std::array<std::int32_t, 4>& cell, const std::array<std::int32_t, 4>& v, std::int64_t top) {
-    for (std::size_t c = 0; c < 4; ++c) cell[c] = static_cast<std::int32_t>(std::min<std::int64_t>(cell[c] + v[c], top));
+    for (std::size_t c = 0; c < 4; ++c)
+        cell[c] = static_cast<std::int32_t>(std::min<std::int64_t>(cell[c] + v[c], top));
 }
 
 }  // namespace
@@ -261,12 +268,14 @@ void add_clamped(std::array<std::int32_t, 4>& cell, const std::array<std::int32_
 std::uint32_t draw_point(RegionPixels& region, const PointDraw& point, const RegionFormat& f) {
     const std::int64_t top = limit_of(f.sheet_field_bits());
     std::uint32_t changed = 0;
-    for_each_point_pixel(point, f, 0, 0, region.columns - 1, region.rows - 1, [&](int x, int y, const std::array<std::int32_t, 4>& v) {
-        const std::size_t p = region.index(x, y);
-        for (int c = 0; c < 4; ++c)
-            region.sheet[c][p] = static_cast<std::int32_t>(std::min<std::int64_t>(region.sheet[c][p] + v[static_cast<std::size_t>(c)], top));
-        ++changed;
-    });
+    for_each_point_pixel(point, f, 0, 0, region.columns - 1, region.rows - 1,
+                         [&](int x, int y, const std::array<std::int32_t, 4>& v) {
+                             const std::size_t p = region.index(x, y);
+                             for (int c = 0; c < 4; ++c)
+                                 region.sheet[c][p] = static_cast<std::int32_t>(
+                                     std::min<std::int64_t>(region.sheet[c][p] + v[static_cast<std::size_t>(c)], top));
+                             ++changed;
+                         });
     return changed;
 }
 
@@ -282,16 +291,18 @@ std::uint32_t filter_point(const PointDraw& point, const RegionFormat& f, int x0
     return reached;
 }
 
-void add_sheet_block(RegionPixels& region, int x0, int y0, int x1, int y1, const std::vector<std::array<std::int32_t, 4>>& block,
-                     const RegionFormat& f) {
+void add_sheet_block(RegionPixels& region, int x0, int y0, int x1, int y1,
+                     const std::vector<std::array<std::int32_t, 4>>& block, const RegionFormat& f) {
     const std::int64_t top = limit_of(f.sheet_field_bits());
     const int w = x1 - x0 + 1;
     for (int y = y0; y <= y1; ++y) {
         for (int x = x0; x <= x1; ++x) {
-            const auto& v = block[static_cast<std::size_t>(y - y0) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x - x0)];
+            const auto& v = block[static_cast<std::size_t>(y - y0) * static_cast<std::size_t>(w) +
+                                  static_cast<std::size_t>(x - x0)];
             const std::size_t p = region.index(x, y);
             for (int c = 0; c < 4; ++c)
-                region.sheet[c][p] = static_cast<std::int32_t>(std::min<std::int64_t>(region.sheet[c][p] + v[static_cast<std::size_t>(c)], top));
+                region.sheet[c][p] = static_cast<std::int32_t>(
+                    std::min<std::int64_t>(region.sheet[c][p] + v[static_cast<std::size_t>(c)], top));
         }
     }
 }

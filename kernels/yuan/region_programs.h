@@ -25,14 +25,14 @@
 namespace pp5 {
 
 struct RegionFormat {
-    int accumulator_bits = 12;  // fraction bits of C and A (1.0 = 2^bits)
-    int table_bits = 6;         // footprint table entries: 2^bits over i^2
-    int sheet_bits() const { return accumulator_bits + 2; }          // fraction bits of S
-    int sheet_field_bits() const { return accumulator_bits + 4; }    // S holds values below 4
+    int accumulator_bits = 12;                                     // fraction bits of C and A (1.0 = 2^bits)
+    int table_bits = 6;                                            // footprint table entries: 2^bits over i^2
+    int sheet_bits() const { return accumulator_bits + 2; }        // fraction bits of S
+    int sheet_field_bits() const { return accumulator_bits + 4; }  // S holds values below 4
     std::int64_t one() const { return std::int64_t{1} << accumulator_bits; }
     std::int64_t sheet_one() const { return std::int64_t{1} << sheet_bits(); }
 
-    static constexpr int kIndexBits = 16;         // the squared index i^2 (1.0 = 2^16, the silhouette)
+    static constexpr int kIndexBits = 16;  // the squared index i^2 (1.0 = 2^16, the silhouette)
     static constexpr int kCoefficientShift = kQeeCoefficientShift;
     static constexpr int kQuadraticBits = kQeeResultBits;
 };
@@ -45,7 +45,7 @@ struct SplatDraw {
     // Affine: [0] i^2 in kIndexBits; Exact: [0] N, [1] M with d^2 = N / M in kIndexBits.
     // Then the constants: opacity, red, green, blue, in accumulator units.
     std::vector<QeeCoefficients> expressions;
-    int table = 0;  // the footprint row it is drawn with
+    int table = 0;                         // the footprint row it is drawn with
     int x0 = 0, y0 = 0, x1 = -1, y1 = -1;  // region-local box (inclusive) outside which no pixel is inside
 };
 
@@ -80,7 +80,9 @@ struct RegionPixels {
     int columns = 0, rows = 0;
     std::vector<std::int32_t> color[3], alpha, sheet[4];  // sheet: r, g, b, opacity
     RegionPixels(int c, int r);
-    std::size_t index(int x, int y) const { return static_cast<std::size_t>(y) * static_cast<std::size_t>(columns) + static_cast<std::size_t>(x); }
+    std::size_t index(int x, int y) const {
+        return static_cast<std::size_t>(y) * static_cast<std::size_t>(columns) + static_cast<std::size_t>(x);
+    }
 };
 
 // The twins. Each returns the pixels it changed (enabled, for the counts a lone processor is charged).
@@ -91,8 +93,8 @@ std::uint32_t draw_point(RegionPixels& region, const PointDraw& point, const Reg
 // [x0, x1] x [y0, y1] row-major, each clamped as the renderer's sheet is; returns the pixels it reached.
 std::uint32_t filter_point(const PointDraw& point, const RegionFormat& format, int x0, int y0, int x1, int y1,
                            std::vector<std::array<std::int32_t, 4>>& block);
-void add_sheet_block(RegionPixels& region, int x0, int y0, int x1, int y1, const std::vector<std::array<std::int32_t, 4>>& block,
-                     const RegionFormat& format);
+void add_sheet_block(RegionPixels& region, int x0, int y0, int x1, int y1,
+                     const std::vector<std::array<std::int32_t, 4>>& block, const RegionFormat& format);
 // Composites the sheet into C, A and clears it; returns the pixels whose sheet held something.
 std::uint32_t composite_band(RegionPixels& region, const RegionFormat& format);
 

@@ -9,7 +9,8 @@ namespace pp5 {
 namespace {
 
 std::int64_t to_units(float v, std::int64_t one) {
-    return std::clamp<std::int64_t>(static_cast<std::int64_t>(std::lround(static_cast<double>(v) * static_cast<double>(one))), 0, one);
+    return std::clamp<std::int64_t>(
+        static_cast<std::int64_t>(std::lround(static_cast<double>(v) * static_cast<double>(one))), 0, one);
 }
 
 // One pixel of margin: the fixed-point quadratic may reach a pixel the float box just misses.
@@ -35,8 +36,9 @@ std::optional<ScreenPrimitive> splat_primitive(const ScreenProjection& projectio
         const double f = projection.focal_pixels();
         const glm::dvec3 q = shape->axis;
         const Quadratic length2 = Quadratic{1, 0, 1, 0, 0, f * f}.substituted(1, -pp.x, -1, pp.y);
-        const Quadratic along2 = Quadratic{q.x * q.x, 2 * q.x * q.y, q.y * q.y, 2 * f * q.x * q.z, 2 * f * q.y * q.z, f * f * q.z * q.z}
-                                     .substituted(1, -pp.x, -1, pp.y);
+        const Quadratic along2 =
+            Quadratic{q.x * q.x, 2 * q.x * q.y, q.y * q.y, 2 * f * q.x * q.z, 2 * f * q.y * q.z, f * f * q.z * q.z}
+                .substituted(1, -pp.x, -1, pp.y);
         const Quadratic off_axis{length2.a - along2.a, length2.b - along2.b, length2.c - along2.c,
                                  length2.d - along2.d, length2.e - along2.e, length2.f - along2.f};
         p.index[0] = off_axis.scaled(scale / (f * f * shape->sin_alpha * shape->sin_alpha));
@@ -50,13 +52,13 @@ std::optional<ScreenPrimitive> splat_primitive(const ScreenProjection& projectio
     const std::int64_t one = format.one();
     p.constants[0] = to_units(rgba.a, one);
     for (int c = 0; c < 3; ++c) p.constants[c + 1] = std::min(to_units(rgba[c], one), one - 1);
-    set_box(p, shape->center.x - shape->half_extent.x, shape->center.y - shape->half_extent.y, shape->center.x + shape->half_extent.x,
-            shape->center.y + shape->half_extent.y, width, height);
+    set_box(p, shape->center.x - shape->half_extent.x, shape->center.y - shape->half_extent.y,
+            shape->center.x + shape->half_extent.x, shape->center.y + shape->half_extent.y, width, height);
     return p;
 }
 
-ScreenPrimitive point_primitive(const ScreenProjection& projection, glm::dvec3 eye, double spacing_pixels, glm::vec4 rgba,
-                                double radius, const RegionFormat& format, int width, int height) {
+ScreenPrimitive point_primitive(const ScreenProjection& projection, glm::dvec3 eye, double spacing_pixels,
+                                glm::vec4 rgba, double radius, const RegionFormat& format, int width, int height) {
     ScreenPrimitive p;
     const glm::dvec2 at = projection.to_screen(eye);
     const double r2 = radius * radius;
@@ -75,7 +77,8 @@ SplatDraw splat_draw(const ScreenPrimitive& splat, int ox, int oy, bool exact) {
     for (int q = 0; q < (exact ? 2 : 1); ++q) {
         const Quadratic local = splat.index[q].shifted(ox, oy);
         // N and M are never negative: one unit of bias keeps their rounding from going below zero.
-        draw.expressions.push_back(to_qee(local.a, local.b, local.c, local.d, local.e, local.f, 1.0, exact ? 1.0 : 0.0));
+        draw.expressions.push_back(
+            to_qee(local.a, local.b, local.c, local.d, local.e, local.f, 1.0, exact ? 1.0 : 0.0));
     }
     for (const std::int64_t c : splat.constants) draw.expressions.push_back(qee_constant(c));
     draw.table = splat.row;
@@ -89,7 +92,8 @@ PointDraw point_draw(const ScreenPrimitive& point, int ox, int oy) {
     for (int c = 0; c < 4; ++c)
         // Half a unit of bias rounds each weight instead of flooring it: a pixel under a hundred minified
         // points would otherwise lose a unit to each.
-        draw.expressions[static_cast<std::size_t>(c)] = to_qee(local.a, local.b, local.c, local.d, local.e, local.f, point.channel[c], 0.5);
+        draw.expressions[static_cast<std::size_t>(c)] =
+            to_qee(local.a, local.b, local.c, local.d, local.e, local.f, point.channel[c], 0.5);
     draw.x0 = point.x0 - ox, draw.y0 = point.y0 - oy, draw.x1 = point.x1 - ox, draw.y1 = point.y1 - oy;
     return draw;
 }

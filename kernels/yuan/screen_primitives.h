@@ -16,12 +16,12 @@
 namespace pp5 {
 
 struct ScreenPrimitive {
-    int x0 = 0, y0 = 0, x1 = -1, y1 = -1;  // screen pixels, inclusive, clipped to the picture
-    Quadratic index[2];                    // splat: i^2 in 2^16 units (affine), or N and M (exact)
-    Quadratic weight;                      // point: the paraboloid's shape (1 - rho^2 / R^2)
-    double channel[4] = {0, 0, 0, 0};      // point: the paraboloid's height per channel, in sheet units
+    int x0 = 0, y0 = 0, x1 = -1, y1 = -1;      // screen pixels, inclusive, clipped to the picture
+    Quadratic index[2];                        // splat: i^2 in 2^16 units (affine), or N and M (exact)
+    Quadratic weight;                          // point: the paraboloid's shape (1 - rho^2 / R^2)
+    double channel[4] = {0, 0, 0, 0};          // point: the paraboloid's height per channel, in sheet units
     std::int64_t constants[4] = {0, 0, 0, 0};  // splat: opacity, red, green, blue in accumulator units
-    int row = 0;                           // splat: its footprint table
+    int row = 0;                               // splat: its footprint table
     bool visible() const { return x1 >= x0 && y1 >= y0; }
 };
 
@@ -32,8 +32,8 @@ std::optional<ScreenPrimitive> splat_primitive(const ScreenProjection& projectio
                                                const RegionFormat& format, int width, int height);
 // The point of a voxel whose spacing projects to `spacing_pixels`, filtered with radius `radius` pixels:
 // it carries the screen area the voxel stands for, so a layer of points covers the screen with its opacity.
-ScreenPrimitive point_primitive(const ScreenProjection& projection, glm::dvec3 eye, double spacing_pixels, glm::vec4 rgba,
-                                double radius, const RegionFormat& format, int width, int height);
+ScreenPrimitive point_primitive(const ScreenProjection& projection, glm::dvec3 eye, double spacing_pixels,
+                                glm::vec4 rgba, double radius, const RegionFormat& format, int width, int height);
 
 // The primitive as the renderer whose region starts at screen (ox, oy) receives it.
 SplatDraw splat_draw(const ScreenPrimitive& splat, int ox, int oy, bool exact);

@@ -28,8 +28,8 @@ std::optional<SplatShape> project_sphere(const ScreenProjection& projection, glm
     const double cos2 = 1 - sin2;
     const double f = projection.focal_pixels();
     // E in (u, v), the offsets from the principal point with v up; then in screen coordinates.
-    const Quadratic in_view{q.x * q.x - cos2, 2 * q.x * q.y, q.y * q.y - cos2, 2 * f * q.x * q.z, 2 * f * q.y * q.z,
-                            f * f * (q.z * q.z - cos2)};
+    const Quadratic in_view{q.x * q.x - cos2,  2 * q.x * q.y,     q.y * q.y - cos2,
+                            2 * f * q.x * q.z, 2 * f * q.y * q.z, f * f * (q.z * q.z - cos2)};
     const glm::dvec2 pp = projection.principal_point();
     shape.inside = in_view.substituted(1, -pp.x, -1, pp.y);
     const Quadratic& e = shape.inside;

@@ -21,12 +21,12 @@ namespace pp5 {
 
 // A sphere of radius `radius` (world units) about an eye-space centre, as the screen sees it.
 struct SplatShape {
-    Quadratic inside;        // > 0 inside, as a function of screen position
-    glm::dvec2 center;       // of the ellipse (not the projected sphere centre, under perspective)
+    Quadratic inside;             // > 0 inside, as a function of screen position
+    glm::dvec2 center;            // of the ellipse (not the projected sphere centre, under perspective)
     glm::dvec2 projected_center;  // the sphere centre's own projection (C' of the paper)
-    glm::dvec2 half_extent;  // of the axis-aligned bounding box about `center`
-    double peak = 0;         // inside(center): the largest value
-    double sin_alpha = 0;    // the cone's half angle (0 under parallel projection)
+    glm::dvec2 half_extent;       // of the axis-aligned bounding box about `center`
+    double peak = 0;              // inside(center): the largest value
+    double sin_alpha = 0;         // the cone's half angle (0 under parallel projection)
     double cos2_alpha = 1;
     glm::dvec3 axis{0, 0, 1};  // Q: unit direction from the eye to the centre (parallel: the view)
 };

@@ -17,14 +17,17 @@ const ParamGroup& yuan_cost_params() {
               "a reciprocal of depth, the projected spacing, the band's floor and a compare");
         cycles("voxel_sort_cycles", 20, "Append a voxel to its (band, brick) chunk, in depth order within it",
                "a bucket append and an insertion step on nearly sorted depths");
-        flops("splat_setup_flops", 80, "Set up one splat: cone angle, the six conic coefficients, centre, axes, bounding box, "
-                                       "the footprint row and the colour constants",
+        flops("splat_setup_flops", 80,
+              "Set up one splat: cone angle, the six conic coefficients, centre, axes, bounding box, "
+              "the footprint row and the colour constants",
               "|c|^2 and a reciprocal square root (12), the direction Q (4), cos^2 alpha (3), coefficients (14), the "
               "index normalisation at the centre (12), axes and box (25), colour and opacity (10)");
         flops("region_shift_flops", 10, "Move one primitive's quadratic to a further region's origin",
               "the shift of F, D and E: about 10 multiply-adds");
-        cycles("coefficient_convert_cycles", 2, "Convert one coefficient to the QEE's fixed point", "a scale and a float-to-integer");
-        flops("point_setup_flops", 16, "Set up one point for the renderers: its screen position, area and four paraboloid weights",
+        cycles("coefficient_convert_cycles", 2, "Convert one coefficient to the QEE's fixed point",
+               "a scale and a float-to-integer");
+        flops("point_setup_flops", 16,
+              "Set up one point for the renderers: its screen position, area and four paraboloid weights",
               "the projection (4), the area (1), four channel weights (4) and the paraboloid's terms (7)");
         flops("sheet_pixel_flops", 14, "Filter one point into one pixel of the GP's band sheet",
               "the squared distance (4), the paraboloid weight (2), four multiply-adds");
@@ -38,7 +41,8 @@ const ParamGroup& yuan_cost_params() {
         flops("splat_pixel_flops", 20, "Draw one pixel of a splat on a processor without PPs",
               "the index quadratic stepped incrementally (3), the table look-up, alpha w (1), (1 - A) alpha (2), "
               "three colour multiply-adds and the opacity (8), bounds and loop (6)");
-        flops("point_pixel_flops", 14, "Filter one point into one pixel on a processor without PPs", "as sheet_pixel_flops");
+        flops("point_pixel_flops", 14, "Filter one point into one pixel on a processor without PPs",
+              "as sheet_pixel_flops");
         flops("composite_pixel_flops", 10, "Composite one pixel of a band's sheet on a processor without PPs",
               "(1 - A), a clamp, four multiply-adds and the clear");
         return g;

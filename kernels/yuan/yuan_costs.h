@@ -14,19 +14,19 @@ namespace pp5 {
 
 // Indices into yuan_op_kinds().
 enum YuanOp : std::uint32_t {
-    kYuanVoxel,              // transform a voxel, find its magnification and band, sort it into its chunk
-    kYuanSplatSetup,         // the splat's cone, conic, bounding box and footprint row
-    kYuanRegionShift,        // move a primitive's quadratics to another region's origin
-    kYuanCoefficient,        // convert one coefficient to the QEE's fixed point
-    kYuanPointSetup,         // a point's position, weights and paraboloid (renderer path)
-    kYuanSheetPixel,         // filter a point into one pixel of the GP's sheet (gp_sheets path)
-    kYuanBin,                // place a primitive in one region's batch
-    kYuanPackWord,           // pack one word of a batch
+    kYuanVoxel,                // transform a voxel, find its magnification and band, sort it into its chunk
+    kYuanSplatSetup,           // the splat's cone, conic, bounding box and footprint row
+    kYuanRegionShift,          // move a primitive's quadratics to another region's origin
+    kYuanCoefficient,          // convert one coefficient to the QEE's fixed point
+    kYuanPointSetup,           // a point's position, weights and paraboloid (renderer path)
+    kYuanSheetPixel,           // filter a point into one pixel of the GP's sheet (gp_sheets path)
+    kYuanBin,                  // place a primitive in one region's batch
+    kYuanPackWord,             // pack one word of a batch
     kYuanVoxelClassification,  // on a processor without PPs
     kYuanVoxelShading,
-    kYuanSplatPixel,         // a lone processor draws one pixel of a splat
-    kYuanPointPixel,         // ... filters one point into one pixel
-    kYuanCompositePixel,     // ... composites one pixel of a band's sheet
+    kYuanSplatPixel,      // a lone processor draws one pixel of a splat
+    kYuanPointPixel,      // ... filters one point into one pixel
+    kYuanCompositePixel,  // ... composites one pixel of a band's sheet
 };
 
 const ParamGroup& yuan_cost_params();

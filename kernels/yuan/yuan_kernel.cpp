@@ -31,8 +31,11 @@ struct YuanFrame final : KernelFrame {
 class YuanRun final : public KernelRun {
 public:
     YuanRun(Machine& machine, const MachineConfig& config, const Scenario& scenario, const Volume& volume)
-        : volume_(volume), image_(scenario.image), voxel_store_(machine, volume, VoxelStoreSettings::from(config)),
-          splatter_(YuanSettings::from(config), splat_machine(machine, voxel_store_), volume.dims(), volume.spacing()) {}
+        : volume_(volume),
+          image_(scenario.image),
+          voxel_store_(machine, volume, VoxelStoreSettings::from(config)),
+          splatter_(YuanSettings::from(config), splat_machine(machine, voxel_store_), volume.dims(), volume.spacing()) {
+    }
 
     std::unique_ptr<KernelFrame> record_frame(const FrameSpec& frame) override {
         auto out = std::make_unique<YuanFrame>();
@@ -42,18 +45,21 @@ public:
         if (shaded_for_ && !shading_depends_on_view(frame.lighting)) view = *shaded_for_;
         const bool classify = first_frame_ || frame.classification_changed;
         const bool reshade = classify || frame.lighting_changed || shaded_for_ != view;
-        const PpFrameWork pp = voxel_store_.compute(frame.classification, frame.colors, frame.lighting, view, classify, reshade);
+        const PpFrameWork pp =
+            voxel_store_.compute(frame.classification, frame.colors, frame.lighting, view, classify, reshade);
         FrameWork& work = out->work;
         work.op_kinds = yuan_op_kinds();
         const std::uint64_t voxels = static_cast<std::uint64_t>(volume_.samples().size());
-        const auto voxel_pass = [&](const char* name, const PpPassWork& pass, YuanOp per_voxel, std::uint64_t per_voxel_count) {
+        const auto voxel_pass = [&](const char* name, const PpPassWork& pass, YuanOp per_voxel,
+                                    std::uint64_t per_voxel_count) {
             PpPhase phase{{PpPhase::Pass{pass, 0, {}}}};
             append_ops(phase.passes.front().on_one_processor, per_voxel, voxels * per_voxel_count);
             work.phases.push_back(Phase{name, std::move(phase)});
         };
         if (pp.classification) voxel_pass("classification", *pp.classification, kYuanVoxelClassification, 1);
         // A lone processor shades each voxel once per light (the voxel store keeps no stationary sum here).
-        if (pp.shading) voxel_pass("shading", *pp.shading, kYuanVoxelShading, 1 + frame.lighting.stationary_lights.size());
+        if (pp.shading)
+            voxel_pass("shading", *pp.shading, kYuanVoxelShading, 1 + frame.lighting.stationary_lights.size());
         if (pp.classification || pp.shading) voxel_store_.read_shaded_codes(shaded_);
         shaded_for_ = view;
         first_frame_ = false;
@@ -78,38 +84,41 @@ public:
         const SplatCounts& c = frame.counts;
         nlohmann::json phases = nlohmann::json::object();
         for (const PhaseTiming& p : timing.phases) phases[p.name + "_seconds"] = seconds(p.duration_ps());
-        nlohmann::json out = {{"simulated_seconds", seconds(timing.duration_ps())},
-                              {"phases", phases},
-                              {"images", {{"primitives", pass_images.at(0)}, {"frame", pass_images.at(1)}}},
-                              {"classified", frame.classified},
-                              {"reshaded", frame.shaded},
-                              {"voxels", c.voxels},
-                              {"splats", c.splats},
-                              {"points", c.points},
-                              {"splat_fraction", c.splat_fraction()},
-                              {"culled", c.culled},
-                              {"offscreen", c.offscreen},
-                              {"bands", c.bands},
-                              {"chunks", c.chunks},
-                              {"batches", c.batches},
-                              {"batch_words", c.batch_words},
-                              {"splat_draws", c.splat_regions},
-                              {"point_draws", c.point_regions},
-                              {"regions_per_splat", c.splats == 0 ? 0.0 : static_cast<double>(c.splat_regions) / static_cast<double>(c.splats)},
-                              {"splat_pixels", c.splat_pixels},
-                              {"point_pixels", c.point_pixels},
-                              {"band_composites", c.band_composites},
-                              {"composited_pixels", c.composited_pixels},
-                              {"footprint_rows", c.footprint_rows},
-                              {"primitives_per_region", c.primitives_per_region}};
+        nlohmann::json out = {
+            {"simulated_seconds", seconds(timing.duration_ps())},
+            {"phases", phases},
+            {"images", {{"primitives", pass_images.at(0)}, {"frame", pass_images.at(1)}}},
+            {"classified", frame.classified},
+            {"reshaded", frame.shaded},
+            {"voxels", c.voxels},
+            {"splats", c.splats},
+            {"points", c.points},
+            {"splat_fraction", c.splat_fraction()},
+            {"culled", c.culled},
+            {"offscreen", c.offscreen},
+            {"bands", c.bands},
+            {"chunks", c.chunks},
+            {"batches", c.batches},
+            {"batch_words", c.batch_words},
+            {"splat_draws", c.splat_regions},
+            {"point_draws", c.point_regions},
+            {"regions_per_splat",
+             c.splats == 0 ? 0.0 : static_cast<double>(c.splat_regions) / static_cast<double>(c.splats)},
+            {"splat_pixels", c.splat_pixels},
+            {"point_pixels", c.point_pixels},
+            {"band_composites", c.band_composites},
+            {"composited_pixels", c.composited_pixels},
+            {"footprint_rows", c.footprint_rows},
+            {"primitives_per_region", c.primitives_per_region}};
         if (const PhaseTiming* s = timing.phase("splatting")) out["splatting"] = region_phase_stats(s->gp);
         return out;
     }
 
     std::string describe(const nlohmann::json& f) const override {
-        std::string line = fmt::format("; {} voxels: {} splats ({:.1f}%), {} points in {} bands; {:.1f} ms simulated",
-                                       f["voxels"].dump(), f["splats"].dump(), 100 * f["splat_fraction"].get<double>(),
-                                       f["points"].dump(), f["bands"].dump(), f["simulated_seconds"].get<double>() * 1e3);
+        std::string line =
+            fmt::format("; {} voxels: {} splats ({:.1f}%), {} points in {} bands; {:.1f} ms simulated",
+                        f["voxels"].dump(), f["splats"].dump(), 100 * f["splat_fraction"].get<double>(),
+                        f["points"].dump(), f["bands"].dump(), f["simulated_seconds"].get<double>() * 1e3);
         if (f.contains("splatting"))
             line += fmt::format(" (renderer imbalance {:.2f})", f["splatting"]["renderer_imbalance"].get<double>());
         return line;
@@ -117,14 +126,17 @@ public:
 
     nlohmann::json run_stats() const override {
         const VoxelPlacement& p = voxel_store_.placement();
-        return {{"policy", to_string(p.policy())}, {"record_bits", p.record_bits()}, {"slots_needed", p.slots_needed()},
+        return {{"policy", to_string(p.policy())},
+                {"record_bits", p.record_bits()},
+                {"slots_needed", p.slots_needed()},
                 {"backing_store_bits_used", p.backing_store_bits_used()}};
     }
 
 private:
     static RegionMachine splat_machine(const Machine& machine, const PpShading& store) {
         const VoxelPlacement* placement = &store.placement();
-        return RegionMachine::from(machine.config(), [placement](glm::ivec3 v) { return placement->locate(v).renderer; });
+        return RegionMachine::from(machine.config(),
+                                   [placement](glm::ivec3 v) { return placement->locate(v).renderer; });
     }
 
     const Volume& volume_;
@@ -140,28 +152,35 @@ class YuanKernel final : public Kernel {
 public:
     std::string name() const override { return "yuan"; }
     std::string description() const override {
-        return "Yuan et al. 2003: hybrid forward resampling; the PPs shade the voxels, the GPs make minified voxels points and "
-               "magnified ones perspective elliptical splats and bin them by screen region, the renderers draw them through "
+        return "Yuan et al. 2003: hybrid forward resampling; the PPs shade the voxels, the GPs make minified voxels "
+               "points and "
+               "magnified ones perspective elliptical splats and bin them by screen region, the renderers draw them "
+               "through "
                "the QEE and composite in fixed point";
     }
     std::string timing_summary() const override {
-        return "event-driven: PP shading passes, then the GPs' bricks fetched over the ring and turned into primitive batches, "
+        return "event-driven: PP shading passes, then the GPs' bricks fetched over the ring and turned into primitive "
+               "batches, "
                "drawn by each renderer in depth order from its region programs' operations";
     }
     std::vector<const ParamGroup*> param_groups() const override {
         return {&VoxelStoreSettings::params(), &YuanSettings::params(), &yuan_cost_params()};
     }
     bool runs_on_machine() const override { return true; }
-    std::size_t most_pictures_per_frame(const MachineConfig&) const override { return 2; }  // the primitive map, the frame
+    std::size_t most_pictures_per_frame(const MachineConfig&) const override {
+        return 2;
+    }  // the primitive map, the frame
     void check(const Scenario& scenario) const override {
         const std::string file = scenario.file.string();
         if (scenario.image.resampling != ResamplingOrder::ShadeThenInterpolate)
             throw InputError(file, "image.resampling", "the yuan kernel splats shaded voxels (shade-then-interpolate)");
         if (!scenario.polygons.empty())
-            throw InputError(file, "polygons", "the yuan kernel does not scan-convert polygons; use kernel = \"levoy\"");
+            throw InputError(file, "polygons",
+                             "the yuan kernel does not scan-convert polygons; use kernel = \"levoy\"");
         for (const FrameSpec& frame : scenario.frames)
             if (frame.region)
-                throw InputError(file, "region", "the yuan kernel has no volume-of-interest tool; use kernel = \"levoy\"");
+                throw InputError(file, "region",
+                                 "the yuan kernel has no volume-of-interest tool; use kernel = \"levoy\"");
     }
     void check_volume_fits(const Machine& machine, const MachineConfig& config, const Scenario& /*scenario*/,
                            glm::ivec3 dims) const override {

@@ -25,19 +25,19 @@ enum class PointPath { GpSheets, Renderer };
 
 struct YuanSettings {
     PrimitiveMode primitives = PrimitiveMode::Hybrid;
-    double switch_pixels = 1.0;       // a voxel is a splat when its projected spacing exceeds this
-    double kernel_radius = 2.0;       // voxels
-    double kernel_sigma = 0.7;        // voxels
-    int footprint_table_bits = 6;     // entries of the footprint table: 2^bits over i^2
+    double switch_pixels = 1.0;                         // a voxel is a splat when its projected spacing exceeds this
+    double kernel_radius = 2.0;                         // voxels
+    double kernel_sigma = 0.7;                          // voxels
+    int footprint_table_bits = 6;                       // entries of the footprint table: 2^bits over i^2
     double footprint_alpha_step_degrees = 15.0 / 32.0;  // rows of the corrected table, one per step of cone angle
     FootprintIndex footprint_index = FootprintIndex::Yuan;
     SplatCompositing splat_compositing = SplatCompositing::Over;
-    double band_voxels = 1.0;         // depth of a band, in voxel spacings
-    double point_filter_radius = 0.0; // pixels; 0: matched to the splat footprint at the switch
+    double band_voxels = 1.0;          // depth of a band, in voxel spacings
+    double point_filter_radius = 0.0;  // pixels; 0: matched to the splat footprint at the switch
     PointPath point_path = PointPath::GpSheets;
-    int brick_voxels = 32;            // edge of the bricks dealt to GPs
+    int brick_voxels = 32;  // edge of the bricks dealt to GPs
     TaskAssignment brick_assignment = TaskAssignment::Static;
-    int accumulator_bits = 12;        // fraction bits of the renderers' colour and opacity accumulators
+    int accumulator_bits = 12;  // fraction bits of the renderers' colour and opacity accumulators
 
     // The point filter's radius in pixels after the automatic choice.
     double point_radius_pixels() const;
@@ -46,6 +46,5 @@ struct YuanSettings {
     // Reads and checks the settings: a bad combination is an InputError naming the key.
     static YuanSettings from(const MachineConfig& config);
 };
-
 
 }  // namespace pp5

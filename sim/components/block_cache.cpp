@@ -8,15 +8,19 @@ namespace pp5 {
 BlockCache::BlockCache(Component* owner, std::uint64_t capacity_blocks, int associativity)
     : Component("cache", owner),
       hits(stats().counter("hits", "count", "Block look-ups that found the block")),
-      misses(stats().counter("misses", "count", "Block look-ups that did not (each leads to a request unless one is outstanding)")),
+      misses(stats().counter("misses", "count",
+                             "Block look-ups that did not (each leads to a request unless one is outstanding)")),
       fills(stats().counter("fills", "count", "Blocks stored after arriving")),
       evictions(stats().counter("evictions", "count", "Blocks dropped to make room")),
-      invalidations(stats().counter("invalidations", "count", "Times every block was dropped because the data they copy changed")) {
-    if (capacity_blocks == 0 || associativity < 1) throw std::invalid_argument("block cache needs at least one block and one way");
+      invalidations(stats().counter("invalidations", "count",
+                                    "Times every block was dropped because the data they copy changed")) {
+    if (capacity_blocks == 0 || associativity < 1)
+        throw std::invalid_argument("block cache needs at least one block and one way");
     ways_ = static_cast<int>(std::min<std::uint64_t>(static_cast<std::uint64_t>(associativity), capacity_blocks));
     sets_ = capacity_blocks / static_cast<std::uint64_t>(ways_);
     ways_of_sets_.assign(sets_ * static_cast<std::uint64_t>(ways_), Way{});
-    stats().formula("capacity", "blocks", "Blocks the cache holds", [this] { return static_cast<double>(this->capacity_blocks()); });
+    stats().formula("capacity", "blocks", "Blocks the cache holds",
+                    [this] { return static_cast<double>(this->capacity_blocks()); });
     stats().formula("hit_rate", "fraction", "hits / (hits + misses)", [this] {
         const auto all = hits.value() + misses.value();
         return all == 0 ? 0.0 : static_cast<double>(hits.value()) / static_cast<double>(all);
@@ -62,7 +66,8 @@ void BlockCache::insert(std::uint64_t block, bool used) {
         }
         if (ways_of_sets_[slot].tag == kEmpty) {
             if (ways_of_sets_[victim].tag != kEmpty) victim = slot;
-        } else if (ways_of_sets_[victim].tag != kEmpty && ways_of_sets_[slot].last_use < ways_of_sets_[victim].last_use) {
+        } else if (ways_of_sets_[victim].tag != kEmpty &&
+                   ways_of_sets_[slot].last_use < ways_of_sets_[victim].last_use) {
             victim = slot;
         }
     }

@@ -11,7 +11,8 @@ const ParamGroup& FrameBuffer::params() {
                      "Levoy 1989: a 512 x 512 pixel color frame buffer")
             .integer("bits_per_pixel", 24, "bits", 1, 128, "Colour depth of a stored pixel", Provenance::Default,
                      "not stated for Levoy's configuration; 8 bits per RGB channel")
-            .plausible(24, 32, "a colour frame buffer of the time: 8 bits a channel, perhaps with a padding or alpha byte");
+            .plausible(24, 32,
+                       "a colour frame buffer of the time: 8 bits a channel, perhaps with a padding or alpha byte");
         return g;
     }();
     return group;

@@ -13,10 +13,12 @@ const ParamGroup& GpCostModel::params() {
         const auto cycles = [&g](const char* name, double def, const char* doc, const char* count) {
             g.real(name, def, "cycles", 0, 1e7, doc, Provenance::Default, count).hand_counted();
         };
-        cycles("cache_lookup_cycles", 10, "Look a block up in the GP's cache", "a hash, a set index and up to 8 tag compares");
+        cycles("cache_lookup_cycles", 10, "Look a block up in the GP's cache",
+               "a hash, a set index and up to 8 tag compares");
         cycles("message_send_cycles", 50, "Compose a message and hand it to the ring interface",
                "a header and a few stores to the interface's registers");
-        cycles("message_receive_cycles", 50, "Take a message from the ring interface", "the same, in the other direction");
+        cycles("message_receive_cycles", 50, "Take a message from the ring interface",
+               "the same, in the other direction");
         cycles("receive_cycles_per_word", 1, "Copy one received word into the cache", "a load and a store, pipelined");
         cycles("context_switch_cycles", 32, "Save a waiting context's state and restore a ready one's",
                "about 16 registers of ray state out and in");

@@ -24,9 +24,9 @@ namespace pp5 {
 // One program run over a number of voxel slots, as the controller would sequence it.
 struct RendererPass {
     std::string program;
-    PpProgramCost cost;        // of one slot
-    std::uint64_t slots = 0;   // slots run, one after another
-    PpRunCounts counts;        // over all slots, from the functional run
+    PpProgramCost cost;       // of one slot
+    std::uint64_t slots = 0;  // slots run, one after another
+    PpRunCounts counts;       // over all slots, from the functional run
     int local_memory_bits_used = 0;
 };
 
@@ -63,8 +63,8 @@ public:
     // whole array, one per primitive (every PP evaluates the primitive at once), after the controller
     // has written `write_words` words from the ring into the PPs. Starts at `ready` or when the
     // renderer is next free; returns when it ends.
-    Tick draw(Tick ready, const std::string& program, const PpProgramCost& cost, std::uint64_t runs, std::uint64_t write_words,
-              int local_memory_bits_used);
+    Tick draw(Tick ready, const std::string& program, const PpProgramCost& cost, std::uint64_t runs,
+              std::uint64_t write_words, int local_memory_bits_used);
     // Bits of each PP's backing store holding data, as the kernel that placed it reports.
     void set_backing_store_bits_used(std::uint64_t bits) { backing_store_bits_used_ = bits; }
     std::uint64_t backing_store_bits_used() const { return backing_store_bits_used_; }

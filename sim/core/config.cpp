@@ -82,8 +82,7 @@ void MachineConfig::set(const std::string& key, const ParamValue& value, const s
     // A real parameter given as an integer literal ("clock_mhz = 40") is stored as a real.
     if (spec.type == ParamType::Real && std::holds_alternative<std::int64_t>(value))
         it->second.value = static_cast<double>(std::get<std::int64_t>(value));
-    else
-        it->second.value = value;
+    else it->second.value = value;
     it->second.origin = origin;
 }
 
@@ -115,10 +114,13 @@ void MachineConfig::load_file(const std::filesystem::path& path) {
                 const std::string key(k.str());
                 const auto* s = v.as_string();
                 if ((key != "name" && key != "description" && key != "kind") || !s)
-                    throw InputError(file, "machine." + key, "the [machine] table holds only name, description and kind strings");
+                    throw InputError(file, "machine." + key,
+                                     "the [machine] table holds only name, description and kind strings");
                 if (key == "kind") {
                     if (s->get() != "multicomputer" && s->get() != "uniprocessor")
-                        throw InputError(file, "machine.kind", "must be \"multicomputer\" (Pixel-planes 5) or \"uniprocessor\", not \"" + s->get() + "\"");
+                        throw InputError(
+                            file, "machine.kind",
+                            "must be \"multicomputer\" (Pixel-planes 5) or \"uniprocessor\", not \"" + s->get() + "\"");
                     machine_kind_ = s->get() == "uniprocessor" ? MachineKind::Uniprocessor : MachineKind::Multicomputer;
                     continue;
                 }
@@ -163,7 +165,9 @@ nlohmann::json MachineConfig::to_json() const {
         std::visit([&](const auto& v) { value = v; }, e.value);
         params[key] = {{"value", value}, {"unit", e.spec->unit}, {"origin", e.origin}};
     }
-    return {{"machine", {{"name", machine_name_}, {"description", machine_description_}, {"kind", to_string(machine_kind_)}}}, {"parameters", params}};
+    return {{"machine",
+             {{"name", machine_name_}, {"description", machine_description_}, {"kind", to_string(machine_kind_)}}},
+            {"parameters", params}};
 }
 
 const std::string& MachineConfig::origin(const std::string& key) const { return entry(key).origin; }

@@ -31,9 +31,11 @@ std::optional<double> read_limit_bytes(const std::string& path) {
 
 // The tightest limit on the way from this process's group up to the root: each ancestor's limit binds
 // its descendants too. In a container the group is "/", whose limit is the container's.
-void take_tightest_on_path(const std::string& mount, std::string path, const char* limit_file, std::optional<double>& tightest) {
+void take_tightest_on_path(const std::string& mount, std::string path, const char* limit_file,
+                           std::optional<double>& tightest) {
     while (true) {
-        const std::optional<double> limit = read_limit_bytes(mount + (path == "/" ? std::string() : path) + "/" + limit_file);
+        const std::optional<double> limit =
+            read_limit_bytes(mount + (path == "/" ? std::string() : path) + "/" + limit_file);
         // cgroup v1 reports "no limit" as a number near 2^63.
         if (limit && *limit < 1e18 && (!tightest || *limit < *tightest)) tightest = limit;
         if (path == "/" || path.empty()) break;
@@ -91,10 +93,11 @@ double host_memory_bytes() { return host_memory().bytes; }
 void check_fits_host_memory(const std::string& file, const std::string& field, double bytes, const std::string& what) {
     const HostMemory host = host_memory();
     if (bytes > 0.5 * host.bytes)
-        throw InputError(file, field,
-                         fmt::format("{} needs {:.1f} GB of this computer's memory; this process may use {:.1f} GB, set by {}, and "
-                                     "keeps half of it for the rest of the run",
-                                     what, bytes / 1e9, host.bytes / 1e9, host.limited_by));
+        throw InputError(
+            file, field,
+            fmt::format("{} needs {:.1f} GB of this computer's memory; this process may use {:.1f} GB, set by {}, and "
+                        "keeps half of it for the rest of the run",
+                        what, bytes / 1e9, host.bytes / 1e9, host.limited_by));
 }
 
 namespace {
@@ -102,7 +105,8 @@ namespace {
 thread_local std::string unwound_activity;
 }  // namespace
 
-ScopedActivity::ScopedActivity(std::string what) : what_(std::move(what)), exceptions_at_start_(std::uncaught_exceptions()) {
+ScopedActivity::ScopedActivity(std::string what)
+    : what_(std::move(what)), exceptions_at_start_(std::uncaught_exceptions()) {
     unwound_activity.clear();
 }
 
@@ -113,9 +117,10 @@ ScopedActivity::~ScopedActivity() {
 
 std::string out_of_memory_message() {
     const HostMemory host = host_memory();
-    return fmt::format("ran out of memory{}: this process may use {:.1f} GB, set by {}; a smaller volume, image or machine "
-                       "(fewer renderers, less backing store) needs less",
-                       unwound_activity.empty() ? std::string() : " " + unwound_activity, host.bytes / 1e9, host.limited_by);
+    return fmt::format(
+        "ran out of memory{}: this process may use {:.1f} GB, set by {}; a smaller volume, image or machine "
+        "(fewer renderers, less backing store) needs less",
+        unwound_activity.empty() ? std::string() : " " + unwound_activity, host.bytes / 1e9, host.limited_by);
 }
 
 }  // namespace pp5

@@ -21,8 +21,7 @@ public:
     const std::string& reason() const { return reason_; }
 
 private:
-    static std::string compose(const std::string& file, const std::string& field,
-                               const std::string& reason) {
+    static std::string compose(const std::string& file, const std::string& field, const std::string& reason) {
         std::string text = file.empty() ? std::string("<input>") : file;
         if (!field.empty() && field != file) text += ": " + field;  // a command-line option is both
         return text + ": " + reason;
@@ -35,6 +34,8 @@ private:
 
 // Refuses a value whose file is not known where it is checked (a setting validated on its own); the
 // reader that knows the file catches the error and names it.
-[[noreturn]] inline void reject_field(const std::string& field, const std::string& reason) { throw InputError("", field, reason); }
+[[noreturn]] inline void reject_field(const std::string& field, const std::string& reason) {
+    throw InputError("", field, reason);
+}
 
 }  // namespace pp5

@@ -6,8 +6,8 @@
 #include <fmt/format.h>
 
 #include <cstdlib>
-#include <string_view>
 #include <map>
+#include <string_view>
 #include <vector>
 
 namespace pp5 {
@@ -30,8 +30,9 @@ std::filesystem::path resolve_named_file(const std::string& name_or_path, const 
     // A slip in a shipped name gets the name it was probably meant to be.
     std::vector<std::string> names;
     for (const fs::path& file : list_named_files(search)) names.push_back(file.stem().string());
-    throw InputError(name_or_path, search.field,
-                     std::string("no such file, and not a shipped name (") + search.hint + ")" + did_you_mean(name_or_path, names));
+    throw InputError(
+        name_or_path, search.field,
+        std::string("no such file, and not a shipped name (") + search.hint + ")" + did_you_mean(name_or_path, names));
 }
 
 std::vector<std::filesystem::path> list_named_files(const NamedFileSearch& search) {
@@ -43,7 +44,8 @@ std::vector<std::filesystem::path> list_named_files(const NamedFileSearch& searc
     for (const auto& dir : directories) {
         std::error_code error;
         for (fs::directory_iterator it(dir, error), end; !error && it != end; it.increment(error))
-            if (std::error_code unreadable; it->path().extension() == ".toml" && it->is_regular_file(unreadable)) by_name.emplace(it->path().stem().string(), it->path());
+            if (std::error_code unreadable; it->path().extension() == ".toml" && it->is_regular_file(unreadable))
+                by_name.emplace(it->path().stem().string(), it->path());
     }
     std::vector<fs::path> out;
     for (auto& [name, path] : by_name) out.push_back(std::move(path));
@@ -54,8 +56,9 @@ std::string output_name_problem(const std::string& name) {
     constexpr std::size_t kLongestOutputName = 100;
     if (name.empty() || name.size() > kLongestOutputName || name == "." || name == ".." ||
         name.find_first_of(std::string_view("/\\\0", 3)) != std::string::npos)
-        return fmt::format("must be a name of 1 to {} characters without slashes, and not . or .. (it names an output folder)",
-                           kLongestOutputName);
+        return fmt::format(
+            "must be a name of 1 to {} characters without slashes, and not . or .. (it names an output folder)",
+            kLongestOutputName);
     return {};
 }
 

@@ -44,7 +44,8 @@ namespace parallel_detail {
 // has joined, as TBB would.
 template <class Range, class Body>
 void run_on_threads(const Range& range, const Body& body) {
-    const std::size_t threads = std::max<std::size_t>(1, tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+    const std::size_t threads =
+        std::max<std::size_t>(1, tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
     const std::size_t wanted = 4 * threads;
     std::vector<Range> pieces;
     std::deque<Range> pending{range};
@@ -95,9 +96,10 @@ void parallel_for(const Range& range, const Body& body) {
 template <class Index, class Body>
 void parallel_for(Index first, Index last, const Body& body) {
 #ifdef PP5_UNDER_TSAN
-    parallel_detail::run_on_threads(tbb::blocked_range<Index>(first, last), [&body](const tbb::blocked_range<Index>& r) {
-        for (Index i = r.begin(); i != r.end(); ++i) body(i);
-    });
+    parallel_detail::run_on_threads(tbb::blocked_range<Index>(first, last),
+                                    [&body](const tbb::blocked_range<Index>& r) {
+                                        for (Index i = r.begin(); i != r.end(); ++i) body(i);
+                                    });
 #else
     tbb::parallel_for(first, last, body);
 #endif

@@ -74,7 +74,8 @@ ParamGroup::ParamGroup(std::string prefix, std::string description)
 
 ParamGroup& ParamGroup::add(ParamSpec spec) {
     for (const auto& existing : specs_)
-        if (existing.name == spec.name) throw std::logic_error("parameter declared twice: " + prefix_ + "." + spec.name);
+        if (existing.name == spec.name)
+            throw std::logic_error("parameter declared twice: " + prefix_ + "." + spec.name);
     if (const std::string why = spec.check(spec.default_value); !why.empty())
         throw std::logic_error("default of " + prefix_ + "." + spec.name + " " + why);
     specs_.push_back(std::move(spec));
@@ -89,7 +90,9 @@ ParamGroup& ParamGroup::plausible(double low, double high, std::string why) {
         throw std::logic_error("plausible range of " + key + ", which is not a number");
     const double def = spec.type == ParamType::Integer ? static_cast<double>(std::get<std::int64_t>(spec.default_value))
                                                        : std::get<double>(spec.default_value);
-    if (!(low <= def && def <= high)) throw std::logic_error(fmt::format("plausible range of {} [{}, {}] leaves out its default {}", key, low, high, def));
+    if (!(low <= def && def <= high))
+        throw std::logic_error(
+            fmt::format("plausible range of {} [{}, {}] leaves out its default {}", key, low, high, def));
     const auto as_value = [&](double x) {
         return spec.type == ParamType::Integer ? ParamValue(static_cast<std::int64_t>(std::llround(x))) : ParamValue(x);
     };
@@ -120,20 +123,47 @@ ParamGroup& ParamGroup::hand_counted() {
 
 ParamGroup& ParamGroup::integer(std::string name, std::int64_t def, std::string unit, double min, double max,
                                 std::string doc, Provenance provenance, std::string source) {
-    return add(ParamSpec{std::move(name), ParamType::Integer, std::move(unit), def, min, max, {}, std::move(doc),
-                         provenance, std::move(source), std::nullopt});
+    return add(ParamSpec{std::move(name),
+                         ParamType::Integer,
+                         std::move(unit),
+                         def,
+                         min,
+                         max,
+                         {},
+                         std::move(doc),
+                         provenance,
+                         std::move(source),
+                         std::nullopt});
 }
 
-ParamGroup& ParamGroup::real(std::string name, double def, std::string unit, double min, double max,
-                             std::string doc, Provenance provenance, std::string source) {
-    return add(ParamSpec{std::move(name), ParamType::Real, std::move(unit), def, min, max, {}, std::move(doc),
-                         provenance, std::move(source), std::nullopt});
+ParamGroup& ParamGroup::real(std::string name, double def, std::string unit, double min, double max, std::string doc,
+                             Provenance provenance, std::string source) {
+    return add(ParamSpec{std::move(name),
+                         ParamType::Real,
+                         std::move(unit),
+                         def,
+                         min,
+                         max,
+                         {},
+                         std::move(doc),
+                         provenance,
+                         std::move(source),
+                         std::nullopt});
 }
 
 ParamGroup& ParamGroup::boolean(std::string name, bool def, std::string doc, Provenance provenance,
                                 std::string source) {
-    return add(ParamSpec{std::move(name), ParamType::Boolean, "", def, std::nullopt, std::nullopt, {},
-                         std::move(doc), provenance, std::move(source), std::nullopt});
+    return add(ParamSpec{std::move(name),
+                         ParamType::Boolean,
+                         "",
+                         def,
+                         std::nullopt,
+                         std::nullopt,
+                         {},
+                         std::move(doc),
+                         provenance,
+                         std::move(source),
+                         std::nullopt});
 }
 
 ParamGroup& ParamGroup::text(std::string name, std::string def, std::vector<std::string> choices, std::string doc,

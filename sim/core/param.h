@@ -32,16 +32,16 @@ struct PlausibleRange {
 };
 
 struct ParamSpec {
-    std::string name;        // local to its group: "clock_mhz"
+    std::string name;  // local to its group: "clock_mhz"
     ParamType type = ParamType::Integer;
-    std::string unit;        // "MHz", "bits", "count", "" for none
+    std::string unit;  // "MHz", "bits", "count", "" for none
     ParamValue default_value;
     std::optional<double> min;  // inclusive bounds for numbers
     std::optional<double> max;
     std::vector<std::string> choices;  // allowed values of a Text parameter; empty = any
     std::string doc;
     Provenance provenance = Provenance::Default;
-    std::string source;      // e.g. "Levoy 1989, Implementation on Pixel-planes 5"
+    std::string source;                       // e.g. "Levoy 1989, Implementation on Pixel-planes 5"
     std::optional<PlausibleRange> plausible;  // numbers only; every timing guess has one (tests/unit/sim)
 
     // Empty when `value` is acceptable, else the reason it is not.
@@ -53,8 +53,8 @@ class ParamGroup {
 public:
     ParamGroup(std::string prefix, std::string description);
 
-    ParamGroup& integer(std::string name, std::int64_t def, std::string unit, double min, double max,
-                        std::string doc, Provenance provenance, std::string source);
+    ParamGroup& integer(std::string name, std::int64_t def, std::string unit, double min, double max, std::string doc,
+                        Provenance provenance, std::string source);
     ParamGroup& real(std::string name, double def, std::string unit, double min, double max, std::string doc,
                      Provenance provenance, std::string source);
     ParamGroup& boolean(std::string name, bool def, std::string doc, Provenance provenance, std::string source);

@@ -52,7 +52,7 @@ void Histogram::reset() {
 }
 
 nlohmann::json Histogram::value_json() const {
-    return {{"bounds", bounds_}, {"counts", counts_}, {"underflow", underflow_},
+    return {{"bounds", bounds_},     {"counts", counts_},   {"underflow", underflow_},
             {"overflow", overflow_}, {"samples", samples_}, {"sum", sum_}};
 }
 

@@ -38,8 +38,14 @@ private:
 class Counter final : public Statistic {
 public:
     using Statistic::Statistic;
-    Counter& operator+=(std::uint64_t n) { value_ += n; return *this; }
-    Counter& operator++() { ++value_; return *this; }
+    Counter& operator+=(std::uint64_t n) {
+        value_ += n;
+        return *this;
+    }
+    Counter& operator++() {
+        ++value_;
+        return *this;
+    }
     std::uint64_t value() const { return value_; }
     void reset() override { value_ = 0; }
     nlohmann::json value_json() const override;

@@ -23,7 +23,7 @@ constexpr int kMostKeyParts = 64;
 void check_key_depth(const std::string& text, const std::string& file) {
     int parts = 1, line = 1;
     bool in_comment = false;
-    char quote = 0;         // inside a string: its quote character
+    char quote = 0;  // inside a string: its quote character
     bool multiline = false;
     for (std::size_t i = 0; i < text.size(); ++i) {
         const char c = text[i];
@@ -56,9 +56,11 @@ void check_key_depth(const std::string& text, const std::string& file) {
             case '=':
             case ']':
                 if (parts > kMostKeyParts)
-                    throw InputError(file, fmt::format("line {}", line),
-                                     fmt::format("a key of {} dotted parts; none of pp5sim's is more than a few, and at most {} are read",
-                                                 parts, kMostKeyParts));
+                    throw InputError(
+                        file, fmt::format("line {}", line),
+                        fmt::format(
+                            "a key of {} dotted parts; none of pp5sim's is more than a few, and at most {} are read",
+                            parts, kMostKeyParts));
                 parts = 1;
                 break;
             case '\n':
@@ -76,7 +78,8 @@ toml::table read_toml_file(const std::string& file) {
     std::error_code error;
     const std::uintmax_t bytes = std::filesystem::file_size(file, error);
     if (!error && bytes > kMostBytes)
-        throw InputError(file, "", fmt::format("is {} MB; a pp5sim input file is at most {} MB", bytes >> 20, kMostBytes >> 20));
+        throw InputError(file, "",
+                         fmt::format("is {} MB; a pp5sim input file is at most {} MB", bytes >> 20, kMostBytes >> 20));
     std::ifstream in(file, std::ios::binary);
     if (!in) throw InputError(file, "", "cannot be opened");
     std::stringstream buffer;
@@ -86,13 +89,15 @@ toml::table read_toml_file(const std::string& file) {
 
 toml::table read_toml_text(const std::string& text, const std::string& file) {
     if (text.size() > kMostBytes)
-        throw InputError(file, "", fmt::format("is {} MB; a pp5sim input is at most {} MB", text.size() >> 20, kMostBytes >> 20));
+        throw InputError(file, "",
+                         fmt::format("is {} MB; a pp5sim input is at most {} MB", text.size() >> 20, kMostBytes >> 20));
     check_key_depth(text, file);
     try {
         return toml::parse(text, file);
     } catch (const toml::parse_error& e) {
         const auto& where = e.source().begin;
-        throw InputError(file, fmt::format("line {}, column {}", where.line, where.column), std::string(e.description()));
+        throw InputError(file, fmt::format("line {}, column {}", where.line, where.column),
+                         std::string(e.description()));
     }
 }
 

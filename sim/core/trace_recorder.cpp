@@ -16,12 +16,15 @@ int TraceRecorder::track(const std::string& group, const std::string& name) {
     const int pid = g->second;
     if (new_group) {
         group_names_.push_back(group);
-        records_.push_back(nlohmann::json{{"ph", "M"}, {"name", "process_name"}, {"pid", pid}, {"args", {{"name", group}}}}.dump());
+        records_.push_back(
+            nlohmann::json{{"ph", "M"}, {"name", "process_name"}, {"pid", pid}, {"args", {{"name", group}}}}.dump());
     }
     auto [t, new_track] = tracks_.try_emplace({pid, name}, static_cast<int>(tracks_.size()) + 1);
     if (new_track) {
         track_list_.push_back({pid * 100000 + t->second, group, name});
-        records_.push_back(nlohmann::json{{"ph", "M"}, {"name", "thread_name"}, {"pid", pid}, {"tid", t->second}, {"args", {{"name", name}}}}.dump());
+        records_.push_back(nlohmann::json{
+            {"ph", "M"}, {"name", "thread_name"}, {"pid", pid}, {"tid", t->second}, {"args", {{"name", name}}}}
+                               .dump());
     }
     return pid * 100000 + t->second;
 }
@@ -57,20 +60,36 @@ void TraceRecorder::slice(int track, const std::string& name, Tick start, Tick e
     }
     if (max_slices_ > 0) keep_slice(track, name, start, end);
     if (!in_window(start, end) || !take()) return;
-    records_.push_back(nlohmann::json{{"ph", "X"}, {"name", name}, {"pid", track / 100000}, {"tid", track % 100000},
-                                      {"ts", microseconds(start)}, {"dur", microseconds(end - start)}}
+    records_.push_back(nlohmann::json{{"ph", "X"},
+                                      {"name", name},
+                                      {"pid", track / 100000},
+                                      {"tid", track % 100000},
+                                      {"ts", microseconds(start)},
+                                      {"dur", microseconds(end - start)}}
                            .dump());
 }
 
 void TraceRecorder::flow(int from_track, Tick from, int to_track, Tick to, const std::string& name) {
     if (!in_window(from, to) || !take()) return;
     const std::uint64_t id = next_flow_++;
-    records_.push_back(nlohmann::json{{"ph", "s"}, {"id", id}, {"name", name}, {"cat", "message"}, {"pid", from_track / 100000},
-                                      {"tid", from_track % 100000}, {"ts", microseconds(from)}}
+    records_.push_back(nlohmann::json{{"ph", "s"},
+                                      {"id", id},
+                                      {"name", name},
+                                      {"cat", "message"},
+                                      {"pid", from_track / 100000},
+                                      {"tid", from_track % 100000},
+                                      {"ts", microseconds(from)}}
                            .dump());
-    records_.push_back(nlohmann::json{{"ph", "f"}, {"bp", "e"}, {"id", id}, {"name", name}, {"cat", "message"},
-                                      {"pid", to_track / 100000}, {"tid", to_track % 100000}, {"ts", microseconds(to)}}
-                           .dump());
+    records_.push_back(nlohmann::json{
+        {"ph", "f"},
+        {"bp", "e"},
+        {"id", id},
+        {"name", name},
+        {"cat", "message"},
+        {"pid", to_track / 100000},
+        {"tid", to_track % 100000},
+        {"ts",
+         microseconds(to)}}.dump());
 }
 
 std::string TraceRecorder::to_text() const {

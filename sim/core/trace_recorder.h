@@ -34,8 +34,8 @@ public:
     // the event limit: what a picture of one frame's timeline is drawn from. forget_slices() starts
     // the list again (a session does as each frame's timing begins).
     struct Slice {
-        int track;   // as track() returned it
-        int what;    // index into slice_names()
+        int track;  // as track() returned it
+        int what;   // index into slice_names()
         Tick start;
         Tick end;
     };
@@ -75,7 +75,7 @@ private:
     std::uint64_t next_flow_ = 1;
     std::map<std::string, int> groups_;
     std::map<std::pair<int, std::string>, int> tracks_;
-    std::vector<std::string> records_;  // serialised events, in the order recorded
+    std::vector<std::string> records_;      // serialised events, in the order recorded
     std::vector<std::string> group_names_;  // by group number - 1
     bool keep_busy_ = false;
     std::map<std::string, std::vector<std::pair<Tick, Tick>>> busy_;

@@ -10,7 +10,9 @@ void report_work(std::string_view stage, std::size_t done, std::size_t total) {
     if (current_listener) current_listener->on_work(stage, done, total);
 }
 
-ScopedWorkListener::ScopedWorkListener(WorkListener& listener) : previous_(current_listener) { current_listener = &listener; }
+ScopedWorkListener::ScopedWorkListener(WorkListener& listener) : previous_(current_listener) {
+    current_listener = &listener;
+}
 
 ScopedWorkListener::~ScopedWorkListener() { current_listener = previous_; }
 

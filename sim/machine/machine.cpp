@@ -9,8 +9,8 @@
 namespace pp5 {
 
 std::vector<const ParamGroup*> Machine::param_groups() {
-    return {&GraphicsProcessor::params(), &GpCostModel::params(), &Renderer::params(), &PpCostModel::params(), &FrameBuffer::params(),
-            &RingNetwork::params(), &CalibrationScales::params()};
+    return {&GraphicsProcessor::params(), &GpCostModel::params(), &Renderer::params(),         &PpCostModel::params(),
+            &FrameBuffer::params(),       &RingNetwork::params(), &CalibrationScales::params()};
 }
 
 MachineConfig Machine::default_config() { return MachineConfig(param_groups()); }
@@ -29,12 +29,14 @@ namespace {
 // The renderers' backing stores are the machine's one large allocation; refused before it is made. Only
 // the pages a kernel writes become resident, but a kernel may write all of them.
 const MachineConfig& fits_host(const MachineConfig& config) {
-    const double pps = static_cast<double>(config.integer("renderer.pp_columns")) * static_cast<double>(config.integer("renderer.pp_rows"));
+    const double pps = static_cast<double>(config.integer("renderer.pp_columns")) *
+                       static_cast<double>(config.integer("renderer.pp_rows"));
     const double words = static_cast<double>((config.integer("renderer.backing_store_bits") + 63) / 64);
     const double bytes = static_cast<double>(config.integer("renderer.count")) * pps * words * 8;
-    check_fits_host_memory(config.describe_origin("renderer.count"), "renderer.count",
-                           bytes, fmt::format("simulating {} renderers of {} PPs with {} bits of backing store each",
-                                              config.integer("renderer.count"), pps, config.integer("renderer.backing_store_bits")));
+    check_fits_host_memory(
+        config.describe_origin("renderer.count"), "renderer.count", bytes,
+        fmt::format("simulating {} renderers of {} PPs with {} bits of backing store each",
+                    config.integer("renderer.count"), pps, config.integer("renderer.backing_store_bits")));
     return config;
 }
 
@@ -65,11 +67,12 @@ public:
     void on_message(const RingMessage& message, const RingTransit& transit) override {
         const RingNetwork& ring = machine_.ring();
         const Tick hold = ring.clock().cycles_to_ticks(transit.words);
-        trace_.slice(channels_[static_cast<std::size_t>(transit.channel)], to_string(message.kind), transit.start, transit.start + hold);
+        trace_.slice(channels_[static_cast<std::size_t>(transit.channel)], to_string(message.kind), transit.start,
+                     transit.start + hold);
         // The arrows exist only in the trace-event document; a recorder kept for spans has none.
         if (!message.broadcast && trace_.records_events())
-            trace_.flow(machine_.trace_track(message.from), transit.requested, machine_.trace_track(message.to), transit.arrival,
-                        to_string(message.kind));
+            trace_.flow(machine_.trace_track(message.from), transit.requested, machine_.trace_track(message.to),
+                        transit.arrival, to_string(message.kind));
     }
 
 private:

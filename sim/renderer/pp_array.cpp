@@ -5,10 +5,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <new>
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <new>
 #include <stdexcept>
 
 namespace pp5 {
@@ -45,9 +45,15 @@ std::int64_t exact_quotient(std::int64_t a, std::int64_t b) {
 
 // Arithmetic in uint64, where overflow is defined: a PP that is disabled may hold a stale value from
 // an earlier program, and its (discarded) result must not be undefined behaviour.
-std::int64_t add64(std::int64_t a, std::int64_t b) { return static_cast<std::int64_t>(static_cast<std::uint64_t>(a) + static_cast<std::uint64_t>(b)); }
-std::int64_t sub64(std::int64_t a, std::int64_t b) { return static_cast<std::int64_t>(static_cast<std::uint64_t>(a) - static_cast<std::uint64_t>(b)); }
-std::int64_t mul64(std::int64_t a, std::int64_t b) { return static_cast<std::int64_t>(static_cast<std::uint64_t>(a) * static_cast<std::uint64_t>(b)); }
+std::int64_t add64(std::int64_t a, std::int64_t b) {
+    return static_cast<std::int64_t>(static_cast<std::uint64_t>(a) + static_cast<std::uint64_t>(b));
+}
+std::int64_t sub64(std::int64_t a, std::int64_t b) {
+    return static_cast<std::int64_t>(static_cast<std::uint64_t>(a) - static_cast<std::uint64_t>(b));
+}
+std::int64_t mul64(std::int64_t a, std::int64_t b) {
+    return static_cast<std::int64_t>(static_cast<std::uint64_t>(a) * static_cast<std::uint64_t>(b));
+}
 
 // dst[p] = wrap(value(p)) on every enabled PP; a disabled PP keeps its value. Both loops are plain
 // loops over contiguous arrays that GCC vectorises.
@@ -97,7 +103,8 @@ template <class Compare>
 template <class WrapTo>
 [[gnu::noinline]] void lookup_loop(std::size_t n, const std::uint8_t* enabled, bool all, std::int64_t* dst, WrapTo wrap,
                                    const std::int64_t* a, const std::int64_t* table, std::uint64_t last) {
-    for_enabled(n, enabled, all, dst, wrap, [&](std::size_t p) { return table[static_cast<std::uint64_t>(a[p]) & last]; });
+    for_enabled(n, enabled, all, dst, wrap,
+                [&](std::size_t p) { return table[static_cast<std::uint64_t>(a[p]) & last]; });
 }
 
 struct Operands {
@@ -109,8 +116,7 @@ Operands operands_of(PpOp op) {
     switch (op) {
         case PpOp::SetConst:
         case PpOp::Qee:
-        case PpOp::Load:
-            return {true, false, false};
+        case PpOp::Load: return {true, false, false};
         case PpOp::Move:
         case PpOp::AddConst:
         case PpOp::AbsDiffConst:
@@ -118,18 +124,14 @@ Operands operands_of(PpOp op) {
         case PpOp::MaxConst:
         case PpOp::MulConst:
         case PpOp::Sqrt:
-        case PpOp::Lookup:
-            return {true, true, false};
+        case PpOp::Lookup: return {true, true, false};
         case PpOp::Add:
         case PpOp::Sub:
         case PpOp::Mul:
-        case PpOp::Div:
-            return {true, true, true};
-        case PpOp::EnableAll:
-            return {false, false, false};
+        case PpOp::Div: return {true, true, true};
+        case PpOp::EnableAll: return {false, false, false};
         case PpOp::EnableIf:
-        case PpOp::Store:
-            return {false, true, false};
+        case PpOp::Store: return {false, true, false};
     }
     return {false, false, false};
 }
@@ -146,15 +148,17 @@ PpRunCounts& PpRunCounts::operator+=(const PpRunCounts& other) {
 PpArray::PpArray(int columns, int rows, int local_memory_bits, int backing_store_bits)
     : columns_(columns), rows_(rows), local_memory_bits_(local_memory_bits), backing_store_bits_(backing_store_bits) {
     if (columns < 1 || rows < 1 || local_memory_bits < 1 || backing_store_bits < 0) {
-        throw std::invalid_argument(fmt::format("PpArray: {} x {} PPs, {} bits of local memory, {} of backing store: "
-                                                "sizes must be positive",
-                                                columns, rows, local_memory_bits, backing_store_bits));
+        throw std::invalid_argument(
+            fmt::format("PpArray: {} x {} PPs, {} bits of local memory, {} of backing store: "
+                        "sizes must be positive",
+                        columns, rows, local_memory_bits, backing_store_bits));
     }
     if (static_cast<std::int64_t>(columns) * rows > (std::int64_t{1} << 30)) {
         throw std::invalid_argument(fmt::format("PpArray: {} x {} PPs is too many", columns, rows));
     }
     backing_words_ = (backing_store_bits + 63) / 64;
-    const std::size_t words = std::max<std::size_t>(1, static_cast<std::size_t>(size()) * static_cast<std::size_t>(backing_words_));
+    const std::size_t words =
+        std::max<std::size_t>(1, static_cast<std::size_t>(size()) * static_cast<std::size_t>(backing_words_));
     backing_.reset(static_cast<std::uint64_t*>(std::calloc(words, sizeof(std::uint64_t))));
     if (!backing_) throw std::bad_alloc();
     enabled_.assign(static_cast<std::size_t>(size()), 1);
@@ -164,7 +168,9 @@ void PpArray::write_backing(int pp, int bit_offset, int bits, std::uint64_t valu
     backing_writer(bit_offset, bits).write(pp, value);
 }
 
-std::uint64_t PpArray::read_backing(int pp, int bit_offset, int bits) const { return backing_reader(bit_offset, bits).read(pp); }
+std::uint64_t PpArray::read_backing(int pp, int bit_offset, int bits) const {
+    return backing_reader(bit_offset, bits).read(pp);
+}
 
 PpBackingReader PpArray::backing_reader(int bit_offset, int bits) const {
     check_backing_range(bit_offset, bits);
@@ -178,13 +184,15 @@ PpBackingWriter PpArray::backing_writer(int bit_offset, int bits) {
 
 void PpArray::check_backing_range(int bit_offset, int bits) const {
     if (bits < 1 || bits > 64 || bit_offset < 0 || bit_offset > backing_store_bits_ - bits) {
-        throw std::out_of_range(fmt::format("PP backing store: {} bits at {} (store of {} bits)", bits, bit_offset, backing_store_bits_));
+        throw std::out_of_range(
+            fmt::format("PP backing store: {} bits at {} (store of {} bits)", bits, bit_offset, backing_store_bits_));
     }
 }
 
 std::span<const std::int64_t> PpArray::field_values(const PpField& field) const {
     if (field.storage < 0 || field.storage >= static_cast<int>(fields_.size())) {
-        throw std::out_of_range(fmt::format("PpArray: no field with id {} (storage {}) in the last run", field.id, field.storage));
+        throw std::out_of_range(
+            fmt::format("PpArray: no field with id {} (storage {}) in the last run", field.id, field.storage));
     }
     return fields_[static_cast<std::size_t>(field.storage)];
 }
@@ -197,10 +205,12 @@ void validate(const PpProgram& program, const PpSlotContext& context, int local_
         throw std::invalid_argument(fmt::format("PP program {}: {}", program.name, why));
     };
     if (program.local_memory_bits_used > local_memory_bits) {
-        fail(fmt::format("needs {} bits of local memory; the PPs have {}", program.local_memory_bits_used, local_memory_bits));
+        fail(fmt::format("needs {} bits of local memory; the PPs have {}", program.local_memory_bits_used,
+                         local_memory_bits));
     }
     if (static_cast<int>(context.expressions.size()) < program.expressions) {
-        fail(fmt::format("evaluates {} QEE expressions; the slot gives {}", program.expressions, context.expressions.size()));
+        fail(fmt::format("evaluates {} QEE expressions; the slot gives {}", program.expressions,
+                         context.expressions.size()));
     }
     const int field_count = static_cast<int>(program.fields.size());
     for (const PpField& f : program.fields) {
@@ -213,7 +223,8 @@ void validate(const PpProgram& program, const PpSlotContext& context, int local_
         const Operands uses = operands_of(in.op);
         const auto check_field = [&](bool used, int id, const char* role) {
             if (used && (id < 0 || id >= field_count)) {
-                fail(fmt::format("instruction {} ({}): {} field id {} of {}", k, to_string(in.op), role, id, field_count));
+                fail(fmt::format("instruction {} ({}): {} field id {} of {}", k, to_string(in.op), role, id,
+                                 field_count));
             }
         };
         check_field(uses.dst, in.dst, "destination");
@@ -221,7 +232,8 @@ void validate(const PpProgram& program, const PpSlotContext& context, int local_
         check_field(uses.b, in.b, "operand b");
         const int max_shift = in.op == PpOp::Div ? 62 : 63;
         if (in.shift < 0 || in.shift > max_shift) {
-            fail(fmt::format("instruction {} ({}): shift {} (0 to {} allowed)", k, to_string(in.op), in.shift, max_shift));
+            fail(fmt::format("instruction {} ({}): shift {} (0 to {} allowed)", k, to_string(in.op), in.shift,
+                             max_shift));
         }
         if (in.op == PpOp::Lookup) {
             if (in.table < 0 || in.table >= static_cast<int>(program.tables.size())) {
@@ -232,16 +244,17 @@ void validate(const PpProgram& program, const PpSlotContext& context, int local_
                 fail(fmt::format("instruction {}: table {} has {} entries, not a power of two", k, in.table, entries));
             }
         }
-        if (in.op == PpOp::Qee && (in.expression < 0 || in.expression >= static_cast<int>(context.expressions.size()))) {
+        if (in.op == PpOp::Qee &&
+            (in.expression < 0 || in.expression >= static_cast<int>(context.expressions.size()))) {
             fail(fmt::format("instruction {}: QEE expression {} of {}", k, in.expression, context.expressions.size()));
         }
         if (in.op == PpOp::Load || in.op == PpOp::Store) {
             const int bits = program.fields[static_cast<std::size_t>(in.op == PpOp::Load ? in.dst : in.a)].bits;
             const std::int64_t offset = std::int64_t{context.record_base_bit} + in.record_offset;
             if (offset < 0 || offset + bits > backing_store_bits) {
-                fail(fmt::format("{} of {} bits at backing-store bit {} (record {} + {}) is past the {}-bit backing store",
-                                 to_string(in.op), bits, offset, context.record_base_bit, in.record_offset,
-                                 backing_store_bits));
+                fail(fmt::format(
+                    "{} of {} bits at backing-store bit {} (record {} + {}) is past the {}-bit backing store",
+                    to_string(in.op), bits, offset, context.record_base_bit, in.record_offset, backing_store_bits));
             }
         }
     }
@@ -287,7 +300,8 @@ PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context)
     for (std::size_t first = 0; first < total; first += kBlock) {
         const std::size_t n = std::min(kBlock, total - first);
         auto field = [&](int id) {
-            return fields_[static_cast<std::size_t>(program.fields[static_cast<std::size_t>(id)].storage)].data() + first;
+            return fields_[static_cast<std::size_t>(program.fields[static_cast<std::size_t>(id)].storage)].data() +
+                   first;
         };
         std::uint8_t* en = enabled_.data() + first;
         std::fill(en, en + n, std::uint8_t{1});
@@ -308,9 +322,7 @@ PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context)
             // Each case is one plain loop over the PPs; a disabled PP keeps its value. Every result is
             // wrapped to its field's width (a no-op for the widths the builder infers).
             switch (in.op) {
-                case PpOp::SetConst:
-                    for_enabled(n, en, all, dst, wrap, [&](std::size_t) { return imm; });
-                    break;
+                case PpOp::SetConst: for_enabled(n, en, all, dst, wrap, [&](std::size_t) { return imm; }); break;
                 case PpOp::Move:
                     for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return a[p] >> shift; });
                     break;
@@ -394,9 +406,7 @@ PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context)
                     std::fill(en, en + n, std::uint8_t{1});
                     enabled_count = n;
                     break;
-                case PpOp::EnableIf:
-                    enabled_count = enable_where(n, en, a, in.compare, imm);
-                    break;
+                case PpOp::EnableIf: enabled_count = enable_where(n, en, a, in.compare, imm); break;
                 case PpOp::Load: {
                     // dst.bits bits at record_base_bit + record_offset; sign-extended by the wrap when signed.
                     const PpBitWindow window(context.record_base_bit + in.record_offset, dst_field->bits);
@@ -408,7 +418,7 @@ PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context)
                 case PpOp::Store: {
                     // The low a.bits bits of a; a disabled PP's backing store is left as it was.
                     const PpBitWindow window(context.record_base_bit + in.record_offset,
-                                           program.fields[static_cast<std::size_t>(in.a)].bits);
+                                             program.fields[static_cast<std::size_t>(in.a)].bits);
                     std::uint64_t* low = store + static_cast<std::size_t>(window.word) * total + first;
                     const std::uint64_t low_mask = window.mask << window.shift;
                     for (std::size_t p = 0; p < n; ++p) {

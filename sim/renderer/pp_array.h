@@ -45,7 +45,7 @@ public:
 
     int columns() const { return columns_; }
     int rows() const { return rows_; }
-    int size() const { return columns_ * rows_; }   // PPs; PP p sits at column p % columns, row p / columns
+    int size() const { return columns_ * rows_; }  // PPs; PP p sits at column p % columns, row p / columns
     int local_memory_bits() const { return local_memory_bits_; }
     int backing_store_bits() const { return backing_store_bits_; }
 
@@ -73,7 +73,7 @@ private:
     int rows_;
     int local_memory_bits_;
     int backing_store_bits_;
-    int backing_words_;                               // 64-bit words per PP
+    int backing_words_;  // 64-bit words per PP
     // Word-major: word w of PP p at [w * size() + p], so the words of the slots a kernel never uses lie
     // together at the end. calloc gives a large block as fresh zero pages that take host memory only
     // once written: the machine's whole backing store is declared, what a volume fills is resident.
@@ -81,7 +81,7 @@ private:
         void operator()(std::uint64_t* words) const { std::free(words); }
     };
     std::unique_ptr<std::uint64_t[], FreeStore> backing_;
-    std::vector<std::vector<std::int64_t>> fields_;   // by storage slot (PpField::storage), one value per PP
+    std::vector<std::vector<std::int64_t>> fields_;  // by storage slot (PpField::storage), one value per PP
     std::vector<std::uint8_t> enabled_;
 };
 

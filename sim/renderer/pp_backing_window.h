@@ -44,15 +44,14 @@ class PpBackingWindow {
 public:
     // Throws std::out_of_range for a PP outside the array.
     std::uint64_t read(int pp) const { return window_.read(store_, pps_, index(pp)); }
-    void write(int pp, std::uint64_t value) const
-        requires(!std::is_const_v<Word>)
-    {
+    void write(int pp, std::uint64_t value) const requires(!std::is_const_v<Word>) {
         window_.write(store_, pps_, index(pp), value);
     }
 
 private:
     friend class PpArray;
-    PpBackingWindow(Word* store, std::size_t pps, int bit_offset, int bits) : store_(store), pps_(pps), window_(bit_offset, bits) {}
+    PpBackingWindow(Word* store, std::size_t pps, int bit_offset, int bits)
+        : store_(store), pps_(pps), window_(bit_offset, bits) {}
     std::size_t index(int pp) const {
         if (pp < 0 || static_cast<std::size_t>(pp) >= pps_)
             throw std::out_of_range("PP backing store: PP " + std::to_string(pp) + " of " + std::to_string(pps_));

@@ -35,12 +35,14 @@ const ParamGroup& PpCostModel::params() {
         g.real("cycles_per_bit", 1.0, "cycles", 0.01, 100,
                "Cycles per result bit of a bit-serial add, subtract, compare or move", Provenance::Default,
                "machine.md: about one cycle per operand bit for add/compare/move ([D])")
-            .plausible(1, 2, "a bit-serial ALU does at most a bit a cycle; a separate carry or load cycle would double it")
+            .plausible(1, 2,
+                       "a bit-serial ALU does at most a bit a cycle; a separate carry or load cycle would double it")
             .real("multiply_cycles_per_bit_product", 1.0, "cycles", 0.01, 100,
-                  "Cycles per pair of operand bits of a multiply (an n x m multiply takes about n*m)", Provenance::Default,
-                  "machine.md: about n^2 cycles for an n x n multiply ([D])")
-            .plausible(0.5, 2, "shift-and-add is one add per multiplier bit; skipping zero bits halves it, "
-                               "a load of each partial product doubles it")
+                  "Cycles per pair of operand bits of a multiply (an n x m multiply takes about n*m)",
+                  Provenance::Default, "machine.md: about n^2 cycles for an n x n multiply ([D])")
+            .plausible(0.5, 2,
+                       "shift-and-add is one add per multiplier bit; skipping zero bits halves it, "
+                       "a load of each partial product doubles it")
             .real("divide_cycles_per_bit_product", 1.0, "cycles", 0.01, 100,
                   "Cycles per result bit times trial-subtraction width of a restoring divide or square root",
                   Provenance::Default,
@@ -55,12 +57,15 @@ const ParamGroup& PpCostModel::params() {
                      "Cycles the renderer's controller adds to each instruction it issues", Provenance::Default,
                      "machine.md: the renderer controller turns ring messages into micro-instructions ([D]); "
                      "its issue cost is not published")
-            .plausible(0, 4, "a controller that overlaps decoding with execution adds nothing; one that does not, a few cycles")
+            .plausible(
+                0, 4,
+                "a controller that overlaps decoding with execution adds nothing; one that does not, a few cycles")
             .integer("backing_store_cycles_per_block", 32, "cycles", 1, 100000,
                      "Cycles to move one block between a PP's local memory and its backing store", Provenance::Default,
                      "machine.md: backing store moved in 32-bit blocks, slower than local memory ([S]); a block "
                      "entering the bit-organised local memory one bit per cycle is our default ([D])")
-            .plausible(16, 128, "two bits a cycle (a wide video RAM port) to four cycles a bit ('slower than local memory')")
+            .plausible(16, 128,
+                       "two bits a cycle (a wide video RAM port) to four cycles a bit ('slower than local memory')")
             .integer("backing_store_setup_cycles", 4, "cycles", 0, 100000,
                      "Cycles to start a slot's backing-store transfer in either direction", Provenance::Default,
                      "machine.md: transfers asynchronous and overlapping compute ([S]); the start-up cost is not "
@@ -76,7 +81,8 @@ PpCostModel::PpCostModel(const MachineConfig& config)
       multiply_cycles_per_bit_product_(config.real("pp.multiply_cycles_per_bit_product")),
       divide_cycles_per_bit_product_(config.real("pp.divide_cycles_per_bit_product")),
       qee_latency_cycles_(static_cast<std::uint64_t>(config.integer("pp.qee_latency_cycles"))),
-      controller_cycles_per_instruction_(static_cast<std::uint64_t>(config.integer("pp.controller_cycles_per_instruction"))),
+      controller_cycles_per_instruction_(
+          static_cast<std::uint64_t>(config.integer("pp.controller_cycles_per_instruction"))),
       backing_store_block_bits_(static_cast<std::uint64_t>(config.integer("renderer.backing_store_block_bits"))),
       backing_store_cycles_per_block_(static_cast<std::uint64_t>(config.integer("pp.backing_store_cycles_per_block"))),
       backing_store_setup_cycles_(static_cast<std::uint64_t>(config.integer("pp.backing_store_setup_cycles"))),
@@ -91,20 +97,19 @@ std::uint64_t PpCostModel::alu_cycles(const PpProgram& program, const PpInstruct
         case PpOp::Move:
         case PpOp::Add:
         case PpOp::Sub:
-        case PpOp::AddConst:
-            return cycles(cycles_per_bit_, n);
+        case PpOp::AddConst: return cycles(cycles_per_bit_, n);
         case PpOp::AbsDiffConst:  // subtract, then negate where negative
             return cycles(cycles_per_bit_, 2 * n);
         case PpOp::MinConst:
         case PpOp::MaxConst:  // compare, then move where the constant wins
             return cycles(cycles_per_bit_, 2 * a);
-        case PpOp::Mul:
-            return cycles(multiply_cycles_per_bit_product_, a * b);
+        case PpOp::Mul: return cycles(multiply_cycles_per_bit_product_, a * b);
         case PpOp::MulConst: {
             // Shift-and-add over the broadcast constant's bits.
             const auto raw = static_cast<std::uint64_t>(in.imm);
             const std::uint64_t magnitude = in.imm < 0 ? ~raw + 1 : raw;  // |imm|, defined for the most negative too
-            const auto constant_bits = static_cast<std::uint64_t>(std::max(1, static_cast<int>(std::bit_width(magnitude))));
+            const auto constant_bits =
+                static_cast<std::uint64_t>(std::max(1, static_cast<int>(std::bit_width(magnitude))));
             return cycles(multiply_cycles_per_bit_product_, a * constant_bits);
         }
         case PpOp::Div:  // one trial subtraction of the divisor's width (plus a bit) per quotient bit
@@ -116,15 +121,11 @@ std::uint64_t PpCostModel::alu_cycles(const PpProgram& program, const PpInstruct
             const auto runs = static_cast<std::uint64_t>(program.tables[static_cast<std::size_t>(in.table)].runs());
             return cycles(cycles_per_bit_, runs * (a + n));
         }
-        case PpOp::Qee:
-            return n + qee_latency_cycles_;
-        case PpOp::EnableAll:
-            return 1;
-        case PpOp::EnableIf:
-            return cycles(cycles_per_bit_, a);
+        case PpOp::Qee: return n + qee_latency_cycles_;
+        case PpOp::EnableAll: return 1;
+        case PpOp::EnableIf: return cycles(cycles_per_bit_, a);
         case PpOp::Load:
-        case PpOp::Store:
-            return 0;  // the backing-store port moves these, beside the ALUs
+        case PpOp::Store: return 0;  // the backing-store port moves these, beside the ALUs
     }
     return 0;
 }
@@ -134,14 +135,19 @@ PpProgramCost PpCostModel::cost(const PpProgram& program) const {
     for (const PpInstruction& in : program.instructions) {
         c.alu_cycles += alu_cycles(program, in);
         c.controller_cycles += controller_cycles_per_instruction_;
-        const auto blocks_of = [&](int id) { return (bits_of(program, id) + backing_store_block_bits_ - 1) / backing_store_block_bits_; };
+        const auto blocks_of = [&](int id) {
+            return (bits_of(program, id) + backing_store_block_bits_ - 1) / backing_store_block_bits_;
+        };
         if (in.op == PpOp::Load) c.load_blocks += blocks_of(in.dst);
         if (in.op == PpOp::Store) c.store_blocks += blocks_of(in.a);
     }
-    c.load_cycles = c.load_blocks * backing_store_cycles_per_block_ + (c.load_blocks > 0 ? backing_store_setup_cycles_ : 0);
-    c.store_cycles = c.store_blocks * backing_store_cycles_per_block_ + (c.store_blocks > 0 ? backing_store_setup_cycles_ : 0);
+    c.load_cycles =
+        c.load_blocks * backing_store_cycles_per_block_ + (c.load_blocks > 0 ? backing_store_setup_cycles_ : 0);
+    c.store_cycles =
+        c.store_blocks * backing_store_cycles_per_block_ + (c.store_blocks > 0 ? backing_store_setup_cycles_ : 0);
     if (scale_ != 1.0) {  // the calibration's factor over every documented PP cost
-        for (std::uint64_t* part : {&c.alu_cycles, &c.controller_cycles, &c.load_cycles, &c.store_cycles}) *part = cycles(scale_, *part);
+        for (std::uint64_t* part : {&c.alu_cycles, &c.controller_cycles, &c.load_cycles, &c.store_cycles})
+            *part = cycles(scale_, *part);
     }
     return c;
 }

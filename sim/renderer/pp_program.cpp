@@ -45,9 +45,10 @@ public:
 
 private:
     [[noreturn]] void fail() const {
-        throw std::invalid_argument(fmt::format("PP program {}: the values of field {} would need more than 64 bits "
-                                                "(a field holds at most {})",
-                                                program_, field_, kMaxPpFieldBits));
+        throw std::invalid_argument(
+            fmt::format("PP program {}: the values of field {} would need more than 64 bits "
+                        "(a field holds at most {})",
+                        program_, field_, kMaxPpFieldBits));
     }
 
     const std::string& program_;
@@ -111,7 +112,8 @@ int pp_bits_for_range(std::int64_t lo, std::int64_t hi) {
 }
 
 PpProgramBuilder::PpProgramBuilder(std::string name, int local_memory_bits, std::string machine_field)
-    : capacity_bits_(local_memory_bits), machine_field_(std::move(machine_field)),
+    : capacity_bits_(local_memory_bits),
+      machine_field_(std::move(machine_field)),
       used_(static_cast<std::size_t>(std::max(local_memory_bits, 0)), false) {
     program_.name = std::move(name);
 }
@@ -120,22 +122,23 @@ namespace {
 
 void check_width(const std::string& program, const std::string& field, int bits) {
     if (bits < 1 || bits > kMaxPpFieldBits) {
-        throw std::invalid_argument(fmt::format("PP program {}: field {} of {} bits (1 to {} allowed)", program, field,
-                                                bits, kMaxPpFieldBits));
+        throw std::invalid_argument(
+            fmt::format("PP program {}: field {} of {} bits (1 to {} allowed)", program, field, bits, kMaxPpFieldBits));
     }
 }
 
 // Right shifts of a 64-bit value: 0 to 63 places.
 void check_shift(const std::string& program, const std::string& field, int shift) {
     if (shift < 0 || shift > 63) {
-        throw std::invalid_argument(fmt::format("PP program {}: field {}: shift of {} (0 to 63 allowed)", program, field, shift));
+        throw std::invalid_argument(
+            fmt::format("PP program {}: field {}: shift of {} (0 to 63 allowed)", program, field, shift));
     }
 }
 
 void check_record_offset(const std::string& program, const std::string& field, int record_offset) {
     if (record_offset < 0) {
-        throw std::invalid_argument(fmt::format("PP program {}: field {}: negative record offset {}", program, field,
-                                                record_offset));
+        throw std::invalid_argument(
+            fmt::format("PP program {}: field {}: negative record offset {}", program, field, record_offset));
     }
 }
 
@@ -158,9 +161,10 @@ PpField PpProgramBuilder::alloc(const std::string& name, int bits, bool is_signe
     if (offset < 0) {
         const int needed = in_use + bits;
         if (needed > capacity_bits_) {
-            reject_field(machine_field_,
-                         fmt::format("PP program {} needs {} bits of local memory for field {}; each PP has {} ({} short)",
-                                     program_.name, needed, name, capacity_bits_, plural_bits(needed - capacity_bits_)));
+            reject_field(
+                machine_field_,
+                fmt::format("PP program {} needs {} bits of local memory for field {}; each PP has {} ({} short)",
+                            program_.name, needed, name, capacity_bits_, plural_bits(needed - capacity_bits_)));
         }
         // Enough bits are free, but released fields left them in pieces too small for this one.
         int longest = 0;
@@ -193,8 +197,8 @@ PpField PpProgramBuilder::alloc(const std::string& name, int bits, bool is_signe
 
 void PpProgramBuilder::check_live(const PpField& field) const {
     if (field.id < 0 || field.id >= static_cast<int>(program_.fields.size())) {
-        throw std::invalid_argument(fmt::format("PP program {}: field id {} is not a field of this program", program_.name,
-                                                field.id));
+        throw std::invalid_argument(
+            fmt::format("PP program {}: field id {} is not a field of this program", program_.name, field.id));
     }
     const auto id = static_cast<std::size_t>(field.id);
     const PpField& known = program_.fields[id];
@@ -204,8 +208,8 @@ void PpProgramBuilder::check_live(const PpField& field) const {
                                                 program_.name, field.id, program_.field_names[id]));
     }
     if (!live_[id]) {
-        throw std::invalid_argument(fmt::format("PP program {}: field {} (id {}) used after it was released", program_.name,
-                                                program_.field_names[id], field.id));
+        throw std::invalid_argument(fmt::format("PP program {}: field {} (id {}) used after it was released",
+                                                program_.name, program_.field_names[id], field.id));
     }
 }
 
@@ -366,16 +370,17 @@ PpField PpProgramBuilder::div(const std::string& name, PpField a, PpField b, int
     check_live(b);
     check_width(program_.name, name, bits);
     if (lo(a) < 0 || lo(b) < 0) {
-        throw std::invalid_argument(fmt::format("PP program {}: divide {} = {} / {}: operands may be negative "
-                                                "(ranges [{}, {}] and [{}, {}])",
-                                                program_.name, name, program_.field_names[static_cast<std::size_t>(a.id)],
-                                                program_.field_names[static_cast<std::size_t>(b.id)], lo(a), hi(a), lo(b),
-                                                hi(b)));
+        throw std::invalid_argument(
+            fmt::format("PP program {}: divide {} = {} / {}: operands may be negative "
+                        "(ranges [{}, {}] and [{}, {}])",
+                        program_.name, name, program_.field_names[static_cast<std::size_t>(a.id)],
+                        program_.field_names[static_cast<std::size_t>(b.id)], lo(a), hi(a), lo(b), hi(b)));
     }
     // The dividend a << shift must fit 63 bits.
     if (shift < 0 || shift > 62 || hi(a) > (std::numeric_limits<std::int64_t>::max() >> shift)) {
-        throw std::invalid_argument(fmt::format("PP program {}: divide {}: dividend up to {} shifted by {} does not fit 63 bits",
-                                                program_.name, name, hi(a), shift));
+        throw std::invalid_argument(
+            fmt::format("PP program {}: divide {}: dividend up to {} shifted by {} does not fit 63 bits", program_.name,
+                        name, hi(a), shift));
     }
     PpInstruction i{PpOp::Div};
     i.a = a.id;
@@ -403,15 +408,16 @@ PpField PpProgramBuilder::lookup(const std::string& name, PpField index, PpTable
     }
     if (index.bits > 30 || table.entries.size() != (std::size_t{1} << index.bits)) {
         throw std::invalid_argument(fmt::format("PP program {}: table {} has {} entries; a {}-bit index needs 2^{}",
-                                                program_.name, table.name, table.entries.size(), index.bits, index.bits));
+                                                program_.name, table.name, table.entries.size(), index.bits,
+                                                index.bits));
     }
     const PpField shape{0, 0, bits, is_signed};
     for (std::size_t k = 0; k < table.entries.size(); ++k) {
         const std::int64_t e = table.entries[k];
         if (e < shape.min_value() || e > shape.max_value()) {
-            throw std::invalid_argument(fmt::format("PP program {}: table {} entry {} = {} does not fit {} ({} bits, {})",
-                                                    program_.name, table.name, k, e, name, bits,
-                                                    is_signed ? "signed" : "unsigned"));
+            throw std::invalid_argument(
+                fmt::format("PP program {}: table {} entry {} = {} does not fit {} ({} bits, {})", program_.name,
+                            table.name, k, e, name, bits, is_signed ? "signed" : "unsigned"));
         }
     }
     const PpField dst = alloc(name, bits, is_signed);
@@ -428,7 +434,8 @@ PpField PpProgramBuilder::lookup(const std::string& name, PpField index, PpTable
 
 PpField PpProgramBuilder::qee(const std::string& name, int expression, int bits, bool is_signed, int shift) {
     if (expression < 0) {
-        throw std::invalid_argument(fmt::format("PP program {}: field {}: QEE expression {}", program_.name, name, expression));
+        throw std::invalid_argument(
+            fmt::format("PP program {}: field {}: QEE expression {}", program_.name, name, expression));
     }
     check_shift(program_.name, name, shift);
     PpInstruction i{PpOp::Qee};
@@ -475,8 +482,8 @@ void PpProgramBuilder::store(PpField a, int record_offset, int record_bits) {
     check_live(a);
     const std::string& name = program_.field_names[static_cast<std::size_t>(a.id)];
     if (a.bits > record_bits) {
-        throw std::invalid_argument(fmt::format("PP program {}: {} is {} bits wide, the record field at {} only {}", program_.name,
-                                                name, a.bits, record_offset, record_bits));
+        throw std::invalid_argument(fmt::format("PP program {}: {} is {} bits wide, the record field at {} only {}",
+                                                program_.name, name, a.bits, record_offset, record_bits));
     }
     if (a.bits == record_bits) {
         store(a, record_offset);
@@ -484,8 +491,9 @@ void PpProgramBuilder::store(PpField a, int record_offset, int record_bits) {
     }
     // Narrower: widen with zeros first, so that no bit of an earlier value stays behind.
     if (lo(a) < 0) {
-        throw std::invalid_argument(fmt::format("PP program {}: {} may be negative; it cannot fill the {}-bit record field at {}",
-                                                program_.name, name, record_bits, record_offset));
+        throw std::invalid_argument(
+            fmt::format("PP program {}: {} may be negative; it cannot fill the {}-bit record field at {}",
+                        program_.name, name, record_bits, record_offset));
     }
     const PpField wide = alloc(name + " widened", record_bits, false);
     assign(wide, a);
@@ -497,10 +505,10 @@ void PpProgramBuilder::assign(PpField dst, PpField value) {
     check_live(dst);
     check_live(value);
     if (lo(value) < dst.min_value() || hi(value) > dst.max_value()) {
-        throw std::invalid_argument(fmt::format("PP program {}: {} (values [{}, {}]) may not fit {} ({} bits, {})",
-                                                program_.name, program_.field_names[static_cast<std::size_t>(value.id)],
-                                                lo(value), hi(value), program_.field_names[static_cast<std::size_t>(dst.id)],
-                                                dst.bits, dst.is_signed ? "signed" : "unsigned"));
+        throw std::invalid_argument(fmt::format(
+            "PP program {}: {} (values [{}, {}]) may not fit {} ({} bits, {})", program_.name,
+            program_.field_names[static_cast<std::size_t>(value.id)], lo(value), hi(value),
+            program_.field_names[static_cast<std::size_t>(dst.id)], dst.bits, dst.is_signed ? "signed" : "unsigned"));
     }
     Range& r = ranges_[static_cast<std::size_t>(dst.id)];
     r = {std::min(r.lo, lo(value)), std::max(r.hi, hi(value))};

@@ -20,9 +20,9 @@ namespace pp5 {
 inline constexpr int kMaxPpFieldBits = 48;
 
 struct PpField {
-    int id = -1;            // index into PpProgram::fields
-    int offset = 0;         // first bit in local memory
-    int bits = 0;           // 1..kMaxPpFieldBits
+    int id = -1;     // index into PpProgram::fields
+    int offset = 0;  // first bit in local memory
+    int bits = 0;    // 1..kMaxPpFieldBits
     bool is_signed = false;
     // Where the host keeps the field's values (PpArray's storage slots). Fields whose lifetimes do not
     // overlap share one, as they share local-memory bits on the PPs, so the host holds no more fields
@@ -30,7 +30,9 @@ struct PpField {
     int storage = -1;
 
     bool valid() const { return id >= 0; }
-    std::int64_t max_value() const { return is_signed ? (std::int64_t{1} << (bits - 1)) - 1 : (std::int64_t{1} << bits) - 1; }
+    std::int64_t max_value() const {
+        return is_signed ? (std::int64_t{1} << (bits - 1)) - 1 : (std::int64_t{1} << bits) - 1;
+    }
     std::int64_t min_value() const { return is_signed ? -(std::int64_t{1} << (bits - 1)) : 0; }
 };
 
@@ -85,13 +87,13 @@ struct PpTable {
 
 struct PpProgram {
     std::string name;
-    std::vector<PpField> fields;               // by id
-    std::vector<std::string> field_names;      // by id
+    std::vector<PpField> fields;           // by id
+    std::vector<std::string> field_names;  // by id
     std::vector<PpInstruction> instructions;
     std::vector<PpTable> tables;
-    int expressions = 0;                       // QEE expressions a slot context must supply
-    int local_memory_bits_used = 0;            // the peak of simultaneously allocated bits
-    int storage_slots = 0;                     // host storage slots its fields use (PpField::storage)
+    int expressions = 0;             // QEE expressions a slot context must supply
+    int local_memory_bits_used = 0;  // the peak of simultaneously allocated bits
+    int storage_slots = 0;           // host storage slots its fields use (PpField::storage)
 };
 
 class PpProgramBuilder {
@@ -106,7 +108,7 @@ public:
     // Returns the field's bits to the free pool; its value must not be used again.
     void release(PpField field);
 
-    PpField set_const(const std::string& name, std::int64_t value);              // width of value
+    PpField set_const(const std::string& name, std::int64_t value);  // width of value
     PpField set_const(const std::string& name, std::int64_t value, int bits, bool is_signed);
     PpField move(const std::string& name, PpField a, int shift = 0);
     PpField add(const std::string& name, PpField a, PpField b);
@@ -155,10 +157,10 @@ private:
     PpProgram program_;
     int capacity_bits_;
     std::string machine_field_;
-    std::vector<bool> used_;     // per bit of local memory
-    std::vector<bool> live_;     // per field id
+    std::vector<bool> used_;         // per bit of local memory
+    std::vector<bool> live_;         // per field id
     std::vector<int> free_storage_;  // host storage slots of released fields, for the next fields
-    std::vector<Range> ranges_;  // per field id: the values it may hold
+    std::vector<Range> ranges_;      // per field id: the values it may hold
 };
 
 // Bits needed to hold every value in [lo, hi] (signed when lo < 0).

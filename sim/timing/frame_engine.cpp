@@ -6,15 +6,17 @@
 
 #include <algorithm>
 #include <deque>
-#include <unordered_map>
-#include <unordered_set>
 #include <limits>
 #include <memory>
 #include <stdexcept>
+#include <unordered_map>
+#include <unordered_set>
 
 namespace pp5 {
 
-std::string to_string(TaskAssignment assignment) { return assignment == TaskAssignment::Static ? "static" : "work_queue"; }
+std::string to_string(TaskAssignment assignment) {
+    return assignment == TaskAssignment::Static ? "static" : "work_queue";
+}
 
 BlockDirectory::BlockDirectory(std::uint64_t block_bits, std::uint32_t unit_bits, std::vector<std::uint32_t> first_part,
                                std::vector<BlockPart> parts)
@@ -25,7 +27,8 @@ BlockDirectory::BlockDirectory(std::uint64_t block_bits, std::uint32_t unit_bits
 
 void append_ops(std::vector<GpOp>& ops, std::uint32_t kind, std::uint64_t count) {
     constexpr std::uint64_t kMost = std::numeric_limits<std::uint32_t>::max();
-    for (; count > 0; count -= std::min(count, kMost)) ops.push_back(GpOp{kind, static_cast<std::uint32_t>(std::min(count, kMost))});
+    for (; count > 0; count -= std::min(count, kMost))
+        ops.push_back(GpOp{kind, static_cast<std::uint32_t>(std::min(count, kMost))});
 }
 
 const PhaseTiming* FrameTiming::phase(const std::string& name) const {
@@ -45,7 +48,6 @@ std::vector<Tick> gp_op_costs(const MachineConfig& config, const std::vector<GpO
 }
 
 namespace {
-
 
 // An event's payload: what happened (2 bits), which GP (22 bits), which block or task (40 bits).
 // Arrival: a message arriving (a reply at a GP, a request at a renderer). Ready: a renderer has read
@@ -128,7 +130,7 @@ private:
     bool asked_for_task_ = false;
     bool no_more_tasks_ = false;
     std::unordered_map<std::uint32_t, int> outstanding_;  // block -> parts not yet arrived
-    std::unordered_set<std::uint32_t> refreshing_;        // outstanding only because of a refresh: no ray has missed it yet
+    std::unordered_set<std::uint32_t> refreshing_;  // outstanding only because of a refresh: no ray has missed it yet
     std::vector<std::uint32_t> arrived_;
     std::deque<Outgoing> outbox_;
     Tick receive_cost_owed_ = 0;
@@ -193,7 +195,8 @@ class FrameRun;
 
 class GpPhaseRun {
 public:
-    GpPhaseRun(FrameRun& frame, Machine& machine_in, const GpPhase& phase_in, const std::vector<GpOpKind>& kinds, PhaseTiming& timing_in);
+    GpPhaseRun(FrameRun& frame, Machine& machine_in, const GpPhase& phase_in, const std::vector<GpOpKind>& kinds,
+               PhaseTiming& timing_in);
     void start(Tick t);
 
     const GpTask& task(std::uint32_t t) const { return phase.tasks[t]; }
@@ -201,8 +204,14 @@ public:
     bool group_open(std::uint32_t group) const { return group <= groups_done; }
     void items_done(std::uint32_t task, Tick t);
     void pixels_arrived(std::uint32_t task, Tick now);
-    void gp_finished(Tick now) { ++gps_finished; maybe_complete(now); }
-    void region_finished(Tick now) { ++regions_finished; maybe_complete(now); }
+    void gp_finished(Tick now) {
+        ++gps_finished;
+        maybe_complete(now);
+    }
+    void region_finished(Tick now) {
+        ++regions_finished;
+        maybe_complete(now);
+    }
     void readout_arrived(std::size_t renderer, Tick now);
     void maybe_complete(Tick now);
     std::string describe_stall() const;
@@ -211,11 +220,11 @@ public:
     Machine& machine;
     const GpPhase& phase;
     PhaseTiming& timing;
-    std::vector<std::vector<std::uint64_t>> refresh;                 // per GP: blocks to ask for again (empty: none)
+    std::vector<std::vector<std::uint64_t>> refresh;  // per GP: blocks to ask for again (empty: none)
     std::vector<std::vector<std::vector<std::uint32_t>>> refresh_lists;  // per GP, per renderer: what it asked for
     std::uint32_t refresh_blocks_per_message = 16;
-    std::vector<Tick> op_cost;          // per op kind
-    std::vector<std::string> op_names;  // per op kind
+    std::vector<Tick> op_cost;              // per op kind
+    std::vector<std::string> op_names;      // per op kind
     std::vector<std::uint32_t> remaining;   // items not finished, per task
     std::vector<std::uint32_t> open_tasks;  // tasks whose items are not all done, per group
     std::uint32_t groups_done = 0;          // groups whose every task has run its items
@@ -289,7 +298,9 @@ Tick GpAgent::send_refresh(Tick start) {
         const auto parts = run_.phase.blocks->parts(block);
         for (const BlockPart& part : parts) {
             if (part.renderer >= run_.renderers.size())
-                throw std::logic_error(fmt::format("recorded work: block {} has a part on renderer {}, which the machine lacks", block, part.renderer));
+                throw std::logic_error(
+                    fmt::format("recorded work: block {} has a part on renderer {}, which the machine lacks", block,
+                                part.renderer));
             lists[part.renderer].push_back(block);
         }
         outstanding_.emplace(block, static_cast<int>(parts.size()));
@@ -330,14 +341,13 @@ void GpAgent::schedule_resume(Tick t) {
 
 void GpAgent::handle_event(Tick now, std::uint64_t payload) {
     switch (signal_of(payload)) {
-        case Signal::Resume:
-            run(now);
-            return;
+        case Signal::Resume: run(now); return;
         case Signal::Arrival: {
             const auto block = static_cast<std::uint32_t>(value_of(payload));
             ++gp_.replies;
             const auto it = outstanding_.find(block);
-            if (it == outstanding_.end()) throw std::logic_error(fmt::format("{}: a reply nobody asked for", gp_.name()));
+            if (it == outstanding_.end())
+                throw std::logic_error(fmt::format("{}: a reply nobody asked for", gp_.name()));
             const GpCostModel& costs = gp_.costs();
             receive_cost_owed_ += costs.message_receive;
             if (--it->second == 0) {
@@ -345,7 +355,8 @@ void GpAgent::handle_event(Tick now, std::uint64_t payload) {
                 const BlockDirectory& blocks = *run_.phase.blocks;
                 std::uint64_t words = 0;
                 for (const BlockPart& part : blocks.parts(block))
-                    words += run_.machine.ring().message_words(static_cast<std::uint64_t>(part.units) * blocks.unit_bits());
+                    words +=
+                        run_.machine.ring().message_words(static_cast<std::uint64_t>(part.units) * blocks.unit_bits());
                 receive_cost_owed_ += static_cast<Tick>(words) * costs.receive_per_word;
                 arrived_.push_back(block);
                 outstanding_.erase(it);
@@ -375,10 +386,12 @@ void GpAgent::perform(Tick now) {
             for (const BlockPart& part : run_.phase.blocks->parts(action_value_)) {
                 // Checked here, where a block is first asked for, not over the whole directory every frame.
                 if (part.renderer >= run_.renderers.size())
-                    throw std::logic_error(fmt::format("recorded work: block {} has a part on renderer {}, which the machine lacks",
-                                                       action_value_, part.renderer));
+                    throw std::logic_error(
+                        fmt::format("recorded work: block {} has a part on renderer {}, which the machine lacks",
+                                    action_value_, part.renderer));
                 const std::size_t to = ring.position(StationKind::Renderer, part.renderer);
-                ring.send(events, now, RingMessage{MessageKind::FetchRequest, station_, to, run_.phase.fetch_request_bits, false},
+                ring.send(events, now,
+                          RingMessage{MessageKind::FetchRequest, station_, to, run_.phase.fetch_request_bits, false},
                           *run_.renderers[part.renderer], pack(Signal::Arrival, gp_.index(), action_value_));
                 ++gp_.fetch_requests;
                 ++run_.timing.gp.fetch_requests;
@@ -390,15 +403,17 @@ void GpAgent::perform(Tick now) {
             if (out.pixels) {
                 const GpTask& task = run_.task(out.index);
                 ++run_.pixel_messages_in_flight;
-                ring.send(events, now,
-                          RingMessage{MessageKind::PixelBlock, station_, run_.frame_buffer_station,
-                                      static_cast<std::uint64_t>(task.pixels) * static_cast<std::uint64_t>(run_.pixel_bits), false},
-                          *run_.frame_buffer, out.index);
+                ring.send(
+                    events, now,
+                    RingMessage{MessageKind::PixelBlock, station_, run_.frame_buffer_station,
+                                static_cast<std::uint64_t>(task.pixels) * static_cast<std::uint64_t>(run_.pixel_bits),
+                                false},
+                    *run_.frame_buffer, out.index);
             } else {
                 const PrimitiveBatch& batch = run_.phase.batches[out.index];
                 ring.send(events, now,
-                          RingMessage{MessageKind::PrimitiveBatch, station_, ring.position(StationKind::Renderer, batch.renderer),
-                                      batch.bits, false},
+                          RingMessage{MessageKind::PrimitiveBatch, station_,
+                                      ring.position(StationKind::Renderer, batch.renderer), batch.bits, false},
                           *run_.renderers[batch.renderer], pack(Signal::Task, gp_.index(), out.index));
                 ++run_.timing.gp.batches_sent;
                 run_.timing.gp.batch_bits += batch.bits;
@@ -456,7 +471,8 @@ bool GpAgent::finish_task(std::uint32_t task_index, Tick& t) {
     run_.items_done(task_index, t);
     t += charge(task.first_finish_op, task.finish_op_count);
     ++gp_.tasks;
-    for (std::uint32_t b = task.first_batch; b < task.first_batch + task.batch_count; ++b) outbox_.push_back(Outgoing{false, b});
+    for (std::uint32_t b = task.first_batch; b < task.first_batch + task.batch_count; ++b)
+        outbox_.push_back(Outgoing{false, b});
     if (task.pixels > 0) outbox_.push_back(Outgoing{true, task_index});
     return queue_send(t);
 }
@@ -474,7 +490,8 @@ int GpAgent::start_item(Tick& t) {
     while (!have_task_ || next_item_ >= run_.task(task_).item_count) {
         if (tasks_.empty()) {
             // Ask the host for more work while the items in flight go on.
-            if (run_.phase.assignment == TaskAssignment::WorkQueue && !asked_for_task_ && !no_more_tasks_) action_ = Action::AskTask;
+            if (run_.phase.assignment == TaskAssignment::WorkQueue && !asked_for_task_ && !no_more_tasks_)
+                action_ = Action::AskTask;
             return -1;
         }
         if (!run_.group_open(run_.task(tasks_.front()).group)) return -1;  // wait for the group before
@@ -511,7 +528,7 @@ bool GpAgent::advance(int index, Tick& t) {
                     c.waiting = true;
                     c.block = step.block;
                     if (outstanding_.count(step.block) != 0) {  // on its way (asked for, or being refreshed)
-                        refreshing_.erase(step.block);         // a ray waits for it now
+                        refreshing_.erase(step.block);          // a ray waits for it now
                         return false;
                     }
                     const auto parts = run_.phase.blocks->parts(step.block);
@@ -585,9 +602,11 @@ std::string GpAgent::describe_stall() const {
     std::string why = fmt::format("{}:", gp_.name());
     for (std::size_t i = 0; i < contexts_.size(); ++i) {
         const Context& c = contexts_[i];
-        if (c.active && c.waiting) why += fmt::format(" context {} (task {}, item {}) waits for block {};", i, c.task, c.item, c.block);
+        if (c.active && c.waiting)
+            why += fmt::format(" context {} (task {}, item {}) waits for block {};", i, c.task, c.item, c.block);
     }
-    for (const auto& [block, parts_left] : outstanding_) why += fmt::format(" block {} has {} part(s) outstanding;", block, parts_left);
+    for (const auto& [block, parts_left] : outstanding_)
+        why += fmt::format(" block {} has {} part(s) outstanding;", block, parts_left);
     if (asked_for_task_) why += " it waits for a task from the host;";
     if (!tasks_.empty() && !run_.group_open(run_.task(tasks_.front()).group))
         why += fmt::format(" it waits for group {} to finish;", run_.task(tasks_.front()).group - 1);
@@ -625,10 +644,11 @@ void RendererAgent::draw_next(Tick now) {
         ++next_step_;
         const PpProgram& program = run_.phase.region_programs[step.program];
         const auto busy_before = renderer_.draw_busy_ps.value();
-        const Tick end = renderer_.draw(now, program.name, run_.region_costs[renderer_.index()][step.program], step.runs,
-                                        step.write_words, program.local_memory_bits_used);
+        const Tick end = renderer_.draw(now, program.name, run_.region_costs[renderer_.index()][step.program],
+                                        step.runs, step.write_words, program.local_memory_bits_used);
         run_.timing.gp.primitives_drawn += step.runs;
-        run_.timing.gp.renderer_drawing[renderer_.index()] += static_cast<Tick>(renderer_.draw_busy_ps.value() - busy_before);
+        run_.timing.gp.renderer_drawing[renderer_.index()] +=
+            static_cast<Tick>(renderer_.draw_busy_ps.value() - busy_before);
         drawing_ = true;
         run_.machine.events().schedule(end, *this, pack(Signal::Resume, 0, 0));
         return;
@@ -649,14 +669,16 @@ void RendererAgent::draw_next(Tick now) {
 std::string RendererAgent::describe_stall() const {
     if (region_done()) return {};
     if (drawing_) return fmt::format(" {} is drawing step {};", renderer_.name(), next_step_ - 1);
-    return fmt::format(" {} waits for batch {} (region step {} of {});", renderer_.name(), region_->steps[next_step_].batch,
-                       next_step_, steps());
+    return fmt::format(" {} waits for batch {} (region step {} of {});", renderer_.name(),
+                       region_->steps[next_step_].batch, next_step_, steps());
 }
 
 void RendererAgent::handle_event(Tick now, std::uint64_t payload) {
     if (signal_of(payload) == Signal::Task) {  // a batch for this renderer's region has arrived
         const auto batch = static_cast<std::uint32_t>(value_of(payload));
-        if (arrived_.empty()) throw std::logic_error(fmt::format("{}: a primitive batch for a renderer with no region work", renderer_.name()));
+        if (arrived_.empty())
+            throw std::logic_error(
+                fmt::format("{}: a primitive batch for a renderer with no region work", renderer_.name()));
         arrived_[batch] = 1;
         draw_next(now);
         return;
@@ -668,10 +690,12 @@ void RendererAgent::handle_event(Tick now, std::uint64_t payload) {
     }
     const auto gp = gp_of(payload);
     const auto block = static_cast<std::uint32_t>(value_of(payload));
-    if (signal_of(payload) == Signal::Arrival && value_of(payload) >= kRefreshFirst) {  // a GP's refresh: one setup, a reply a block
+    if (signal_of(payload) == Signal::Arrival &&
+        value_of(payload) >= kRefreshFirst) {  // a GP's refresh: one setup, a reply a block
         const std::vector<std::uint32_t>& list = run_.refresh_lists[gp][renderer_.index()];
         const std::size_t first = kRefreshBatch - 1 - value_of(payload);
-        const std::size_t end = std::min(list.size(), first + std::max<std::uint32_t>(1, run_.refresh_blocks_per_message));
+        const std::size_t end =
+            std::min(list.size(), first + std::max<std::uint32_t>(1, run_.refresh_blocks_per_message));
         for (std::size_t i = first; i < end; ++i) {
             const Tick ready = renderer_.serve_fetch(now, units_of(list[i]), i == first);
             run_.machine.events().schedule(ready, *this, pack(Signal::Ready, gp, list[i]));
@@ -686,9 +710,10 @@ void RendererAgent::handle_event(Tick now, std::uint64_t payload) {
     // The reply is read out: send it.
     const std::uint64_t bits = static_cast<std::uint64_t>(units_of(block)) * run_.phase.blocks->unit_bits();
     RingNetwork& ring = run_.machine.ring();
-    ring.send(run_.machine.events(), now,
-              RingMessage{MessageKind::FetchReply, station_, ring.position(StationKind::GraphicsProcessor, gp), bits, false},
-              *run_.gps[gp], pack(Signal::Arrival, gp, block));
+    ring.send(
+        run_.machine.events(), now,
+        RingMessage{MessageKind::FetchReply, station_, ring.position(StationKind::GraphicsProcessor, gp), bits, false},
+        *run_.gps[gp], pack(Signal::Arrival, gp, block));
 }
 
 void FrameBufferAgent::handle_event(Tick now, std::uint64_t payload) {
@@ -709,7 +734,8 @@ void HostAgent::handle_event(Tick now, std::uint64_t payload) {
     if (next_task < run_.phase.tasks.size()) task = next_task++;
     RingNetwork& ring = run_.machine.ring();
     ring.send(run_.machine.events(), now,
-              RingMessage{MessageKind::Command, run_.host_station, ring.position(StationKind::GraphicsProcessor, gp), 32, false},
+              RingMessage{MessageKind::Command, run_.host_station, ring.position(StationKind::GraphicsProcessor, gp),
+                          32, false},
               *run_.gps[gp], pack(Signal::Task, gp, task));
 }
 
@@ -722,9 +748,13 @@ Tick renderers_answering(Machine& machine) {
     return total;
 }
 
-GpPhaseRun::GpPhaseRun(FrameRun& frame_in, Machine& machine_in, const GpPhase& phase_in, const std::vector<GpOpKind>& kinds,
-                       PhaseTiming& timing_in)
-    : frame(frame_in), machine(machine_in), phase(phase_in), timing(timing_in), op_cost(gp_op_costs(machine_in.config(), kinds)),
+GpPhaseRun::GpPhaseRun(FrameRun& frame_in, Machine& machine_in, const GpPhase& phase_in,
+                       const std::vector<GpOpKind>& kinds, PhaseTiming& timing_in)
+    : frame(frame_in),
+      machine(machine_in),
+      phase(phase_in),
+      timing(timing_in),
+      op_cost(gp_op_costs(machine_in.config(), kinds)),
       host(*this) {
     for (const GpOpKind& k : kinds) op_names.push_back(k.name);
     if (machine.gps().size() >= (1u << 22)) throw std::invalid_argument("timing engine: too many GPs");
@@ -737,9 +767,11 @@ GpPhaseRun::GpPhaseRun(FrameRun& frame_in, Machine& machine_in, const GpPhase& p
     while (groups_done < open_tasks.size() && open_tasks[groups_done] == 0) ++groups_done;
     RingNetwork& ring = machine.ring();
     for (auto& gp : machine.gps())
-        gps.push_back(std::make_unique<GpAgent>(*this, *gp, ring.position(StationKind::GraphicsProcessor, gp->index())));
+        gps.push_back(
+            std::make_unique<GpAgent>(*this, *gp, ring.position(StationKind::GraphicsProcessor, gp->index())));
     for (auto& r : machine.renderers())
-        renderers.push_back(std::make_unique<RendererAgent>(*this, *r, ring.position(StationKind::Renderer, r->index())));
+        renderers.push_back(
+            std::make_unique<RendererAgent>(*this, *r, ring.position(StationKind::Renderer, r->index())));
     frame_buffer = std::make_unique<FrameBufferAgent>(*this, machine.frame_buffer());
     frame_buffer_station = ring.position(StationKind::FrameBuffer, 0);
     host_station = ring.position(StationKind::Host, 0);
@@ -793,7 +825,8 @@ void GpPhaseRun::pixels_arrived(std::uint32_t task, Tick now) {
 }
 
 void GpPhaseRun::maybe_complete(Tick now) {
-    if (complete || gps_finished < gps.size() || regions_finished < renderers.size() || pixel_messages_in_flight > 0) return;
+    if (complete || gps_finished < gps.size() || regions_finished < renderers.size() || pixel_messages_in_flight > 0)
+        return;
     complete = true;
     timing.gp.renderer_busy = renderers_answering(machine) - renderer_busy_before;
     timing.gp.ring_busy = static_cast<Tick>(machine.ring().busy_ps()) - ring_busy_before;
@@ -811,7 +844,8 @@ std::string GpPhaseRun::describe_stall() const {
     for (const auto& gp : gps)
         if (!gp->finished()) why.append(1, ' ').append(gp->describe_stall());
     for (const auto& r : renderers) why += r->describe_stall();
-    if (pixel_messages_in_flight > 0) why += fmt::format(" {} pixel message(s) on their way;", pixel_messages_in_flight);
+    if (pixel_messages_in_flight > 0)
+        why += fmt::format(" {} pixel message(s) on their way;", pixel_messages_in_flight);
     return why;
 }
 
@@ -832,7 +866,8 @@ void check_recorded_work(const FrameWork& work, const Machine& machine) {
     const auto fail = [](const std::string& phase, const std::string& what) {
         throw std::logic_error("recorded work, phase '" + phase + "': " + what);
     };
-    const auto check_ops = [&](const std::string& phase, const std::vector<GpOp>& ops, std::uint64_t first, std::uint64_t count) {
+    const auto check_ops = [&](const std::string& phase, const std::vector<GpOp>& ops, std::uint64_t first,
+                               std::uint64_t count) {
         if (first + count > ops.size()) fail(phase, "operations out of range");
         for (std::uint64_t i = first; i < first + count; ++i)
             if (ops[i].kind >= work.op_kinds.size()) fail(phase, "an operation of an undeclared kind");
@@ -840,34 +875,42 @@ void check_recorded_work(const FrameWork& work, const Machine& machine) {
     for (const Phase& phase : work.phases) {
         if (const auto* pp = std::get_if<PpPhase>(&phase.work)) {
             for (const PpPhase::Pass& pass : pp->passes) {
-                if (pass.work.slots.size() != machine.renderers().size() || pass.work.counts.size() != machine.renderers().size())
+                if (pass.work.slots.size() != machine.renderers().size() ||
+                    pass.work.counts.size() != machine.renderers().size())
                     fail(phase.name, "a pass recorded for another renderer count");
                 check_ops(phase.name, pass.on_one_processor, 0, pass.on_one_processor.size());
             }
         } else if (const auto* broadcast = std::get_if<BroadcastPhase>(&phase.work)) {
-            if (broadcast->messages_per_renderer.size() != machine.renderers().size()) fail(phase.name, "messages for another renderer count");
+            if (broadcast->messages_per_renderer.size() != machine.renderers().size())
+                fail(phase.name, "messages for another renderer count");
             check_ops(phase.name, broadcast->then_each_gp, 0, broadcast->then_each_gp.size());
         } else {
             const GpPhase& gp = std::get<GpPhase>(phase.work);
             for (const GpTask& task : gp.tasks) {
                 if (task.group >= gp.groups) fail(phase.name, "a task in no group");
-                if (std::uint64_t{task.first_item} + task.item_count > gp.items.size()) fail(phase.name, "items out of range");
+                if (std::uint64_t{task.first_item} + task.item_count > gp.items.size())
+                    fail(phase.name, "items out of range");
                 check_ops(phase.name, gp.ops, task.first_op, task.op_count);
                 check_ops(phase.name, gp.ops, task.first_finish_op, task.finish_op_count);
             }
             for (const GpItem& item : gp.items)
-                if (std::uint64_t{item.first_step} + item.step_count > gp.steps.size()) fail(phase.name, "steps out of range");
+                if (std::uint64_t{item.first_step} + item.step_count > gp.steps.size())
+                    fail(phase.name, "steps out of range");
             for (const GpTask& task : gp.tasks)
-                if (std::uint64_t{task.first_batch} + task.batch_count > gp.batches.size()) fail(phase.name, "batches out of range");
+                if (std::uint64_t{task.first_batch} + task.batch_count > gp.batches.size())
+                    fail(phase.name, "batches out of range");
             check_ops(phase.name, gp.regions_on_one_processor, 0, gp.regions_on_one_processor.size());
-            if (!gp.regions.empty() && gp.regions.size() != machine.renderers().size()) fail(phase.name, "regions for another renderer count");
+            if (!gp.regions.empty() && gp.regions.size() != machine.renderers().size())
+                fail(phase.name, "regions for another renderer count");
             for (const PrimitiveBatch& batch : gp.batches)
                 if (batch.renderer >= gp.regions.size() || gp.regions[batch.renderer].steps.empty())
                     fail(phase.name, "a batch for a renderer with no region steps");
             for (std::size_t r = 0; r < gp.regions.size(); ++r) {
                 for (const RegionStep& step : gp.regions[r].steps) {
-                    if (step.program >= gp.region_programs.size()) fail(phase.name, "a region step of an unknown program");
-                    if (step.batch != kNoBatch && (step.batch >= gp.batches.size() || gp.batches[step.batch].renderer != r))
+                    if (step.program >= gp.region_programs.size())
+                        fail(phase.name, "a region step of an unknown program");
+                    if (step.batch != kNoBatch &&
+                        (step.batch >= gp.batches.size() || gp.batches[step.batch].renderer != r))
                         fail(phase.name, "a region step drawing another renderer's batch");
                 }
             }
@@ -916,9 +959,10 @@ FrameTiming FrameRun::run(const EngineOptions& options) {
         std::string why = fmt::format(" phase '{}' did not finish;", work_.phases[current_].name);
         if (gp_run_) why += gp_run_->describe_stall();
         events.clear();  // the agents handling them are about to go
-        throw std::runtime_error(fmt::format("watchdog: {} at {:.6f} s simulated:{}",
-                                             timed_out ? "the frame ran past the watchdog limit" : "the machine stalled with work left",
-                                             ticks_to_seconds(events.now()), why));
+        throw std::runtime_error(
+            fmt::format("watchdog: {} at {:.6f} s simulated:{}",
+                        timed_out ? "the frame ran past the watchdog limit" : "the machine stalled with work left",
+                        ticks_to_seconds(events.now()), why));
     }
     return std::move(timing_);
 }
@@ -935,7 +979,8 @@ void FrameRun::start_phase(std::size_t index, Tick t) {
     timing.start_ps = t;
     timing.end_ps = t;
     if (const auto* pp = std::get_if<PpPhase>(&phase.work)) return start_pp_phase(*pp, timing, t);
-    if (const auto* broadcast = std::get_if<BroadcastPhase>(&phase.work)) return start_broadcast_phase(*broadcast, timing, t);
+    if (const auto* broadcast = std::get_if<BroadcastPhase>(&phase.work))
+        return start_broadcast_phase(*broadcast, timing, t);
     gp_run_ = std::make_unique<GpPhaseRun>(*this, machine_, std::get<GpPhase>(phase.work), work_.op_kinds, timing);
     if (gp_run_->phase.blocks) {  // the frame's first phase that fetches asks again
         gp_run_->refresh = std::move(refresh_);
@@ -953,10 +998,13 @@ void FrameRun::start_pp_phase(const PpPhase& phase, PhaseTiming& timing, Tick t)
     EventQueue& events = machine_.events();
     for (const PpPhase::Pass& pass : phase.passes) {
         const PpPassWork& work = pass.work;
-        if (renderers.size() != work.slots.size()) throw std::logic_error("PP pass recorded for another renderer count");
+        if (renderers.size() != work.slots.size())
+            throw std::logic_error("PP pass recorded for another renderer count");
         Tick start = t;
         if (pass.command_bits > 0)
-            start = ring.transmit(t, RingMessage{MessageKind::Command, ring.position(StationKind::Host, 0), 0, pass.command_bits, true}).arrival;
+            start = ring.transmit(t, RingMessage{MessageKind::Command, ring.position(StationKind::Host, 0), 0,
+                                                 pass.command_bits, true})
+                        .arrival;
         PpPassTiming p;
         p.start_ps = start;
         p.end_ps = start;
@@ -964,8 +1012,8 @@ void FrameRun::start_pp_phase(const PpPhase& phase, PhaseTiming& timing, Tick t)
         p.local_memory_bits_used = work.program.local_memory_bits_used;
         for (std::size_t r = 0; r < renderers.size(); ++r) {
             Renderer& renderer = *renderers[r];
-            const RendererPass run{work.program.name, renderer.cost_model().cost(work.program), work.slots[r], work.counts[r],
-                                   work.program.local_memory_bits_used};
+            const RendererPass run{work.program.name, renderer.cost_model().cost(work.program), work.slots[r],
+                                   work.counts[r], work.program.local_memory_bits_used};
             const Tick end = renderer.begin_pass(events, start, run);
             if (end > p.end_ps || r == 0) {
                 p.end_ps = end;
@@ -993,13 +1041,16 @@ void FrameRun::start_broadcast_phase(const BroadcastPhase& phase, PhaseTiming& t
     for (const auto& [at, r] : ready) {
         Renderer& renderer = *machine_.renderers()[r];
         const std::size_t station = ring.position(StationKind::Renderer, r);
-        for (std::uint32_t m = 0; m < phase.messages_per_renderer.at(r); ++m) read.emplace_back(renderer.read_out(at, words_per_message), station);
+        for (std::uint32_t m = 0; m < phase.messages_per_renderer.at(r); ++m)
+            read.emplace_back(renderer.read_out(at, words_per_message), station);
     }
     std::stable_sort(read.begin(), read.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     std::vector<RingTransit> transits;
     for (const auto& [leaves, station] : read)
-        transits.push_back(ring.transmit(leaves, RingMessage{MessageKind::Broadcast, station, 0, phase.bits_per_message, true}));
-    std::sort(transits.begin(), transits.end(), [](const RingTransit& a, const RingTransit& b) { return a.arrival < b.arrival; });
+        transits.push_back(
+            ring.transmit(leaves, RingMessage{MessageKind::Broadcast, station, 0, phase.bits_per_message, true}));
+    std::sort(transits.begin(), transits.end(),
+              [](const RingTransit& a, const RingTransit& b) { return a.arrival < b.arrival; });
     const GpCostModel& costs = machine_.gps().front()->costs();
     Tick taken_in = t;
     Tick receiving = 0;
@@ -1033,9 +1084,11 @@ void FrameRun::start_broadcast_phase(const BroadcastPhase& phase, PhaseTiming& t
 void check_picture_fits(const Machine& machine, int width, int height) {
     const FrameBuffer& fb = machine.frame_buffer();
     if (width > fb.width())
-        reject_field("frame_buffer.width", fmt::format("the frame buffer is {} pixels wide, the picture {}", fb.width(), width));
+        reject_field("frame_buffer.width",
+                     fmt::format("the frame buffer is {} pixels wide, the picture {}", fb.width(), width));
     if (height > fb.height())
-        reject_field("frame_buffer.height", fmt::format("the frame buffer is {} pixels high, the picture {}", fb.height(), height));
+        reject_field("frame_buffer.height",
+                     fmt::format("the frame buffer is {} pixels high, the picture {}", fb.height(), height));
 }
 
 void check_gp_memory_fits(const Machine& machine, bool with_cache, std::uint64_t resident_bits,
@@ -1043,16 +1096,18 @@ void check_gp_memory_fits(const Machine& machine, bool with_cache, std::uint64_t
     const std::uint64_t cache_bits = with_cache ? machine.gps().front()->cache_bits() : 0;
     const std::size_t gp_count = machine.gps().size();
     std::vector<std::uint64_t> owned(gp_count, 0);
-    for (std::size_t key = 0; key < resident_bits_by_key.size(); ++key) owned[key % gp_count] += resident_bits_by_key[key];
+    for (std::size_t key = 0; key < resident_bits_by_key.size(); ++key)
+        owned[key % gp_count] += resident_bits_by_key[key];
     for (std::size_t g = 0; g < gp_count; ++g) {
         const auto& gp = machine.gps()[g];
         const std::uint64_t data_bits = resident_bits + owned[g];
         const std::uint64_t need_bytes = (cache_bits + data_bits + 7) / 8;
         if (need_bytes > gp->memory_bytes())
-            reject_field("gp.memory_bytes",
-                         fmt::format("GP {} must hold its {} byte cache and {} bytes of the kernel's data ({} bytes in all), "
-                                     "more than its {} bytes of memory (more GPs, gp.count, would spread the data)",
-                                     g, cache_bits / 8, (data_bits + 7) / 8, need_bytes, gp->memory_bytes()));
+            reject_field(
+                "gp.memory_bytes",
+                fmt::format("GP {} must hold its {} byte cache and {} bytes of the kernel's data ({} bytes in all), "
+                            "more than its {} bytes of memory (more GPs, gp.count, would spread the data)",
+                            g, cache_bits / 8, (data_bits + 7) / 8, need_bytes, gp->memory_bytes()));
     }
 }
 

@@ -3,8 +3,8 @@
 // phase's, with what the timing engine counted along the way. Kernels read their metrics from here
 // (crude and refined times, a phase's rate) whether the frame ran on Pixel-planes 5 or on one processor.
 
-#include "sim/renderer/pp_cost_model.h"
 #include "sim/core/time.h"
+#include "sim/renderer/pp_cost_model.h"
 
 #include <cstdint>
 #include <string>
@@ -28,14 +28,14 @@ struct GpPhaseCounts {
     std::uint64_t items = 0;
     std::uint64_t cache_hits = 0;
     std::uint64_t cache_misses = 0;
-    std::uint64_t fetch_requests = 0;  // messages to renderers
+    std::uint64_t fetch_requests = 0;    // messages to renderers
     std::uint64_t blocks_refreshed = 0;  // asked for again in refresh messages (FrameWork::refresh_gp_caches)
     std::uint64_t context_switches = 0;
     std::uint64_t pixels_sent = 0;
     Tick gp_busy = 0;
-    Tick gp_wait = 0;        // work left, nothing to run (fetches outstanding, or the next group not open)
-    Tick renderer_busy = 0;  // answering fetches
-    std::uint64_t batches_sent = 0;      // primitive batches and pixel blocks to renderers
+    Tick gp_wait = 0;                // work left, nothing to run (fetches outstanding, or the next group not open)
+    Tick renderer_busy = 0;          // answering fetches
+    std::uint64_t batches_sent = 0;  // primitive batches and pixel blocks to renderers
     std::uint64_t batch_bits = 0;
     std::uint64_t primitives_drawn = 0;  // region program runs on the renderers
     std::vector<Tick> renderer_drawing;  // per renderer: time spent on its screen region (writes and draws)
@@ -47,9 +47,9 @@ struct PhaseTiming {
     std::string name;
     Tick start_ps = 0;
     Tick end_ps = 0;
-    std::vector<PpPassTiming> passes;  // PpPhase
-    std::vector<Tick> group_end_ps;    // GpPhase: when each group's last pixels reached the frame buffer
-    GpPhaseCounts gp;                  // GpPhase
+    std::vector<PpPassTiming> passes;    // PpPhase
+    std::vector<Tick> group_end_ps;      // GpPhase: when each group's last pixels reached the frame buffer
+    GpPhaseCounts gp;                    // GpPhase
     std::vector<std::uint32_t> task_gp;  // GpPhase: the GP that ran each task
     Tick duration_ps() const { return end_ps - start_ps; }
 };

@@ -8,10 +8,13 @@ FrameTiming time_frame_on_one_processor(const MachineConfig& config, const Frame
     const std::vector<Tick> cost = gp_op_costs(config, work.op_kinds);
     const auto sum = [&](const std::vector<GpOp>& ops, std::uint32_t first, std::uint32_t count) {
         Tick t = 0;
-        for (std::uint32_t i = first; i < first + count; ++i) t += static_cast<Tick>(ops[i].count) * cost.at(ops[i].kind);
+        for (std::uint32_t i = first; i < first + count; ++i)
+            t += static_cast<Tick>(ops[i].count) * cost.at(ops[i].kind);
         return t;
     };
-    const auto sum_all = [&](const std::vector<GpOp>& ops) { return sum(ops, 0, static_cast<std::uint32_t>(ops.size())); };
+    const auto sum_all = [&](const std::vector<GpOp>& ops) {
+        return sum(ops, 0, static_cast<std::uint32_t>(ops.size()));
+    };
 
     FrameTiming timing;
     Tick t = 0;
@@ -34,7 +37,8 @@ FrameTiming time_frame_on_one_processor(const MachineConfig& config, const Frame
             const GpPhase& gp = std::get<GpPhase>(phase.work);
             std::vector<Tick> group_work(gp.groups, 0);
             for (const GpTask& task : gp.tasks) {
-                Tick w = sum(gp.ops, task.first_op, task.op_count) + sum(gp.ops, task.first_finish_op, task.finish_op_count);
+                Tick w =
+                    sum(gp.ops, task.first_op, task.op_count) + sum(gp.ops, task.first_finish_op, task.finish_op_count);
                 for (std::uint32_t i = task.first_item; i < task.first_item + task.item_count; ++i) {
                     const GpItem& item = gp.items[i];
                     for (std::uint32_t s = item.first_step; s < item.first_step + item.step_count; ++s)

@@ -21,9 +21,9 @@
 // kernel declares too ("gp_cost.<kernel>.*", in flops or cycles); the machine adds its own costs for
 // messages, cache look-ups and context switches.
 
+#include "sim/core/time.h"
 #include "sim/renderer/pp_array.h"
 #include "sim/renderer/pp_program.h"
-#include "sim/core/time.h"
 
 #include <cstdint>
 #include <limits>
@@ -61,7 +61,7 @@ struct PpPassWork {
 struct PpPhase {
     struct Pass {
         PpPassWork work;
-        std::uint64_t command_bits = 0;    // broadcast by the host before the pass (0: none)
+        std::uint64_t command_bits = 0;      // broadcast by the host before the pass (0: none)
         std::vector<GpOp> on_one_processor;  // the same work done by a lone processor (a uniprocessor machine)
     };
     std::vector<Pass> passes;  // each renderer runs them in order, each once its command has arrived
@@ -70,7 +70,7 @@ struct PpPhase {
 struct BroadcastPhase {
     std::vector<std::uint32_t> messages_per_renderer;  // each renderer broadcasts this many
     std::uint64_t bits_per_message = 0;
-    std::vector<GpOp> then_each_gp;                     // what every GP computes once it has them all
+    std::vector<GpOp> then_each_gp;  // what every GP computes once it has them all
 };
 
 // Which renderers hold a block's data, and how many units (voxels, say) each sends back.
@@ -120,14 +120,14 @@ struct ScreenRect {
 };
 
 struct GpTask {
-    std::uint32_t group = 0;     // groups run in order (refinement passes)
-    std::uint32_t key = 0;       // static assignment gives the task to GP key mod G (a tile's number)
-    std::uint32_t first_item = 0, item_count = 0;      // into GpPhase::items
-    std::uint32_t first_op = 0, op_count = 0;          // before its items (deciding what to cast)
+    std::uint32_t group = 0;                       // groups run in order (refinement passes)
+    std::uint32_t key = 0;                         // static assignment gives the task to GP key mod G (a tile's number)
+    std::uint32_t first_item = 0, item_count = 0;  // into GpPhase::items
+    std::uint32_t first_op = 0, op_count = 0;      // before its items (deciding what to cast)
     std::uint32_t first_finish_op = 0, finish_op_count = 0;  // after its last item (filling pixels)
-    std::uint32_t pixels = 0;    // then sent to the frame buffer (0: nothing is sent)
-    std::uint32_t first_batch = 0, batch_count = 0;    // then sent to renderers, in order (GpPhase::batches)
-    ScreenRect screen;           // the tile it casts, if it is one (for a map of which GP cast what)
+    std::uint32_t pixels = 0;                                // then sent to the frame buffer (0: nothing is sent)
+    std::uint32_t first_batch = 0, batch_count = 0;          // then sent to renderers, in order (GpPhase::batches)
+    ScreenRect screen;  // the tile it casts, if it is one (for a map of which GP cast what)
 };
 
 // A message of primitives (or a block of pixels) a GP sends to the renderer that owns part of the screen.
@@ -170,7 +170,7 @@ struct GpPhase {
     // Sort-middle screen work (empty when the GPs send pixels themselves):
     std::vector<PrimitiveBatch> batches;
     std::vector<PpProgram> region_programs;
-    std::vector<RegionWork> regions;  // per renderer
+    std::vector<RegionWork> regions;             // per renderer
     std::vector<GpOp> regions_on_one_processor;  // the renderers' screen work done by a lone processor
 };
 
@@ -191,10 +191,10 @@ struct FrameWork {
     // How many blocks one refresh message asks for: a renderer answers its requests in the order they
     // come, so smaller messages let every GP's first blocks come back early.
     std::uint32_t refresh_blocks_per_message = 16;
-    std::uint64_t gp_resident_bits = 0; // what each GP keeps besides its cache (checked against gp.memory_bytes)
+    std::uint64_t gp_resident_bits = 0;  // what each GP keeps besides its cache (checked against gp.memory_bytes)
     // Data a GP keeps for each task key it owns (static assignment: GP key mod G), on top of the above.
     std::vector<std::uint64_t> resident_bits_by_key;
-    int image_width = 0;                // the picture the frame buffer receives (checked against its size)
+    int image_width = 0;  // the picture the frame buffer receives (checked against its size)
     int image_height = 0;
 };
 

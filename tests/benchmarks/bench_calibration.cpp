@@ -38,7 +38,8 @@ BENCHMARK(BM_Render)->Unit(benchmark::kMillisecond)->Iterations(2);
 
 void BM_RetimePxpl5(benchmark::State& state) {
     const pp5::RecordedScenario& recorded = recording();
-    const pp5::MachineConfig config = pp5::load_run_config("pxpl5", {"calibration.gp_flops_scale=1.7", "calibration.pp_cycles_scale=0.8"});
+    const pp5::MachineConfig config =
+        pp5::load_run_config("pxpl5", {"calibration.gp_flops_scale=1.7", "calibration.pp_cycles_scale=0.8"});
     double refined = 0;
     std::uint64_t events = 0;
     for (auto _ : state) {

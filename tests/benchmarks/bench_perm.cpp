@@ -52,7 +52,9 @@ void BM_Perm(benchmark::State& state) {
     const int size = static_cast<int>(state.range(0));
     const pp5::FrameSpec& f = s.scenario.frames.front();
     const pp5::Camera cam = camera(state.range(1) != 0);
-    for (auto _ : state) benchmark::DoNotOptimize(caster.cast(f.classification, f.colors, f.lighting, cam, {size, size, 1.0f, 0.95f, glm::vec3(0.0f)}));
+    for (auto _ : state)
+        benchmark::DoNotOptimize(
+            caster.cast(f.classification, f.colors, f.lighting, cam, {size, size, 1.0f, 0.95f, glm::vec3(0.0f)}));
     state.SetLabel(state.range(1) ? "perspective" : "parallel");
 }
 BENCHMARK(BM_Perm)->ArgsProduct({{128, 256, 512}, {0, 1}})->Unit(benchmark::kMillisecond);
@@ -66,7 +68,8 @@ void BM_Conventional(benchmark::State& state) {
     pp5::CompositeSettings settings;
     settings.width = settings.height = size;
     for (auto _ : state)
-        benchmark::DoNotOptimize(pp5::render_post_classified(s.volume, s.gradients, f.classification, f.colors, f.lighting, cam, settings));
+        benchmark::DoNotOptimize(
+            pp5::render_post_classified(s.volume, s.gradients, f.classification, f.colors, f.lighting, cam, settings));
     state.SetLabel(state.range(1) ? "perspective" : "parallel");
 }
 BENCHMARK(BM_Conventional)->ArgsProduct({{128, 256, 512}, {0, 1}})->Unit(benchmark::kMillisecond);
@@ -77,7 +80,9 @@ void BM_Build(benchmark::State& state) {
     settings.density_positions = static_cast<int>(state.range(0));
     settings.gradient_positions = static_cast<int>(state.range(1));
     std::uint64_t candidates = 0;
-    for (auto _ : state) candidates = pp5::PermStructure::build(s.volume, s.scenario.frames.front().classification, settings).candidates();
+    for (auto _ : state)
+        candidates =
+            pp5::PermStructure::build(s.volume, s.scenario.frames.front().classification, settings).candidates();
     state.counters["candidates"] = static_cast<double>(candidates);
 }
 BENCHMARK(BM_Build)->Args({5, 3})->Args({3, 3})->Unit(benchmark::kMillisecond)->Iterations(1);

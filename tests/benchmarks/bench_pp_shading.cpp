@@ -9,8 +9,8 @@
 // stationary), on a 192^3 phantom (256^3 fills the backing store at 64 bits a voxel, leaving no room
 // for the kept sum). Argument: levoy.stationary_light_bits (0: every light recomputed at each reshade).
 
-#include "kernels/registry/run_config.h"
 #include "kernels/pp_volume/pp_shading.h"
+#include "kernels/registry/run_config.h"
 #include "kernels/volume/phantoms.h"
 #include "sim/machine/machine.h"
 
@@ -26,7 +26,8 @@ pp5::MachineConfig pxpl5() {
 }
 
 void BM_PpShadingPass256(benchmark::State& state) {
-    const tbb::global_control threads(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(state.range(0)));
+    const tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
+                                      static_cast<std::size_t>(state.range(0)));
     static const pp5::Volume volume = pp5::make_head_phantom(256);
     const pp5::MachineConfig config = pxpl5();
     pp5::Machine machine(config);
@@ -48,7 +49,8 @@ void BM_PpShadingPass256(benchmark::State& state) {
         benchmark::DoNotOptimize(report);
     }
     state.counters["simulated_ms"] = static_cast<double>(report.duration_ps()) * 1e-9;
-    state.counters["classify_ms"] = static_cast<double>(report.classification.end_ps - report.classification.start_ps) * 1e-9;
+    state.counters["classify_ms"] =
+        static_cast<double>(report.classification.end_ps - report.classification.start_ps) * 1e-9;
     state.counters["shade_ms"] = static_cast<double>(report.shading.end_ps - report.shading.start_ps) * 1e-9;
     state.counters["classify_slot_cycles"] = static_cast<double>(report.classification.slot_cost.compute_cycles());
     state.counters["shade_slot_cycles"] = static_cast<double>(report.shading.slot_cost.compute_cycles());

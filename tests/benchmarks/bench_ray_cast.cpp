@@ -8,15 +8,15 @@
 //
 // Argument: host threads.
 
-#include "kernels/registry/run_config.h"
 #include "kernels/levoy/levoy_renderer.h"
 #include "kernels/reference/composite.h"
+#include "kernels/registry/run_config.h"
 #include "kernels/volume/phantoms.h"
 #include "sim/machine/machine.h"
 
 #include <benchmark/benchmark.h>
-#include <glm/trigonometric.hpp>
 #include <tbb/global_control.h>
+#include <glm/trigonometric.hpp>
 
 #include <cmath>
 #include <memory>
@@ -55,7 +55,8 @@ pp5::LevoyFrameInputs frame_inputs(int index) {
 }
 
 void ray_cast(benchmark::State& state, const char* threshold) {
-    const tbb::global_control threads(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(state.range(0)));
+    const tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
+                                      static_cast<std::size_t>(state.range(0)));
     const pp5::MachineConfig config = pxpl5(threshold);
     pp5::Machine machine(config);
     pp5::LevoyRenderer renderer(machine, head(), pp5::LevoySettings::from(config), pp5::LevoyImageSettings{});
@@ -85,12 +86,14 @@ void BM_RayCastFullyRefined256(benchmark::State& state) { ray_cast(state, "-1");
 void BM_RayCastAdaptive256(benchmark::State& state) { ray_cast(state, "0.1"); }
 
 void BM_HostCompositor256(benchmark::State& state) {
-    const tbb::global_control threads(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(state.range(0)));
+    const tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
+                                      static_cast<std::size_t>(state.range(0)));
     const pp5::MachineConfig config = pxpl5("-1");
     pp5::Machine machine(config);
     pp5::LevoyRenderer renderer(machine, head(), pp5::LevoySettings::from(config), pp5::LevoyImageSettings{});
     renderer.render(frame_inputs(0));
-    const pp5::OccupancyGrid grid = pp5::occupancy_from_alpha(renderer.shaded_volume().dims, renderer.shaded_volume().rgba);
+    const pp5::OccupancyGrid grid =
+        pp5::occupancy_from_alpha(renderer.shaded_volume().dims, renderer.shaded_volume().rgba);
     pp5::CompositeSettings settings;
     int frame = 1;
     for (auto _ : state) {

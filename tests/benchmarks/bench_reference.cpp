@@ -10,8 +10,8 @@
 #include "kernels/volume/datasets.h"
 
 #include <benchmark/benchmark.h>
-#include <glm/geometric.hpp>
 #include <tbb/global_control.h>
+#include <glm/geometric.hpp>
 
 #include <exception>
 #include <memory>
@@ -34,9 +34,7 @@ const pp5::Volume* ch2(std::string* why) {
     return volume.get();
 }
 
-pp5::ColorMap skin_to_white() {
-    return pp5::ColorMap{{{20.0f, {0.9f, 0.7f, 0.6f}}, {100.0f, {1.0f, 1.0f, 1.0f}}}};
-}
+pp5::ColorMap skin_to_white() { return pp5::ColorMap{{{20.0f, {0.9f, 0.7f, 0.6f}}, {100.0f, {1.0f, 1.0f, 1.0f}}}}; }
 
 // VTK's comparison: scalar opacity 0 at 20 rising to 1 at 60, held above.
 pp5::Classification opacity_ramp() {

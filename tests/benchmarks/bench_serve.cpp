@@ -16,8 +16,8 @@
 namespace {
 
 pp5::InteractiveView& view() {
-    static const auto made = std::make_unique<pp5::InteractiveView>(pp5::load_scenario(pp5::resolve_scenario_file("mr-head")),
-                                                                   pp5::load_run_config("pxpl5", {}));
+    static const auto made = std::make_unique<pp5::InteractiveView>(
+        pp5::load_scenario(pp5::resolve_scenario_file("mr-head")), pp5::load_run_config("pxpl5", {}));
     return *made;
 }
 

@@ -29,7 +29,8 @@ void BM_Preprocess(benchmark::State& state) {
     std::size_t points = 0;
     for (auto _ : state) points = pp5::HybridVolume::build(volume, settings, true).points().size();
     state.counters["points"] = static_cast<double>(points);
-    state.SetLabel("k = " + std::to_string(state.range(0)) + ", threshold 1/" + std::to_string(static_cast<int>(1 / settings.error_threshold + 0.5)));
+    state.SetLabel("k = " + std::to_string(state.range(0)) + ", threshold 1/" +
+                   std::to_string(static_cast<int>(1 / settings.error_threshold + 0.5)));
 }
 BENCHMARK(BM_Preprocess)->ArgsProduct({{2, 4}, {0, 1, 2, 3, 4}})->Unit(benchmark::kMillisecond)->Iterations(1);
 

@@ -58,6 +58,12 @@ void BM_PointPath(benchmark::State& state) {
     state.counters["splatting_simulated_s"] = splatting;
     state.SetLabel(path + (state.range(0) == 2 ? ", far view (all points)" : ", mixed view"));
 }
-BENCHMARK(BM_PointPath)->Args({2, 0})->Args({2, 1})->Args({1, 0})->Args({1, 1})->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_PointPath)
+    ->Args({2, 0})
+    ->Args({2, 1})
+    ->Args({1, 0})
+    ->Args({1, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 
 }  // namespace

@@ -32,9 +32,11 @@ struct Harness {
 
     Harness() {
         const auto file = pp5::fuzz::scratch_directory() / "http-scenario.toml";
-        std::ofstream(file) << "[scenario]\nname = \"fuzz-http\"\n[dataset]\nphantom = \"sphere\"\nsize = 16\n[image]\nwidth = 16\nheight = 16\n"
-                               "[classification]\nkind = \"piecewise-linear\"\npoints = [{ value = 50.0, opacity = 0.0 }, "
-                               "{ value = 150.0, opacity = 0.8 }]\n";
+        std::ofstream(file)
+            << "[scenario]\nname = \"fuzz-http\"\n[dataset]\nphantom = \"sphere\"\nsize = 16\n[image]\nwidth = "
+               "16\nheight = 16\n"
+               "[classification]\nkind = \"piecewise-linear\"\npoints = [{ value = 50.0, opacity = 0.0 }, "
+               "{ value = 150.0, opacity = 0.8 }]\n";
         view = std::make_unique<pp5::InteractiveView>(pp5::load_scenario(file), pp5::load_run_config("pxpl5", {}));
         pp5::ServeOptions options;
         options.port = 0;

@@ -44,8 +44,7 @@ template <class Load>
 int refused_only_as_input(Load&& load) {
     try {
         load();
-    } catch (const InputError&) {
-    }
+    } catch (const InputError&) {}
     return 0;
 }
 

@@ -25,7 +25,8 @@ void write_plain(const fs::path& path, const Bytes& bytes) {
 
 void write_gzipped(const fs::path& path, const Bytes& bytes) {
     gzFile gz = gzopen(path.c_str(), "wb");
-    if (gz == nullptr || gzwrite(gz, bytes.data(), static_cast<unsigned>(bytes.size())) != static_cast<int>(bytes.size()) ||
+    if (gz == nullptr ||
+        gzwrite(gz, bytes.data(), static_cast<unsigned>(bytes.size())) != static_cast<int>(bytes.size()) ||
         gzclose(gz) != Z_OK)
         throw std::runtime_error("cannot write " + path.string());
 }
@@ -35,7 +36,8 @@ Bytes text(const std::string& s) { return pp5::test::text_bytes(s); }
 template <class T>
 Bytes ramp(int count, T step) {
     std::vector<T> values;
-    for (int i = 0; i < count; ++i) values.push_back(static_cast<T>(static_cast<double>(i) * static_cast<double>(step)));
+    for (int i = 0; i < count; ++i)
+        values.push_back(static_cast<T>(static_cast<double>(i) * static_cast<double>(step)));
     return pp5::test::sample_bytes(values);
 }
 
@@ -54,7 +56,8 @@ void nifti_seeds(const fs::path& dir) {
     i16.pixdim = {1, 0.5f, 0.75f, 2.0f, 1, 1, 1, 1};
     std::vector<std::int16_t> values;
     for (int i = 0; i < 12; ++i) values.push_back(static_cast<std::int16_t>(i * 300 - 1000));
-    write_plain(dir / "int16-big-endian.nii", pp5::test::nifti_bytes(i16, pp5::test::sample_bytes(values, std::endian::big)));
+    write_plain(dir / "int16-big-endian.nii",
+                pp5::test::nifti_bytes(i16, pp5::test::sample_bytes(values, std::endian::big)));
 
     pp5::test::NiftiSpec f32 = u8;
     f32.datatype = 16;
@@ -77,14 +80,15 @@ void inv3_seeds(const fs::path& dir) {
         pp5::test::PlistSpec spec;
         spec.dtype = dtype;
         spec.shape = shape;
-        write_gzipped(dir / (dtype + ".inv3"), pp5::test::tar({{"main.plist", text(pp5::test::plist(spec))}, {"matrix.dat", samples}}));
+        write_gzipped(dir / (dtype + ".inv3"),
+                      pp5::test::tar({{"main.plist", text(pp5::test::plist(spec))}, {"matrix.dat", samples}}));
     }
 }
 
 // The raw harness reads its layout from the first 16 bytes: three int16 dimensions, a type index, a
 // byte-order flag, a uint16 header size and three spacing exponents (64 is 1).
-Bytes raw_input(std::int16_t x, std::int16_t y, std::int16_t z, std::uint8_t type, bool big_endian, std::uint16_t header,
-                const Bytes& file) {
+Bytes raw_input(std::int16_t x, std::int16_t y, std::int16_t z, std::uint8_t type, bool big_endian,
+                std::uint16_t header, const Bytes& file) {
     Bytes out;
     out.reserve(16 + file.size());
     for (const auto d : {x, y, z}) pp5::test::append(out, d);
@@ -107,14 +111,18 @@ void raw_seeds(const fs::path& dir) {
 }
 
 void obj_seeds(const fs::path& dir) {
-    write_plain(dir / "tetrahedron.obj", text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\nf 1 3 4\nf 2 3 4\n"));
-    write_plain(dir / "quad-relative.obj", text("o quad\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvn 0 0 1\nf -4//1 -3//1 -2//1 -1//1\n"));
-    write_plain(dir / "textured.obj", text("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\ng part\nf 1/1 2/2 3/3\n"));
+    write_plain(dir / "tetrahedron.obj",
+                text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\nf 1 3 4\nf 2 3 4\n"));
+    write_plain(dir / "quad-relative.obj",
+                text("o quad\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvn 0 0 1\nf -4//1 -3//1 -2//1 -1//1\n"));
+    write_plain(dir / "textured.obj",
+                text("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\ng part\nf 1/1 2/2 3/3\n"));
 }
 
 // A whole sweep as one shard: two scenarios over two GP counts, one point failed.
 void shard_seeds(const fs::path& dir) {
-    write_plain(dir / "shard-0-of-1.json", text(R"({"sweep": {"name": "seed", "description": "", "scenarios": ["a", "b"],
+    write_plain(dir / "shard-0-of-1.json",
+                text(R"({"sweep": {"name": "seed", "description": "", "scenarios": ["a", "b"],
   "machine": "pxpl5", "set": [], "frames": 1, "axes": [{"key": "gp.count", "values": ["4", "8"]}], "points": [],
   "total_points": 4, "plot_x": "", "plot_metric": "frame_ms", "kernels": {"a": "levoy", "b": "yuan"}},
  "columns": [{"name": "frame_ms", "unit": "ms", "description": "frame time"}, {"name": "hits", "unit": "count", "description": "hits"}],
@@ -132,7 +140,8 @@ void shard_seeds(const fs::path& dir) {
 
 // A run's statistics in the shape `pp5sim render` writes, with a statistic, a histogram and frames.
 void compare_seeds(const fs::path& dir) {
-    write_plain(dir / "stats.json", text(R"({"summary": {"scenario": "s", "kernel": "levoy", "machine": "pxpl5", "frames": 2,
+    write_plain(dir / "stats.json",
+                text(R"({"summary": {"scenario": "s", "kernel": "levoy", "machine": "pxpl5", "frames": 2,
   "simulated_seconds": [0.016, 0.012], "host_seconds": 0.2},
  "components": {"gp[0]": {"busy_time": {"value": 1.5e9, "unit": "ps", "description": "busy"},
    "latency": {"value": {"bounds": [0, 10, 100], "counts": [3, 4], "sum": 250}, "unit": "ns", "description": "latency"}}},
@@ -144,28 +153,38 @@ void compare_seeds(const fs::path& dir) {
 // Requests as a browser sends them, and a few it would not.
 void http_seeds(const fs::path& dir) {
     write_plain(dir / "get-state", text("GET /api/state HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"));
-    write_plain(dir / "get-page", text("GET / HTTP/1.1\r\nHost: localhost\r\nAccept: text/html\r\nConnection: close\r\n\r\n"));
+    write_plain(dir / "get-page",
+                text("GET / HTTP/1.1\r\nHost: localhost\r\nAccept: text/html\r\nConnection: close\r\n\r\n"));
     write_plain(dir / "get-pass", text("GET /api/pass/0.png HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"));
     // A change as the page posts it.
     const auto post_change = [](const std::string& body) {
-        return text("POST /api/change HTTP/1.1\r\nHost: localhost\r\nContent-Type: application/json\r\nContent-Length: " +
-                    std::to_string(body.size()) + "\r\nConnection: close\r\n\r\n" + body);
+        return text(
+            "POST /api/change HTTP/1.1\r\nHost: localhost\r\nContent-Type: application/json\r\nContent-Length: " +
+            std::to_string(body.size()) + "\r\nConnection: close\r\n\r\n" + body);
     };
-    write_plain(dir / "post-change", post_change(R"({"camera": {"azimuth": 30}, "light": {"direction": [0.2, 1.0, 0.3]}})"));
-    write_plain(dir / "post-chunked", text("POST /api/change HTTP/1.1\r\nHost: localhost\r\nContent-Type: application/json\r\n"
-                                           "Transfer-Encoding: chunked\r\nConnection: close\r\n\r\n2\r\n{}\r\n0\r\n\r\n"));
-    write_plain(dir / "delete-state", text("DELETE /api/state HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"));
-    write_plain(dir / "get-timeline", text("GET /api/timeline.json HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"));
-    write_plain(dir / "get-fidelity", text("GET /api/fidelity.json HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"));
+    write_plain(dir / "post-change",
+                post_change(R"({"camera": {"azimuth": 30}, "light": {"direction": [0.2, 1.0, 0.3]}})"));
+    write_plain(dir / "post-chunked",
+                text("POST /api/change HTTP/1.1\r\nHost: localhost\r\nContent-Type: application/json\r\n"
+                     "Transfer-Encoding: chunked\r\nConnection: close\r\n\r\n2\r\n{}\r\n0\r\n\r\n"));
+    write_plain(dir / "delete-state",
+                text("DELETE /api/state HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"));
+    write_plain(dir / "get-timeline",
+                text("GET /api/timeline.json HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"));
+    write_plain(dir / "get-fidelity",
+                text("GET /api/fidelity.json HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"));
     write_plain(dir / "get-tiles", text("GET /api/tiles.png HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"));
-    write_plain(dir / "get-compared", text("GET /api/compare/levoy.png HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"));
-    write_plain(dir / "post-lights", post_change(R"({"light": {"stationary": [{"direction": [-1.0, 0.2, 0.3], "intensity": 0.6}]}})"));
+    write_plain(dir / "get-compared",
+                text("GET /api/compare/levoy.png HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"));
+    write_plain(dir / "post-lights",
+                post_change(R"({"light": {"stationary": [{"direction": [-1.0, 0.2, 0.3], "intensity": 0.6}]}})"));
 }
 
 // Every shipped file of a kind, as it is: the richest valid inputs there are.
 void copy_shipped(const fs::path& from, const fs::path& dir) {
     for (const auto& entry : fs::directory_iterator(from))
-        if (entry.path().extension() == ".toml") fs::copy_file(entry.path(), dir / entry.path().filename(), fs::copy_options::overwrite_existing);
+        if (entry.path().extension() == ".toml")
+            fs::copy_file(entry.path(), dir / entry.path().filename(), fs::copy_options::overwrite_existing);
 }
 
 }  // namespace

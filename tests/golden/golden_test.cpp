@@ -18,22 +18,21 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <stdexcept>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace {
 
 namespace fs = std::filesystem;
-using pp5::Rgb8Picture;
 using pp5::read_rgb8;
+using pp5::Rgb8Picture;
 using pp5::test::read_file;
 using pp5::test::without_host_fields;
 
 const fs::path kSource = pp5::test::source_dir();
 const fs::path kGolden = kSource / "tests/golden/scenarios";
-
 
 void write_file(const fs::path& path, const std::string& text) {
     fs::create_directories(path.parent_path());
@@ -44,7 +43,6 @@ bool refreshing() {
     const char* flag = std::getenv("PP5_GOLDEN_REFRESH");
     return flag != nullptr && std::string(flag) == "1";
 }
-
 
 // FNV-1a over an image's size and decoded 8-bit pixels: the same picture gives the same digest
 // whatever the PNG encoder's choices.
@@ -83,8 +81,8 @@ TEST_P(Golden, StatisticsAndImagesMatchTheRecordedRun) {
     const fs::path out = fs::temp_directory_path() / ("pp5_golden_" + name);
     fs::remove_all(out);
     const char* binary = std::getenv("PP5SIM");
-    const std::string command = std::string(binary != nullptr ? binary : PP5SIM_BINARY) + " render " + name + " --threads 2 --out " + out.string() + " > " +
-                                out.string() + ".log 2>&1";
+    const std::string command = std::string(binary != nullptr ? binary : PP5SIM_BINARY) + " render " + name +
+                                " --threads 2 --out " + out.string() + " > " + out.string() + ".log 2>&1";
     ASSERT_EQ(std::system(command.c_str()), 0) << read_file(out.string() + ".log");
 
     const nlohmann::json stats = without_host_fields(nlohmann::json::parse(read_file(out / "stats.json")));
@@ -99,12 +97,14 @@ TEST_P(Golden, StatisticsAndImagesMatchTheRecordedRun) {
         write_file(golden / "images.json", images.dump(1) + "\n");
         GTEST_SKIP() << "refreshed " << golden;
     }
-    ASSERT_TRUE(fs::exists(golden / "stats.json")) << "no golden files for " << name << "; refresh them (see the file's head)";
+    ASSERT_TRUE(fs::exists(golden / "stats.json"))
+        << "no golden files for " << name << "; refresh them (see the file's head)";
     const nlohmann::json expected_stats = nlohmann::json::parse(read_file(golden / "stats.json"));
     const nlohmann::json expected_images = nlohmann::json::parse(read_file(golden / "images.json"));
     // A JSON patch from the golden to this run names every path that moved.
     const nlohmann::json stats_diff = nlohmann::json::diff(expected_stats, stats);
-    EXPECT_TRUE(stats_diff.empty()) << name << ": stats.json differs from the golden run:\n" << stats_diff.dump(1).substr(0, 6000);
+    EXPECT_TRUE(stats_diff.empty()) << name << ": stats.json differs from the golden run:\n"
+                                    << stats_diff.dump(1).substr(0, 6000);
     const nlohmann::json image_diff = nlohmann::json::diff(expected_images, images);
     EXPECT_TRUE(image_diff.empty()) << name << ": images differ from the golden run:\n" << image_diff.dump(1);
     if (HasFailure()) std::cout << "this run's output is kept in " << out << "\n";
@@ -124,7 +124,8 @@ TEST(GoldenFidelity, EveryLevoyFrameIsWithin35DecibelsOfAnOracleThatOmitsNothing
         for (const nlohmann::json& frame : stats["frames"]) {
             ASSERT_TRUE(frame.contains("fidelity")) << name;
             const nlohmann::json& fidelity = frame["fidelity"];
-            EXPECT_EQ(fidelity["against"].get<std::string>().find("without"), std::string::npos) << name << ": " << fidelity["against"];
+            EXPECT_EQ(fidelity["against"].get<std::string>().find("without"), std::string::npos)
+                << name << ": " << fidelity["against"];
             if (fidelity["psnr_db"].is_number()) {
                 EXPECT_GE(fidelity["psnr_db"].get<double>(), 35.0) << name << " frame " << frame["index"];
             }

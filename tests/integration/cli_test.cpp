@@ -33,7 +33,6 @@ fs::path scratch(const std::string& name) {
     return dir;
 }
 
-
 RunResult run_command(const std::string& command_line, const fs::path& log_dir) {
     const fs::path log = log_dir / "log.txt";
     const std::string command = command_line + " > " + log.string() + " 2>&1";
@@ -41,16 +40,16 @@ RunResult run_command(const std::string& command_line, const fs::path& log_dir) 
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_file(log)};
 }
 
-RunResult run(const std::string& args, const fs::path& log_dir) { return run_command(std::string(PP5SIM_BINARY) + " " + args, log_dir); }
+RunResult run(const std::string& args, const fs::path& log_dir) {
+    return run_command(std::string(PP5SIM_BINARY) + " " + args, log_dir);
+}
 
 // The same with PATH set to `path` alone (pp5sim itself is named by its full path).
 RunResult run_with_path(const fs::path& path, const std::string& args, const fs::path& log_dir) {
     return run_command("env PATH=" + path.string() + " " + std::string(PP5SIM_BINARY) + " " + args, log_dir);
 }
 
-
 std::string scenario(const std::string& name) { return (pp5::test::source_dir() / "traces/scenarios" / name).string(); }
-
 
 // Without a scenario, render runs the shipped default (the MR head, from the mricron-data package);
 // a shipped scenario can also be named without its path.
@@ -150,7 +149,9 @@ TEST(Cli, WithoutTheReferenceTheMachinesResultsAreTheSame) {
 TEST(Cli, RenderReportsRefinementPassesAndWritesATrace) {
     const fs::path dir = scratch("trace");
     const fs::path trace = dir / "trace.json";
-    const RunResult r = run("render " + scenario("head-phantom.toml") + " --out " + (dir / "out").string() + " --trace " + trace.string(), dir);
+    const RunResult r = run(
+        "render " + scenario("head-phantom.toml") + " --out " + (dir / "out").string() + " --trace " + trace.string(),
+        dir);
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const auto stats = nlohmann::json::parse(read_file(dir / "out/stats.json"));
     for (const auto& frame : stats["frames"]) {
@@ -168,7 +169,8 @@ TEST(Cli, RenderReportsRefinementPassesAndWritesATrace) {
     }
     EXPECT_TRUE(stats["frames"][0]["machine"]["pyramid_rebuilt"].get<bool>());
     long fills = 0;
-    for (int g = 0; g < 32; ++g) fills += stats["components"]["gp[" + std::to_string(g) + "].cache"]["fills"]["value"].get<long>();
+    for (int g = 0; g < 32; ++g)
+        fills += stats["components"]["gp[" + std::to_string(g) + "].cache"]["fills"]["value"].get<long>();
     EXPECT_GT(fills, 0);
     const auto events = nlohmann::json::parse(read_file(trace))["traceEvents"];
     std::set<std::string> tracks;
@@ -195,8 +197,8 @@ TEST(Cli, BadTraceWindowIsRejectedBeforeAnyOutput) {
 TEST(Cli, SameResultsAtOneAndTwoThreads) {
     const fs::path dir = scratch("threads");
     for (const char* t : {"1", "2"}) {
-        const RunResult r = run("render " + scenario("head-phantom.toml") + " --threads " + t + " --out " +
-                                    (dir / t).string(), dir);
+        const RunResult r =
+            run("render " + scenario("head-phantom.toml") + " --threads " + t + " --out " + (dir / t).string(), dir);
         ASSERT_EQ(r.exit_code, 0) << r.output;
     }
     for (int i = 0; i < 4; ++i) {
@@ -211,7 +213,8 @@ TEST(Cli, SameResultsAtOneAndTwoThreads) {
 TEST(Cli, OverridesReachTheMachineAndConfig) {
     const fs::path dir = scratch("overrides");
     const RunResult r = run("render " + scenario("sphere.toml") + " --set gp.count=64 --set ring.clock_mhz=40 --out " +
-                                (dir / "out").string(), dir);
+                                (dir / "out").string(),
+                            dir);
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const auto config = nlohmann::json::parse(read_file(dir / "out/config.json"));
     EXPECT_EQ(config["parameters"]["gp.count"]["value"], 64);
@@ -226,11 +229,15 @@ TEST(Cli, TheTimingModelSaysWhichCalibrationIsInForce) {
     RunResult r = run("render " + scenario("sphere.toml") + " --out " + (dir / "plain").string(), dir);
     ASSERT_EQ(r.exit_code, 0) << r.output;
     auto summary = nlohmann::json::parse(read_file(dir / "plain/stats.json"))["summary"];
-    EXPECT_NE(summary["timing_model"].get<std::string>().find("uncalibrated (every calibration scale 1)"), std::string::npos) << summary;
+    EXPECT_NE(summary["timing_model"].get<std::string>().find("uncalibrated (every calibration scale 1)"),
+              std::string::npos)
+        << summary;
     EXPECT_NE(r.output.find("time: PPs "), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("% busy"), std::string::npos) << r.output;
 
-    r = run("render " + scenario("sphere.toml") + " --set calibration.gp_flops_scale=2.5 --out " + (dir / "scaled").string(), dir);
+    r = run("render " + scenario("sphere.toml") + " --set calibration.gp_flops_scale=2.5 --out " +
+                (dir / "scaled").string(),
+            dir);
     ASSERT_EQ(r.exit_code, 0) << r.output;
     summary = nlohmann::json::parse(read_file(dir / "scaled/stats.json"))["summary"];
     const std::string model = summary["timing_model"];
@@ -262,7 +269,8 @@ TEST(Cli, BadScenarioIsRejected) {
     expect_rejected("range", "render " + range.string(), "shading.shininess");
     auto syntax = write(dir, "syntax.toml", "[scenario\n");
     expect_rejected("syntax", "render " + syntax.string(), "syntax.toml");
-    auto phantom = write(dir, "phantom.toml", "[dataset]\nphantom = \"cube\"\n[classification]\ncontours = [{value = 1}]\n");
+    auto phantom =
+        write(dir, "phantom.toml", "[dataset]\nphantom = \"cube\"\n[classification]\ncontours = [{value = 1}]\n");
     expect_rejected("phantom", "render " + phantom.string(), "dataset.phantom");
     expect_rejected("missing", "render /no/such/scenario.toml", "/no/such/scenario.toml");
 }
@@ -274,21 +282,27 @@ TEST(Cli, BadMachineIsRejected) {
                     "ring.channels");
     expect_rejected("machine_key", "render " + scenario("sphere.toml") + " --set gp.cout=2", "gp.cout");
     // A machine too small for the volume: the error says what it would need.
-    expect_rejected("machine_small", "render " + scenario("sphere.toml") + " --set renderer.count=1 --set renderer.backing_store_bits=512",
-                    "renderer.backing_store_bits");
-    expect_rejected("kernel_setting", "render " + scenario("sphere.toml") + " --set voxel_store.placement=diagonal", "voxel_store.placement");
+    expect_rejected(
+        "machine_small",
+        "render " + scenario("sphere.toml") + " --set renderer.count=1 --set renderer.backing_store_bits=512",
+        "renderer.backing_store_bits");
+    expect_rejected("kernel_setting", "render " + scenario("sphere.toml") + " --set voxel_store.placement=diagonal",
+                    "voxel_store.placement");
     // When the scenario gives the volume's size, a machine that cannot hold it is refused before the
     // volume is read: here the raw file does not even exist, and the error is the machine's.
     const fs::path big_dir = scratch("too_big_files");
-    const auto too_big = write(big_dir, "too_big.toml",
-                               "[dataset]\nfile = \"absent.raw\"\nraw = { dims = [2048, 2048, 2048], type = \"uint8\" }\n"
-                               "[classification]\ncontours = [{value = 100}]\n");
+    const auto too_big =
+        write(big_dir, "too_big.toml",
+              "[dataset]\nfile = \"absent.raw\"\nraw = { dims = [2048, 2048, 2048], type = \"uint8\" }\n"
+              "[classification]\ncontours = [{value = 100}]\n");
     expect_rejected("too_big", "render " + too_big.string(), "renderer.backing_store_bits");
     // Placed on 1024 renderers, a 1024^3 volume's pyramid (153 MB a GP) outgrows the GPs' memory.
-    const auto big_pyramid = write(big_dir, "big_pyramid.toml",
-                                   "[dataset]\nfile = \"absent.raw\"\nraw = { dims = [1024, 1024, 1024], type = \"uint8\" }\n"
-                                   "[classification]\ncontours = [{value = 100}]\n");
-    expect_rejected("too_big_pyramid", "render " + big_pyramid.string() + " --set renderer.count=1024", "gp.memory_bytes");
+    const auto big_pyramid =
+        write(big_dir, "big_pyramid.toml",
+              "[dataset]\nfile = \"absent.raw\"\nraw = { dims = [1024, 1024, 1024], type = \"uint8\" }\n"
+              "[classification]\ncontours = [{value = 100}]\n");
+    expect_rejected("too_big_pyramid", "render " + big_pyramid.string() + " --set renderer.count=1024",
+                    "gp.memory_bytes");
     // Yuan's kernel: a negative radius, bands of no depth, a switch out of range, a cut-off too tight.
     const std::string yuan = "render " + scenario("yuan-checker-box.toml");
     expect_rejected("yuan_radius", yuan + " --set yuan.kernel_radius=-1", "yuan.kernel_radius");
@@ -297,25 +311,29 @@ TEST(Cli, BadMachineIsRejected) {
     expect_rejected("yuan_sigma", yuan + " --set yuan.kernel_sigma=2 --set yuan.kernel_radius=2", "yuan.kernel_sigma");
     // And a scenario asking it for what it cannot draw: the volume-of-interest tool.
     const fs::path yuan_dir = scratch("yuan_region_files");
-    const auto with_region = write(yuan_dir, "region.toml",
-                                   "[scenario]\nkernel = \"yuan\"\n[dataset]\nphantom = \"sphere\"\nsize = 24\n[classification]\n"
-                                   "contours = [{value = 100}]\n[region]\nshape = \"box\"\ncenter = [12, 12, 12]\nhalf_size = [4, 4, 4]\n");
+    const auto with_region =
+        write(yuan_dir, "region.toml",
+              "[scenario]\nkernel = \"yuan\"\n[dataset]\nphantom = \"sphere\"\nsize = 24\n[classification]\n"
+              "contours = [{value = 100}]\n[region]\nshape = \"box\"\ncenter = [12, 12, 12]\nhalf_size = [4, 4, 4]\n");
     expect_rejected("yuan_region", "render " + with_region.string(), "region");
     // Stationary lights: refused by the kernels whose GP costs count one light, and, on the levoy
     // kernel, their record field refused by name when only it keeps the volume out of the backing store.
-    const std::string lights = "[dataset]\nphantom = \"sphere\"\nsize = 24\n[classification]\ncontours = [{value = 100}]\n"
-                               "[image]\nresampling = \"interpolate-then-shade\"\n"
-                               "[shading]\nstationary_lights = [{ direction = [1, 0, 0] }]\n";
+    const std::string lights =
+        "[dataset]\nphantom = \"sphere\"\nsize = 24\n[classification]\ncontours = [{value = 100}]\n"
+        "[image]\nresampling = \"interpolate-then-shade\"\n"
+        "[shading]\nstationary_lights = [{ direction = [1, 0, 0] }]\n";
     const auto perm_lights = write(yuan_dir, "perm_lights.toml", "[scenario]\nkernel = \"perm\"\n" + lights);
     expect_rejected("perm_lights", "render " + perm_lights.string(), "shading.stationary_lights");
     std::string wilson_text = "[scenario]\nkernel = \"wilson\"\n" + lights;
-    wilson_text.replace(wilson_text.find("interpolate-then-shade"), std::string("interpolate-then-shade").size(), "shade-then-interpolate");
+    wilson_text.replace(wilson_text.find("interpolate-then-shade"), std::string("interpolate-then-shade").size(),
+                        "shade-then-interpolate");
     const auto wilson_lights = write(yuan_dir, "wilson_lights.toml", wilson_text);
     expect_rejected("wilson_lights", "render " + wilson_lights.string(), "shading.stationary_lights");
-    const auto big_lights = write(big_dir, "big_lights.toml",
-                                  "[dataset]\nfile = \"absent.raw\"\nraw = { dims = [512, 512, 60], type = \"uint8\" }\n"
-                                  "[classification]\ncontours = [{value = 100}]\n"
-                                  "[shading]\nstationary_lights = [{ direction = [1, 0, 0] }]\n");
+    const auto big_lights =
+        write(big_dir, "big_lights.toml",
+              "[dataset]\nfile = \"absent.raw\"\nraw = { dims = [512, 512, 60], type = \"uint8\" }\n"
+              "[classification]\ncontours = [{value = 100}]\n"
+              "[shading]\nstationary_lights = [{ direction = [1, 0, 0] }]\n");
     expect_rejected("too_big_lights", "render " + big_lights.string(), "levoy.stationary_light_bits");
 }
 
@@ -363,7 +381,8 @@ TEST(Cli, ParamsListsEveryParameterWithProvenance) {
 // animated GIF (one image per pass), the map of which GP cast which tile, and the utilisation over time.
 TEST(Cli, RenderWritesLecturePicturesOnRequest) {
     const fs::path dir = scratch("pictures");
-    const RunResult r = run("render " + scenario("head-phantom.toml") + " --pictures --out " + (dir / "out").string(), dir);
+    const RunResult r =
+        run("render " + scenario("head-phantom.toml") + " --pictures --out " + (dir / "out").string(), dir);
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const auto stats = nlohmann::json::parse(read_file(dir / "out/stats.json"));
     const std::size_t passes = stats["frames"][0]["machine"]["passes"].size();
@@ -371,7 +390,8 @@ TEST(Cli, RenderWritesLecturePicturesOnRequest) {
     const std::string gif = read_file(dir / "out/frame_0000_passes.gif");
     EXPECT_EQ(gif.substr(0, 6), "GIF89a");
     std::size_t images = 0;  // each image of an animated GIF has an image descriptor after a graphic control block
-    for (std::size_t at = gif.find("\x21\xF9\x04"); at != std::string::npos; at = gif.find("\x21\xF9\x04", at + 1)) ++images;
+    for (std::size_t at = gif.find("\x21\xF9\x04"); at != std::string::npos; at = gif.find("\x21\xF9\x04", at + 1))
+        ++images;
     EXPECT_EQ(images, passes);
     EXPECT_TRUE(fs::exists(dir / "out/frame_0000_passes_strip.png"));
     EXPECT_TRUE(fs::exists(dir / "out/frame_0000_gp_tiles.png"));
@@ -381,7 +401,8 @@ TEST(Cli, RenderWritesLecturePicturesOnRequest) {
     ASSERT_EQ(plain.exit_code, 0) << plain.output;
     EXPECT_FALSE(fs::exists(dir / "plain/frame_0000_passes.gif"));
     EXPECT_FALSE(fs::exists(dir / "plain/frame_0000_utilisation.png"));
-    EXPECT_EQ(without_host_fields(nlohmann::json::parse(read_file(dir / "plain/stats.json"))), without_host_fields(stats));
+    EXPECT_EQ(without_host_fields(nlohmann::json::parse(read_file(dir / "plain/stats.json"))),
+              without_host_fields(stats));
 }
 
 // Without gnuplot a plot costs only its picture: the run succeeds, says so, and keeps the plot's data
@@ -403,8 +424,8 @@ TEST(Cli, WithoutGnuplotAPlotKeepsItsDataAndScript) {
 // serve refuses what it cannot do before it renders or listens.
 TEST(Cli, ServeRefusesBadOptionsUpFront) {
     const fs::path dir = scratch("serve");
-    for (const char* args : {"serve sphere --port 70000", "serve sphere --image-size 5", "serve sphere --port -1", "serve no-such-scenario",
-                             "serve sphere --host 203.0.113.9 --port 0"}) {
+    for (const char* args : {"serve sphere --port 70000", "serve sphere --image-size 5", "serve sphere --port -1",
+                             "serve no-such-scenario", "serve sphere --host 203.0.113.9 --port 0"}) {
         const RunResult r = run(args, dir);
         EXPECT_EQ(r.exit_code, 2) << args << ": " << r.output;
         EXPECT_NE(r.output.find("error"), std::string::npos) << args << ": " << r.output;
@@ -413,7 +434,8 @@ TEST(Cli, ServeRefusesBadOptionsUpFront) {
 
 TEST(Cli, HelpOnEveryCommand) {
     const fs::path dir = scratch("help");
-    for (const char* command : {"--help", "render --help", "params --help", "volume-info --help", "fit --help", "reproduce --help", "serve --help"}) {
+    for (const char* command : {"--help", "render --help", "params --help", "volume-info --help", "fit --help",
+                                "reproduce --help", "serve --help"}) {
         const RunResult r = run(command, dir);
         EXPECT_EQ(r.exit_code, 0) << command << r.output;
         EXPECT_NE(r.output.find("Usage"), std::string::npos) << command << r.output;
@@ -424,24 +446,31 @@ TEST(Cli, HelpOnEveryCommand) {
 // Sun-like uniprocessor; `reproduce` writes the table, the images and the plots.
 fs::path write_small_calibration(const fs::path& dir, const std::string& extra_row) {
     std::ofstream(dir / "small.toml") << "[gp]\ncount = 4\n[renderer]\ncount = 4\npp_columns = 32\npp_rows = 32\n";
-    std::ofstream(dir / "uni.toml") << "[machine]\nname = \"uni\"\nkind = \"uniprocessor\"\n[gp]\ncount = 1\nsustained_mflops = 2.0\n"
-                                       "[renderer]\ncount = 4\npp_columns = 32\npp_rows = 32\n";
-    std::ofstream(dir / "frames.toml") << "[scenario]\nname = \"frames\"\n[dataset]\nphantom = \"sphere\"\nsize = 40\n"
-                                          "[classification]\nkind = \"piecewise-linear\"\n"
-                                          "points = [{ value = 50.0, opacity = 0.0 }, { value = 150.0, opacity = 0.8 }]\n"
-                                          "[image]\nwidth = 48\nheight = 48\n"
-                                          "[[frames]]\nlabel = \"first\"\n[[frames]]\nlabel = \"orbit\"\ncamera = { azimuth = 15.0 }\n";
-    const auto row = [&](const std::string& id, int frame, const std::string& machine, const std::string& metric, double value,
-                         const std::string& use) {
+    std::ofstream(dir / "uni.toml")
+        << "[machine]\nname = \"uni\"\nkind = \"uniprocessor\"\n[gp]\ncount = 1\nsustained_mflops = 2.0\n"
+           "[renderer]\ncount = 4\npp_columns = 32\npp_rows = 32\n";
+    std::ofstream(dir / "frames.toml")
+        << "[scenario]\nname = \"frames\"\n[dataset]\nphantom = \"sphere\"\nsize = 40\n"
+           "[classification]\nkind = \"piecewise-linear\"\n"
+           "points = [{ value = 50.0, opacity = 0.0 }, { value = 150.0, opacity = 0.8 }]\n"
+           "[image]\nwidth = 48\nheight = 48\n"
+           "[[frames]]\nlabel = \"first\"\n[[frames]]\nlabel = \"orbit\"\ncamera = { azimuth = 15.0 }\n";
+    const auto row = [&](const std::string& id, int frame, const std::string& machine, const std::string& metric,
+                         double value, const std::string& use) {
         return "[[targets]]\nid = \"" + id + "\"\nsource = \"test\"\nscenario = \"" + (dir / "frames.toml").string() +
-               "\"\nframe = " + std::to_string(frame) + "\nmachine = \"" + (dir / machine).string() + "\"\nmetric = \"" + metric +
-               "\"\nreported = " + std::to_string(value) + "\nexactness = \"estimate\"\nuse = \"" + use + "\"\n";
+               "\"\nframe = " + std::to_string(frame) + "\nmachine = \"" + (dir / machine).string() +
+               "\"\nmetric = \"" + metric + "\"\nreported = " + std::to_string(value) +
+               "\nexactness = \"estimate\"\nuse = \"" + use + "\"\n";
     };
     const fs::path targets = dir / "targets.toml";
-    std::ofstream(targets) << "[calibration]\nname = \"small\"\n" << row("a", 0, "small.toml", "crude_seconds", 0.05, "fit")
-                           << row("b", 0, "small.toml", "refined_seconds", 0.2, "fit") << row("c", 1, "small.toml", "refined_seconds", 0.1, "fit")
-                           << row("d", 0, "small.toml", "pp_seconds", 0.01, "fit") << row("e", 1, "small.toml", "crude_seconds", 0.02, "held-out")
-                           << row("f", 1, "uni.toml", "crude_seconds", 0.5, "fit") << row("g", 1, "uni.toml", "refined_seconds", 2.0, "fit")
+    std::ofstream(targets) << "[calibration]\nname = \"small\"\n"
+                           << row("a", 0, "small.toml", "crude_seconds", 0.05, "fit")
+                           << row("b", 0, "small.toml", "refined_seconds", 0.2, "fit")
+                           << row("c", 1, "small.toml", "refined_seconds", 0.1, "fit")
+                           << row("d", 0, "small.toml", "pp_seconds", 0.01, "fit")
+                           << row("e", 1, "small.toml", "crude_seconds", 0.02, "held-out")
+                           << row("f", 1, "uni.toml", "crude_seconds", 0.5, "fit")
+                           << row("g", 1, "uni.toml", "refined_seconds", 2.0, "fit")
                            << row("h", 0, "uni.toml", "crude_seconds", 0.6, "fit") << extra_row;
     return targets;
 }
@@ -449,18 +478,20 @@ fs::path write_small_calibration(const fs::path& dir, const std::string& extra_r
 TEST(Cli, ReproduceWritesTheTableImagesAndPlots) {
     const fs::path dir = scratch("reproduce");
     const fs::path targets = write_small_calibration(dir, "");
-    const RunResult r = run("reproduce --targets " + targets.string() + " --gp-counts 1,4,16 --out " + (dir / "out").string(), dir);
+    const RunResult r =
+        run("reproduce --targets " + targets.string() + " --gp-counts 1,4,16 --out " + (dir / "out").string(), dir);
     ASSERT_EQ(r.exit_code, 0) << r.output;
-    for (const char* file : {"reproduction.md", "reproduction.json", "fit.md", "fit.json", "small-fitted.toml", "uni-fitted.toml",
-                             "reported_vs_simulated_seconds.png", "reported_vs_simulated_seconds.gp", "frame_time_vs_gps.png",
-                             "frame_time_vs_gps.json"})
+    for (const char* file : {"reproduction.md", "reproduction.json", "fit.md", "fit.json", "small-fitted.toml",
+                             "uni-fitted.toml", "reported_vs_simulated_seconds.png", "reported_vs_simulated_seconds.gp",
+                             "frame_time_vs_gps.png", "frame_time_vs_gps.json"})
         EXPECT_TRUE(fs::exists(dir / "out" / file)) << file;
     const auto table = nlohmann::json::parse(read_file(dir / "out/reproduction.json"));
     ASSERT_EQ(table["rows"].size(), 8u);
     for (const auto& row : table["rows"]) {
         EXPECT_GT(row["simulated"].get<double>(), 0.0) << row;
         EXPECT_NEAR(row["relative_error"].get<double>(),
-                    (row["simulated"].get<double>() - row["reported"].get<double>()) / row["reported"].get<double>(), 1e-12);
+                    (row["simulated"].get<double>() - row["reported"].get<double>()) / row["reported"].get<double>(),
+                    1e-12);
         EXPECT_TRUE(row["use"] == "fit" || row["use"] == "held-out") << row;
         EXPECT_TRUE(row["group"] == "fitted" || row["group"] == "predicted") << row;
         EXPECT_GT(row["uncalibrated"].get<double>(), 0.0) << row;  // the documented costs' value beside the fit's
@@ -468,11 +499,15 @@ TEST(Cli, ReproduceWritesTheTableImagesAndPlots) {
         EXPECT_LT(row["uncalibrated_low"].get<double>(), row["uncalibrated"].get<double>()) << row;
         EXPECT_GT(row["uncalibrated_high"].get<double>(), row["uncalibrated"].get<double>()) << row;
     }
-    // The claims checked across the range, on the one multicomputer: re-timed at their worst, never better than as configured.
+    // The claims checked across the range, on the one multicomputer: re-timed at their worst, never better than as
+    // configured.
     ASSERT_EQ(table["conclusions"].size(), 2u) << table["conclusions"];
-    EXPECT_GE(table["conclusions"][0]["at_worst"].get<double>(), table["conclusions"][0]["as_configured"].get<double>());
-    EXPECT_LE(table["conclusions"][1]["at_worst"].get<double>(), table["conclusions"][1]["as_configured"].get<double>());
-    EXPECT_NE(read_file(dir / "out/reproduction.md").find("## What holds across the plausible range"), std::string::npos);
+    EXPECT_GE(table["conclusions"][0]["at_worst"].get<double>(),
+              table["conclusions"][0]["as_configured"].get<double>());
+    EXPECT_LE(table["conclusions"][1]["at_worst"].get<double>(),
+              table["conclusions"][1]["as_configured"].get<double>());
+    EXPECT_NE(read_file(dir / "out/reproduction.md").find("## What holds across the plausible range"),
+              std::string::npos);
     // Errors judged by unit: every row here is in seconds.
     EXPECT_EQ(table["summary"]["by_unit"]["s"]["count"].get<int>(), 8) << table["summary"];
     const auto sweep = nlohmann::json::parse(read_file(dir / "out/frame_time_vs_gps.json"));
@@ -489,13 +524,16 @@ TEST(Cli, OnTheMrHeadSequenceALightChangeThatRefreshesSendsFewerFetchesThanAnOrb
     const fs::path dir = scratch("refresh_sequence");
     const auto requests = [&](const std::string& after_reshade) {
         const fs::path out = dir / after_reshade;
-        const RunResult r = run("render mr-head-sequence --no-reference --set levoy.after_reshade=" + after_reshade + " --out " + out.string(), dir);
+        const RunResult r = run("render mr-head-sequence --no-reference --set levoy.after_reshade=" + after_reshade +
+                                    " --out " + out.string(),
+                                dir);
         EXPECT_EQ(r.exit_code, 0) << r.output;
         const auto stats = nlohmann::json::parse(read_file(out / "stats.json"));
         const auto& frames = stats["frames"];
         EXPECT_EQ(frames[2]["label"], "observer moved again");
         EXPECT_EQ(frames[3]["label"], "light moved");
-        return std::pair{frames[2]["machine"]["voxel_requests"].get<std::uint64_t>(), frames[3]["machine"]["voxel_requests"].get<std::uint64_t>()};
+        return std::pair{frames[2]["machine"]["voxel_requests"].get<std::uint64_t>(),
+                         frames[3]["machine"]["voxel_requests"].get<std::uint64_t>()};
     };
     const auto [orbit, light] = requests("refresh");
     const auto [orbit_dropping, light_dropping] = requests("drop");
@@ -533,9 +571,10 @@ TEST(Cli, RenderRefusesAUniprocessorMachine) {
 
 TEST(Cli, FitRejectsABadTargetFileBeforeAnyOutput) {
     const fs::path dir = scratch("fit_bad");
-    const fs::path targets = write_small_calibration(dir, "[[targets]]\nid = \"z\"\nsource = \"x\"\nscenario = \"nowhere\"\n"
-                                                          "machine = \"pxpl5\"\nmetric = \"crude_seconds\"\nreported = 1.0\n"
-                                                          "exactness = \"estimate\"\nuse = \"fit\"\n");
+    const fs::path targets = write_small_calibration(dir,
+                                                     "[[targets]]\nid = \"z\"\nsource = \"x\"\nscenario = \"nowhere\"\n"
+                                                     "machine = \"pxpl5\"\nmetric = \"crude_seconds\"\nreported = 1.0\n"
+                                                     "exactness = \"estimate\"\nuse = \"fit\"\n");
     const RunResult r = run("fit --targets " + targets.string() + " --out " + (dir / "out").string(), dir);
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find("targets[8].scenario"), std::string::npos) << r.output;
@@ -549,9 +588,14 @@ TEST(Cli, SweepWritesItsTablesAndMpiShardsMergeToTheSameBytes) {
     const RunResult whole = run("sweep phantom-gps --out " + (dir / "whole").string(), dir);
     ASSERT_EQ(whole.exit_code, 0) << whole.output;
     EXPECT_NE(whole.output.find("7 of 7 points"), std::string::npos) << whole.output;
-    for (const char* f : {"sweep.csv", "sweep.json", "sweep_head-phantom.png", "sweep_head-phantom.gp"}) EXPECT_TRUE(fs::exists(dir / "whole" / f)) << f;
+    for (const char* f : {"sweep.csv", "sweep.json", "sweep_head-phantom.png", "sweep_head-phantom.gp"})
+        EXPECT_TRUE(fs::exists(dir / "whole" / f)) << f;
     const std::string csv = read_file(dir / "whole/sweep.csv");
-    EXPECT_EQ(csv.substr(0, csv.find('\n')).find("point,scenario,gp.count,levoy.ray_assignment,ring.clock_mhz,frame,label,status,simulated_seconds [s]"), 0u)
+    EXPECT_EQ(
+        csv.substr(0, csv.find('\n'))
+            .find(
+                "point,scenario,gp.count,levoy.ray_assignment,ring.clock_mhz,frame,label,status,simulated_seconds [s]"),
+        0u)
         << csv.substr(0, 300);
     EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 7 * 2);  // a row per point and frame
 
@@ -560,13 +604,16 @@ TEST(Cli, SweepWritesItsTablesAndMpiShardsMergeToTheSameBytes) {
     EXPECT_NE(bad.output.find("vary.gp.count[1]"), std::string::npos) << bad.output;
     EXPECT_FALSE(fs::exists(dir / "bad"));
 
-    if (std::system("command -v mpirun > /dev/null 2>&1") != 0) GTEST_SKIP() << "mpirun absent: apt-get install openmpi-bin";
+    if (std::system("command -v mpirun > /dev/null 2>&1") != 0)
+        GTEST_SKIP() << "mpirun absent: apt-get install openmpi-bin";
     // Open MPI refuses root without these (CI containers run as root) and two ranks on a small host
     // without --oversubscribe.
-    const std::string mpirun = "env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun --oversubscribe -n 2 ";
+    const std::string mpirun =
+        "env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun --oversubscribe -n 2 ";
     const std::string shards = (dir / "ranks").string();
     const int status = std::system((mpirun + PP5SIM_BINARY + " sweep phantom-gps --threads 1 --out " + shards + " > " +
-                                    (dir / "mpi.txt").string() + " 2>&1").c_str());
+                                    (dir / "mpi.txt").string() + " 2>&1")
+                                       .c_str());
     ASSERT_EQ(status, 0) << read_file(dir / "mpi.txt");
     EXPECT_TRUE(fs::exists(dir / "ranks/shard-0-of-2.json"));
     EXPECT_TRUE(fs::exists(dir / "ranks/shard-1-of-2.json"));
@@ -597,7 +644,9 @@ TEST(Cli, SweepBandsHoldTheirFiguresAndShardsMergeToTheSameBands) {
         }
     EXPECT_EQ(checked, 7u * 2u);
     for (const char* shard : {"0/2", "1/2"}) {
-        const RunResult part = run(std::string("sweep phantom-gps --uncertainty --shard ") + shard + " --out " + (dir / "parts").string(), dir);
+        const RunResult part =
+            run(std::string("sweep phantom-gps --uncertainty --shard ") + shard + " --out " + (dir / "parts").string(),
+                dir);
         ASSERT_EQ(part.exit_code, 0) << part.output;
     }
     const RunResult merged = run("sweep --merge " + (dir / "parts").string(), dir);
@@ -629,10 +678,11 @@ TEST(Cli, DeeplyNestedJsonIsRefusedByCompareAndMerge) {
     const fs::path dir = scratch("deep_json");
     fs::create_directories(dir / "shards");
     std::ofstream(dir / "deep.json") << std::string(50000, '[') << std::string(50000, ']');
-    std::ofstream(dir / "shards/shard-0-of-1.json") << std::string(50000, '{') ;
+    std::ofstream(dir / "shards/shard-0-of-1.json") << std::string(50000, '{');
     const RunResult compare = run("compare " + (dir / "deep.json").string() + " " + (dir / "deep.json").string(), dir);
     EXPECT_EQ(compare.exit_code, 2) << compare.output;
-    EXPECT_NE(compare.output.find("deep.json: compare: nests arrays and objects more than"), std::string::npos) << compare.output;
+    EXPECT_NE(compare.output.find("deep.json: compare: nests arrays and objects more than"), std::string::npos)
+        << compare.output;
     const RunResult merge = run("sweep --merge " + (dir / "shards").string(), dir);
     EXPECT_EQ(merge.exit_code, 2) << merge.output;
     EXPECT_NE(merge.output.find("shard-0-of-1.json: shard: "), std::string::npos) << merge.output;
@@ -643,10 +693,12 @@ TEST(Cli, DeeplyNestedJsonIsRefusedByCompareAndMerge) {
 TEST(Cli, AValueRefusedWhenTheRunStartsNamesTheFileOrOptionThatGaveIt) {
     const fs::path dir = scratch("origins");
     std::ofstream(dir / "odd.toml") << "[perm]\nindex_bytes = 3\n";
-    const RunResult from_file = run("render perm-head-phantom --machine " + (dir / "odd.toml").string() + " --out " + (dir / "a").string(), dir);
+    const RunResult from_file = run(
+        "render perm-head-phantom --machine " + (dir / "odd.toml").string() + " --out " + (dir / "a").string(), dir);
     EXPECT_EQ(from_file.exit_code, 2) << from_file.output;
     EXPECT_NE(from_file.output.find("odd.toml: perm.index_bytes: must be 2"), std::string::npos) << from_file.output;
-    const RunResult from_set = run("render perm-head-phantom --set perm.index_bytes=3 --out " + (dir / "a").string(), dir);
+    const RunResult from_set =
+        run("render perm-head-phantom --set perm.index_bytes=3 --out " + (dir / "a").string(), dir);
     EXPECT_EQ(from_set.exit_code, 2) << from_set.output;
     EXPECT_NE(from_set.output.find("error: --set: perm.index_bytes: must be 2"), std::string::npos) << from_set.output;
     EXPECT_FALSE(fs::exists(dir / "a"));
@@ -664,15 +716,18 @@ TEST(Cli, MemoryChecksUseTheProcessLimitNotOnlyThePhysicalMemory) {
 #endif
 #endif
     const fs::path dir = scratch("memory_limit");
-    std::ofstream(dir / "big.toml") << "[scenario]\nname = \"big\"\n[dataset]\nphantom = \"sphere\"\nsize = 640\n"
-                                       "[classification]\nkind = \"piecewise-linear\"\npoints = [{ value = 50.0, opacity = 0.0 }, "
-                                       "{ value = 150.0, opacity = 0.8 }]\n[image]\nwidth = 64\nheight = 64\n";
-    const RunResult limited = run_command("ulimit -v 1500000; " + std::string(PP5SIM_BINARY) + " render " + (dir / "big.toml").string() +
-                                              " --out " + (dir / "out").string(),
+    std::ofstream(dir / "big.toml")
+        << "[scenario]\nname = \"big\"\n[dataset]\nphantom = \"sphere\"\nsize = 640\n"
+           "[classification]\nkind = \"piecewise-linear\"\npoints = [{ value = 50.0, opacity = 0.0 }, "
+           "{ value = 150.0, opacity = 0.8 }]\n[image]\nwidth = 64\nheight = 64\n";
+    const RunResult limited = run_command("ulimit -v 1500000; " + std::string(PP5SIM_BINARY) + " render " +
+                                              (dir / "big.toml").string() + " --out " + (dir / "out").string(),
                                           dir);
     EXPECT_EQ(limited.exit_code, 2) << limited.output;
-    EXPECT_NE(limited.output.find("big.toml: dataset.size: loading a 640x640x640 volume"), std::string::npos) << limited.output;
-    EXPECT_NE(limited.output.find("this process may use 1.5 GB, set by its address-space limit (ulimit -v)"), std::string::npos)
+    EXPECT_NE(limited.output.find("big.toml: dataset.size: loading a 640x640x640 volume"), std::string::npos)
+        << limited.output;
+    EXPECT_NE(limited.output.find("this process may use 1.5 GB, set by its address-space limit (ulimit -v)"),
+              std::string::npos)
         << limited.output;
     EXPECT_FALSE(fs::exists(dir / "out"));
 }
@@ -684,17 +739,21 @@ TEST(Cli, FloatVolumesAtTheEndsOfTheRangeRenderOnEveryKernel) {
     std::vector<float> samples;
     for (int z = 0; z < 16; ++z)
         for (int y = 0; y < 16; ++y)
-            for (int x = 0; x < 16; ++x) samples.push_back((x * y + z) % 3 == 0 ? 3.4e38f : (x + y) % 3 == 1 ? -3.4e38f : 1.0f);
+            for (int x = 0; x < 16; ++x)
+                samples.push_back((x * y + z) % 3 == 0 ? 3.4e38f : (x + y) % 3 == 1 ? -3.4e38f : 1.0f);
     std::ofstream(dir / "extremes.raw", std::ios::binary)
-        .write(reinterpret_cast<const char*>(samples.data()), static_cast<std::streamsize>(samples.size() * sizeof(float)));
+        .write(reinterpret_cast<const char*>(samples.data()),
+               static_cast<std::streamsize>(samples.size() * sizeof(float)));
     for (const std::string kernel : {"levoy", "yuan", "wilson", "perm"}) {
-        std::ofstream(dir / (kernel + ".toml")) << "[scenario]\nname = \"extremes-" << kernel << "\"\nkernel = \"" << kernel << "\"\n"
-                                                << "[dataset]\nfile = \"extremes.raw\"\n[dataset.raw]\ndims = [16, 16, 16]\ntype = \"float32\"\n"
-                                                << "[classification]\nkind = \"piecewise-linear\"\n"
-                                                << "points = [{ value = 0.0, opacity = 0.0 }, { value = 1e9, opacity = 0.8 }]\n"
-                                                << "[image]\nwidth = 32\nheight = 32\n"
-                                                << (kernel == "perm" ? "resampling = \"interpolate-then-shade\"\n" : "");
-        const RunResult r = run("render " + (dir / (kernel + ".toml")).string() + " --out " + (dir / kernel).string(), dir);
+        std::ofstream(dir / (kernel + ".toml"))
+            << "[scenario]\nname = \"extremes-" << kernel << "\"\nkernel = \"" << kernel << "\"\n"
+            << "[dataset]\nfile = \"extremes.raw\"\n[dataset.raw]\ndims = [16, 16, 16]\ntype = \"float32\"\n"
+            << "[classification]\nkind = \"piecewise-linear\"\n"
+            << "points = [{ value = 0.0, opacity = 0.0 }, { value = 1e9, opacity = 0.8 }]\n"
+            << "[image]\nwidth = 32\nheight = 32\n"
+            << (kernel == "perm" ? "resampling = \"interpolate-then-shade\"\n" : "");
+        const RunResult r =
+            run("render " + (dir / (kernel + ".toml")).string() + " --out " + (dir / kernel).string(), dir);
         EXPECT_EQ(r.exit_code, 0) << kernel << ": " << r.output;
         EXPECT_TRUE(fs::exists(dir / kernel / "stats.json")) << kernel;
     }
@@ -737,9 +796,11 @@ TEST(Cli, CompareShowsWhatChangedAndExitsThreeBeyondTheTolerance) {
     const fs::path dir = scratch("compare");
     ASSERT_EQ(run("render head-phantom --out " + (dir / "a").string(), dir).exit_code, 0);
     ASSERT_EQ(run("render head-phantom --set gp.count=16 --out " + (dir / "b").string(), dir).exit_code, 0);
-    const RunResult differ = run("compare " + (dir / "a").string() + " " + (dir / "b/stats.json").string() + " --tolerance 0.01", dir);
+    const RunResult differ =
+        run("compare " + (dir / "a").string() + " " + (dir / "b/stats.json").string() + " --tolerance 0.01", dir);
     EXPECT_EQ(differ.exit_code, 3) << differ.output;
-    for (const char* changed : {"summary/simulated_seconds/0", "frames/0/simulated_seconds", "components/gp[1]/busy_time", "gone"})
+    for (const char* changed :
+         {"summary/simulated_seconds/0", "frames/0/simulated_seconds", "components/gp[1]/busy_time", "gone"})
         EXPECT_NE(differ.output.find(changed), std::string::npos) << changed << "\n" << differ.output.substr(0, 2000);
     const RunResult same = run("compare " + (dir / "a").string() + " " + (dir / "a").string(), dir);
     EXPECT_EQ(same.exit_code, 0) << same.output;
@@ -792,8 +853,9 @@ TEST(Cli, OutputsAreCheckedFirstWrittenWholeAndNeverMixed) {
     const fs::path dir = scratch("outputs");
     const fs::path file = dir / "a_file";
     std::ofstream(file) << "x";
-    for (const std::string& args : {"--out " + file.string(), "--out " + (file / "sub").string(), std::string("--out /dev/null"),
-                                    "--out " + (dir / "t").string() + " --trace " + (file / "trace.json").string()}) {
+    for (const std::string& args :
+         {"--out " + file.string(), "--out " + (file / "sub").string(), std::string("--out /dev/null"),
+          "--out " + (dir / "t").string() + " --trace " + (file / "trace.json").string()}) {
         const RunResult r = run("render sphere " + args, dir);
         EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
         EXPECT_EQ(r.output.find("internal error"), std::string::npos) << r.output;
@@ -804,7 +866,8 @@ TEST(Cli, OutputsAreCheckedFirstWrittenWholeAndNeverMixed) {
     const fs::path out = dir / "run";
     ASSERT_EQ(run("render head-phantom --out " + out.string(), dir).exit_code, 0);
     EXPECT_TRUE(fs::exists(out / "frame_0003.png"));
-    ASSERT_EQ(run("render sphere --out " + out.string() + " --trace " + (dir / "trace.json").string(), dir).exit_code, 0);
+    ASSERT_EQ(run("render sphere --out " + out.string() + " --trace " + (dir / "trace.json").string(), dir).exit_code,
+              0);
     EXPECT_TRUE(fs::exists(out / "frame_0000.png"));
     EXPECT_FALSE(fs::exists(out / "frame_0003.png")) << "the last run's frames were left beside this one's";
     EXPECT_TRUE(fs::exists(dir / "trace.json"));
@@ -815,7 +878,8 @@ TEST(Cli, OutputsAreCheckedFirstWrittenWholeAndNeverMixed) {
     const RunResult r = run("render sphere --out " + blocked.string(), dir);
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find("is a folder where pp5sim would write a file"), std::string::npos) << r.output;
-    for (const auto& entry : fs::directory_iterator(blocked)) EXPECT_EQ(entry.path().filename(), "stats.json") << entry.path();
+    for (const auto& entry : fs::directory_iterator(blocked))
+        EXPECT_EQ(entry.path().filename(), "stats.json") << entry.path();
 
     const fs::path escape = dir / "escape.toml";
     std::string text = read_file(scenario("sphere.toml"));
@@ -832,7 +896,8 @@ TEST(Cli, AVolumeOneVoxelThinIsRefusedAsInput) {
     const fs::path dir = scratch("thin");
     std::ofstream(dir / "thin.raw", std::ios::binary) << std::string(64, '\x40');
     std::ofstream(dir / "thin.toml") << "[dataset]\nfile = \"thin.raw\"\nraw = { dims = [1, 8, 8], type = \"uint8\" }\n"
-                                        "[classification]\nkind = \"isovalue-contours\"\ncontours = [{ value = 50.0, opacity = 0.9, thickness = 1.5 }]\n";
+                                        "[classification]\nkind = \"isovalue-contours\"\ncontours = [{ value = 50.0, "
+                                        "opacity = 0.9, thickness = 1.5 }]\n";
     const RunResult r = run("render " + (dir / "thin.toml").string() + " --out " + (dir / "out").string(), dir);
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find("at least two voxels along each axis"), std::string::npos) << r.output;
@@ -847,7 +912,8 @@ TEST(Cli, FitRefusesATargetFileWithNothingToFit) {
     EXPECT_EQ(fit.exit_code, 2) << fit.output;
     EXPECT_NE(fit.output.find("nothing to fit"), std::string::npos) << fit.output;
     EXPECT_FALSE(fs::exists(dir / "fit"));
-    const RunResult reproduce = run("reproduce --targets lim-shin --no-host-check --out " + (dir / "rep").string(), dir);
+    const RunResult reproduce =
+        run("reproduce --targets lim-shin --no-host-check --out " + (dir / "rep").string(), dir);
     EXPECT_EQ(reproduce.exit_code, 0) << reproduce.output;
     EXPECT_NE(reproduce.output.find("uncalibrated"), std::string::npos) << reproduce.output;
 }
@@ -860,7 +926,8 @@ TEST(Cli, ScenariosListsWhatCanBeRunByName) {
     ASSERT_EQ(r.exit_code, 0) << r.output;
     for (const auto& entry : fs::directory_iterator(pp5::test::source_dir() / "traces/scenarios"))
         EXPECT_NE(r.output.find("  " + entry.path().stem().string() + " "), std::string::npos) << entry.path();
-    for (const char* listed : {"perm       ", "gp-ring-cache", "ch2 ", "ct-head ", "installed"}) EXPECT_NE(r.output.find(listed), std::string::npos) << listed;
+    for (const char* listed : {"perm       ", "gp-ring-cache", "ch2 ", "ct-head ", "installed"})
+        EXPECT_NE(r.output.find(listed), std::string::npos) << listed;
     EXPECT_EQ(r.output.find("cannot be read"), std::string::npos) << r.output;
 }
 

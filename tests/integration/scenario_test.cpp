@@ -4,8 +4,8 @@
 #include "sim/core/input_error.h"
 #include "tests/support/source_dir.h"
 
-#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
+#include <glm/geometric.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -46,7 +46,7 @@ TEST(Scenario, FramesPatchThePreviousFrame) {
     EXPECT_FLOAT_EQ(s.frames[1].camera.azimuth_degrees, 30.0f);
     EXPECT_FLOAT_EQ(s.frames[2].camera.azimuth_degrees, 30.0f);  // kept from the frame before
     EXPECT_FALSE(s.frames[2].lighting.light_follows_camera);
-    EXPECT_FALSE(s.frames[3].lighting.light_follows_camera);      // kept
+    EXPECT_FALSE(s.frames[3].lighting.light_follows_camera);  // kept
     EXPECT_EQ(s.frames[2].classification.contours.size(), 2u);
     EXPECT_EQ(s.frames[3].classification.contours.size(), 1u);
     EXPECT_TRUE(s.frames[1].camera_changed);
@@ -90,31 +90,43 @@ void expect_bad(const std::string& name, const std::string& text, const std::str
 TEST(Scenario, MalformedFilesNameTheField) {
     const std::string ok = "[dataset]\nphantom = \"sphere\"\n[classification]\ncontours = [{ value = 100 }]\n";
     expect_bad("no_dataset", "[classification]\ncontours = [{ value = 1 }]\n", "dataset");
-    expect_bad("two_sources", "[dataset]\nphantom = \"sphere\"\npackaged = \"ch2\"\n[classification]\ncontours = [{ value = 1 }]\n", "dataset");
-    expect_bad("unknown_package", "[dataset]\npackaged = \"nope\"\n[classification]\ncontours = [{ value = 1 }]\n", "dataset.packaged");
+    expect_bad("two_sources",
+               "[dataset]\nphantom = \"sphere\"\npackaged = \"ch2\"\n[classification]\ncontours = [{ value = 1 }]\n",
+               "dataset");
+    expect_bad("unknown_package", "[dataset]\npackaged = \"nope\"\n[classification]\ncontours = [{ value = 1 }]\n",
+               "dataset.packaged");
     expect_bad("unknown_key", ok + "[image]\nwidht = 3\n", "image.widht");
     expect_bad("zero_width", ok + "[image]\nwidth = 0\n", "image.width");
     expect_bad("nan_step", ok + "[image]\nsample_step = nan\n", "image.sample_step");
     expect_bad("bad_projection", ok + "[camera]\nprojection = \"fisheye\"\n", "camera.projection");
     expect_bad("up_parallel", ok + "[camera]\nview_from = [0, 0, 1]\n", "camera.up");
-    expect_bad("opacity_range", "[dataset]\nphantom = \"sphere\"\n[classification]\ncontours = [{ value = 1, opacity = 2 }]\n",
+    expect_bad("opacity_range",
+               "[dataset]\nphantom = \"sphere\"\n[classification]\ncontours = [{ value = 1, opacity = 2 }]\n",
                "classification.contours[0].opacity");
-    expect_bad("unsorted_points", "[dataset]\nphantom = \"sphere\"\n[classification]\nkind = \"piecewise-linear\"\n"
-               "points = [{ value = 5, opacity = 0 }, { value = 1, opacity = 1 }]\n", "classification.points[1].value");
-    expect_bad("few_points", "[dataset]\nphantom = \"sphere\"\n[classification]\nkind = \"region-boundaries\"\n"
-               "points = [{ value = 5, opacity = 0 }]\n", "classification.points");
+    expect_bad("unsorted_points",
+               "[dataset]\nphantom = \"sphere\"\n[classification]\nkind = \"piecewise-linear\"\n"
+               "points = [{ value = 5, opacity = 0 }, { value = 1, opacity = 1 }]\n",
+               "classification.points[1].value");
+    expect_bad("few_points",
+               "[dataset]\nphantom = \"sphere\"\n[classification]\nkind = \"region-boundaries\"\n"
+               "points = [{ value = 5, opacity = 0 }]\n",
+               "classification.points");
     expect_bad("bad_frame_key", ok + "[[frames]]\ncamera = { azimuth = 3, spin = 1 }\n", "frames[0].camera.spin");
-    expect_bad("raw_without_type", "[dataset]\nfile = \"x.raw\"\nraw = { dims = [2, 2, 2] }\n[classification]\ncontours = [{ value = 1 }]\n",
-               "dataset.raw.type");
+    expect_bad(
+        "raw_without_type",
+        "[dataset]\nfile = \"x.raw\"\nraw = { dims = [2, 2, 2] }\n[classification]\ncontours = [{ value = 1 }]\n",
+        "dataset.raw.type");
     expect_bad("depth_cue", ok + "[shading]\ndepth_cue = [0, 1]\n", "shading.depth_cue");
     expect_bad("stationary_no_direction", ok + "[shading]\nstationary_lights = [{ intensity = 0.5 }]\n",
                "shading.stationary_lights[0].direction");
-    expect_bad("stationary_zero", ok + "[shading]\nstationary_lights = [{ direction = [1, 0, 0] }, { direction = [0, 0, 0] }]\n",
+    expect_bad("stationary_zero",
+               ok + "[shading]\nstationary_lights = [{ direction = [1, 0, 0] }, { direction = [0, 0, 0] }]\n",
                "shading.stationary_lights[1].direction");
     expect_bad("stationary_dark", ok + "[shading]\nstationary_lights = [{ direction = [1, 0, 0], intensity = -1 }]\n",
                "shading.stationary_lights[0].intensity");
     std::string nine = "stationary_lights = [";
-    for (int i = 0; i < 9; ++i) nine += std::string(i == 0 ? "" : ", ") + "{ direction = [1, " + std::to_string(i) + ", 0] }";
+    for (int i = 0; i < 9; ++i)
+        nine += std::string(i == 0 ? "" : ", ") + "{ direction = [1, " + std::to_string(i) + ", 0] }";
     expect_bad("stationary_many", ok + "[shading]\n" + nine + "]\n", "shading.stationary_lights");
 }
 
@@ -153,9 +165,11 @@ TEST(Scenario, GeometryAndRegionAreRead) {
 
 TEST(Scenario, BadGeometryNamesTheFieldOrFile) {
     const std::string ok = "[dataset]\nphantom = \"sphere\"\n[classification]\ncontours = [{ value = 100 }]\n";
-    expect_bad("nan_vertex", ok + "[[polygons]]\nvertices = [[0, 0, 0], [1, nan, 0], [0, 1, 0]]\n", "polygons[0].vertices");
+    expect_bad("nan_vertex", ok + "[[polygons]]\nvertices = [[0, 0, 0], [1, nan, 0], [0, 1, 0]]\n",
+               "polygons[0].vertices");
     expect_bad("two_vertices", ok + "[[polygons]]\nvertices = [[0, 0, 0], [1, 0, 0]]\n", "polygons[0].vertices");
-    expect_bad("bad_colour", ok + "[[polygons]]\nvertices = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]\ncolor = [2, 0, 0]\n", "polygons[0].color");
+    expect_bad("bad_colour", ok + "[[polygons]]\nvertices = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]\ncolor = [2, 0, 0]\n",
+               "polygons[0].color");
     expect_bad("missing_obj", ok + "[[meshes]]\nfile = \"no-such-mesh.obj\"\n", "meshes[0].file");
     const fs::path empty = fs::temp_directory_path() / "pp5_empty_mesh.obj";
     std::ofstream(empty) << "# nothing here\nv 0 0 0\n";
@@ -169,10 +183,12 @@ TEST(Scenario, BadGeometryNamesTheFieldOrFile) {
     fs::remove(loop);
     fs::create_symlink(loop, loop);
     expect_bad("looping_mesh", ok + "[[meshes]]\nfile = \"" + loop.string() + "\"\n", "meshes[0].file");
-    expect_bad("far_vertex", ok + "[[polygons]]\nvertices = [[0, 0, 0], [1e30, 0, 0], [0, 1, 0]]\n", "polygons[0].vertices");
+    expect_bad("far_vertex", ok + "[[polygons]]\nvertices = [[0, 0, 0], [1e30, 0, 0], [0, 1, 0]]\n",
+               "polygons[0].vertices");
     expect_bad("bad_region", ok + "[region]\nhalf_size = [0, 1, 1]\n", "region.half_size");
     expect_bad("bad_region_shape", ok + "[region]\nshape = \"torus\"\n", "region.shape");
-    expect_bad("hairline_ramp", ok + "[region]\ntransition = 1e-30\n", "region.transition");  // its slope would not fit the PPs
+    expect_bad("hairline_ramp", ok + "[region]\ntransition = 1e-30\n",
+               "region.transition");  // its slope would not fit the PPs
     expect_bad("capped_ellipsoid", ok + "[region]\nshape = \"ellipsoid\"\ncap = true\n", "region.cap");
     expect_bad("capped_hard_edge", ok + "[region]\ntransition = 0\ncap = true\n", "region.cap");
     expect_bad("dot_dot_name", "[scenario]\nname = \"..\"\n" + ok, "scenario.name");

@@ -17,8 +17,8 @@ class TempDir {
 public:
     TempDir() {
         const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        std::string leaf = std::string("pp5_test_") + info->test_suite_name() + "_" + info->name() + "_" +
-                           std::to_string(::getpid());
+        std::string leaf =
+            std::string("pp5_test_") + info->test_suite_name() + "_" + info->name() + "_" + std::to_string(::getpid());
         for (char& c : leaf) {
             if (c == '/') c = '_';
         }

@@ -1,8 +1,8 @@
 #pragma once
 // GoogleTest expectations on GLM vectors.
 
-#include <glm/vec3.hpp>
 #include <gtest/gtest.h>
+#include <glm/vec3.hpp>
 
 namespace pp5::test {
 

@@ -87,10 +87,10 @@ inline Bytes den_bytes(glm::ivec3 dims, const Bytes& samples, std::endian order 
     Bytes out;
     append(out, version, order);
     const auto d = [](int v) { return static_cast<std::int16_t>(v); };
-    for (int group = 0; group < 3; ++group) {  // orig, extr, map
-        for (int i = 0; i < 3; ++i) append(out, d(0), order);                // min
-        for (int i = 0; i < 3; ++i) append(out, d(dims[i] - 1), order);      // max
-        for (int i = 0; i < 3; ++i) append(out, d(dims[i]), order);          // len
+    for (int group = 0; group < 3; ++group) {                            // orig, extr, map
+        for (int i = 0; i < 3; ++i) append(out, d(0), order);            // min
+        for (int i = 0; i < 3; ++i) append(out, d(dims[i] - 1), order);  // max
+        for (int i = 0; i < 3; ++i) append(out, d(dims[i]), order);      // len
     }
     append(out, d(0), order);  // map_warps
     append(out, static_cast<std::int32_t>(dims.x * dims.y * dims.z), order);
@@ -133,7 +133,7 @@ inline Bytes tar(const Members& members) {
         char* header = reinterpret_cast<char*>(out.data() + at);
         const std::string path = "tmpq3x9zk/" + name;
         std::memcpy(header, path.data(), path.size());
-        std::snprintf(header + 100, 8, "%07o", 0644u);                                   // mode
+        std::snprintf(header + 100, 8, "%07o", 0644u);                                 // mode
         std::snprintf(header + 124, 12, "%011o", static_cast<unsigned>(data.size()));  // size
         header[156] = '0';                                                             // regular file
         std::memcpy(header + 257, "ustar", 6);
@@ -161,9 +161,10 @@ inline std::string plist(const PlistSpec& s = {}) {
     if (s.dtype) matrix += "\t\t<key>dtype</key>\n\t\t<string>" + *s.dtype + "</string>\n";
     if (s.filename) matrix += "\t\t<key>filename</key>\n\t\t<string>" + *s.filename + "</string>\n";
     if (s.shape) matrix += "\t\t<key>shape</key>\n\t\t<array>\n" + *s.shape + "\n\t\t</array>\n";
-    std::string xml = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<plist version=\"1.0\">\n<dict>\n"
-                      "\t<key>masks</key>\n\t<dict>\n\t\t<key>0</key>\n"
-                      "\t\t<string>mask_0.plist</string>\n\t</dict>\n";
+    std::string xml =
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<plist version=\"1.0\">\n<dict>\n"
+        "\t<key>masks</key>\n\t<dict>\n\t\t<key>0</key>\n"
+        "\t\t<string>mask_0.plist</string>\n\t</dict>\n";
     if (s.matrix_dict) xml += "\t<key>matrix</key>\n\t<dict>\n" + matrix + "\t</dict>\n";
     xml += "\t<key>modality</key>\n\t<string>CT</string>\n";
     if (s.spacing) xml += "\t<key>spacing</key>\n\t<array>\n" + *s.spacing + "\n\t</array>\n";

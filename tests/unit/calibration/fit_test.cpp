@@ -6,14 +6,14 @@
 #include "calibration/targets.h"
 #include "calibration/timing_model.h"
 #include "calibration_support.h"
-#include "tests/support/run_files.h"
 #include "kernels/registry/run_config.h"
 #include "sim/core/input_error.h"
+#include "tests/support/run_files.h"
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <array>
@@ -32,7 +32,7 @@ TargetSet synthetic_targets(const test::CalibrationFiles& files, const Calibrati
     TargetSet set;
     set.file = files.dir / "synthetic.toml";
     set.name = "synthetic";
-    set.targets = {make_target(files, "first-crude", 0, "crude_seconds"),     // the pyramid build: GP cycles
+    set.targets = {make_target(files, "first-crude", 0, "crude_seconds"),  // the pyramid build: GP cycles
                    make_target(files, "first-refined", 0, "refined_seconds"),
                    make_target(files, "orbit-crude", 1, "crude_seconds"),
                    make_target(files, "orbit-refined", 1, "refined_seconds"),  // rays: mostly GP flops
@@ -100,8 +100,10 @@ TEST(Fit, RecoversTheScalesItsTargetsWereMadeWith) {
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j <= i; ++j) {
             double sum = c[static_cast<std::size_t>(3 * i + j)];
-            for (int k = 0; k < j; ++k) sum -= l[static_cast<std::size_t>(3 * i + k)] * l[static_cast<std::size_t>(3 * j + k)];
-            l[static_cast<std::size_t>(3 * i + j)] = i == j ? std::sqrt(sum) : sum / l[static_cast<std::size_t>(3 * j + j)];
+            for (int k = 0; k < j; ++k)
+                sum -= l[static_cast<std::size_t>(3 * i + k)] * l[static_cast<std::size_t>(3 * j + k)];
+            l[static_cast<std::size_t>(3 * i + j)] =
+                i == j ? std::sqrt(sum) : sum / l[static_cast<std::size_t>(3 * j + j)];
         }
     std::mt19937 random(7);
     std::normal_distribution<double> normal;
@@ -117,7 +119,8 @@ TEST(Fit, RecoversTheScalesItsTargetsWereMadeWith) {
         double* const members[] = {&s.gp_flops, &s.gp_cycles, &s.pp_cycles};
         for (int i = 0; i < 3; ++i) {
             double shift = 0;
-            for (int k = 0; k <= i; ++k) shift += l[static_cast<std::size_t>(3 * i + k)] * z[static_cast<std::size_t>(k)];
+            for (int k = 0; k <= i; ++k)
+                shift += l[static_cast<std::size_t>(3 * i + k)] * z[static_cast<std::size_t>(k)];
             *members[i] *= std::exp(shift);
         }
         logs.push_back(std::log(model.simulate(files.machine.string(), s, {target}).front()));
@@ -132,9 +135,11 @@ TEST(Fit, RecoversTheScalesItsTargetsWereMadeWith) {
     // that says what it was fitted to and how well.
     const std::string text = fitted_machine_file(model, report, files.machine.string());
     const std::string stem = files.machine.stem().string();
-    EXPECT_EQ(text.rfind("# " + stem + "-fitted: the " + stem + " machine with its calibration.* scales fitted", 0), 0u) << text;
+    EXPECT_EQ(text.rfind("# " + stem + "-fitted: the " + stem + " machine with its calibration.* scales fitted", 0), 0u)
+        << text;
     EXPECT_NE(text.find(set.file.string()), std::string::npos) << text;
-    EXPECT_NE(text.find("Targets within 10%: 7 of 7 fitted, 0 of 0 workload rows, 1 of 1 predicted"), std::string::npos) << text;
+    EXPECT_NE(text.find("Targets within 10%: 7 of 7 fitted, 0 of 0 workload rows, 1 of 1 predicted"), std::string::npos)
+        << text;
     const std::filesystem::path fitted_file = files.dir / "tiny-fitted.toml";
     std::ofstream(fitted_file) << text;
     const MachineConfig reloaded = load_run_config(fitted_file.string(), {});
@@ -178,9 +183,9 @@ TEST(Fit, FreesFewerScalesThanHalfItsTargets) {
         }
     }
     EXPECT_EQ(free, 1);
-    const bool any_held_for_parsimony = std::any_of(report.parameters.begin(), report.parameters.end(), [](const FittedParameter& p) {
-        return p.note.find("allow at most 1 free scale") != std::string::npos;
-    });
+    const bool any_held_for_parsimony = std::any_of(
+        report.parameters.begin(), report.parameters.end(),
+        [](const FittedParameter& p) { return p.note.find("allow at most 1 free scale") != std::string::npos; });
     EXPECT_TRUE(any_held_for_parsimony);
 }
 
@@ -209,7 +214,8 @@ TEST(Fit, AScaleHeldAtItsMachinesBoundIsReportedAsAFinding) {
 TEST(Fit, AnEmptyRangeForAScaleIsRefusedNamingTheField) {
     const test::CalibrationFiles files = test::write_calibration_files("empty_range");
     TargetSet set = synthetic_targets(files, CalibrationScales{});
-    std::ofstream(files.machine, std::ios::app) << "\n[calibration]\ngp_flops_scale_min = 3.0\ngp_flops_scale_max = 2.0\n";
+    std::ofstream(files.machine, std::ios::app)
+        << "\n[calibration]\ngp_flops_scale_min = 3.0\ngp_flops_scale_max = 2.0\n";
     const CalibrationModel model(set, load_run_config(files.machine.string(), {}));
     try {
         (void)fit_targets(model, FitOptions{});
@@ -226,7 +232,8 @@ TEST(Fit, NeedsMoreFittedTargetsThanFreeScales) {
     TargetSet set;
     set.file = files.dir / "few.toml";
     set.name = "few";
-    set.targets = {make_target(files, "orbit-refined", 1, "refined_seconds"), make_target(files, "first-pp", 0, "pp_seconds")};
+    set.targets = {make_target(files, "orbit-refined", 1, "refined_seconds"),
+                   make_target(files, "first-pp", 0, "pp_seconds")};
     const CalibrationModel model(set, load_run_config(files.machine.string(), {}));
     try {
         (void)fit_targets(model, FitOptions{});
@@ -238,7 +245,8 @@ TEST(Fit, NeedsMoreFittedTargetsThanFreeScales) {
 }
 
 // A target file with one row, `field` replaced by `value` (a TOML value, or nothing to drop it).
-std::filesystem::path target_file(const test::CalibrationFiles& files, const std::string& field, const std::string& value) {
+std::filesystem::path target_file(const test::CalibrationFiles& files, const std::string& field,
+                                  const std::string& value) {
     std::map<std::string, std::string> row{{"id", "\"a\""},
                                            {"source", "\"test\""},
                                            {"scenario", "\"" + files.scenario.string() + "\""},
@@ -294,7 +302,8 @@ TEST(Targets, ARatioRowIsOneFramesMetricOverAnothers) {
     EXPECT_EQ(ratio.unit, "ratio");
     TargetSet set;
     set.file = files.dir / "ratio.toml";
-    set.targets = {make_target(files, "orbit-crude", 1, "crude_seconds"), make_target(files, "first-crude", 0, "crude_seconds"), ratio};
+    set.targets = {make_target(files, "orbit-crude", 1, "crude_seconds"),
+                   make_target(files, "first-crude", 0, "crude_seconds"), ratio};
     const CalibrationModel model(set, load_run_config(files.machine.string(), {}));
     const std::vector<const Target*> rows{&set.targets[0], &set.targets[1], &set.targets[2]};
     const std::vector<double> values = model.simulate(files.machine.string(), CalibrationScales{}, rows);
@@ -311,7 +320,8 @@ TEST(Targets, FiguresShowFramesTheTargetsRecord) {
         std::ofstream(out) << pp5::test::read_file(path) << "\n[[figures]]\n" << figure;
         return out;
     };
-    const TargetSet good = load_targets(with_figure("name = \"crude\"\nscenario = \"" + files.scenario.string() + "\"\nframe = 1\npicture = \"first\"\n"));
+    const TargetSet good = load_targets(with_figure("name = \"crude\"\nscenario = \"" + files.scenario.string() +
+                                                    "\"\nframe = 1\npicture = \"first\"\n"));
     ASSERT_EQ(good.figures.size(), 1u);
     EXPECT_EQ(good.figures[0].name, "crude");
     EXPECT_FALSE(good.figures[0].final);
@@ -323,14 +333,17 @@ TEST(Targets, FiguresShowFramesTheTargetsRecord) {
             EXPECT_EQ(e.field(), field) << e.what();
         }
     };
-    expect_error("name = \"late\"\nscenario = \"" + files.scenario.string() + "\"\nframe = 3\n", "figures[0].frame");  // it has frames 0 to 2
+    expect_error("name = \"late\"\nscenario = \"" + files.scenario.string() + "\"\nframe = 3\n",
+                 "figures[0].frame");  // it has frames 0 to 2
     expect_error("name = \"late\"\nscenario = \"no-such-scenario\"\n", "figures[0].scenario");
     // A frame no target times is recorded for its picture.
-    const TargetSet pictured = load_targets(with_figure("name = \"late\"\nscenario = \"" + files.scenario.string() + "\"\nframe = 2\n"));
+    const TargetSet pictured =
+        load_targets(with_figure("name = \"late\"\nscenario = \"" + files.scenario.string() + "\"\nframe = 2\n"));
     const CalibrationModel model(pictured);
     EXPECT_EQ(model.recording(files.scenario.string()).frames().size(), 3u);
     expect_error("name = \"../up\"\nscenario = \"" + files.scenario.string() + "\"\n", "figures[0].name");
-    expect_error("name = \"x\"\nscenario = \"" + files.scenario.string() + "\"\npicture = \"middle\"\n", "figures[0].picture");
+    expect_error("name = \"x\"\nscenario = \"" + files.scenario.string() + "\"\npicture = \"middle\"\n",
+                 "figures[0].picture");
     expect_error("name = \"x\"\nscenario = \"" + files.scenario.string() + "\"\ncolour = 1\n", "figures[0].colour");
 }
 
@@ -351,23 +364,27 @@ TEST(Targets, TheShippedLevoyFileLoads) {
     EXPECT_EQ(sun, 3);  // Levoy's three Sun 4/280 measurements
     // Which rows the predicted totals count: the Pixel-planes 5 estimates the fit never sees.
     EXPECT_EQ(rows_with_use(set, TargetUse::Predict),
-              (std::vector<std::string>{"region-crude", "region-refined", "classification-crude", "classification-refined", "set-change-crude"}));
+              (std::vector<std::string>{"region-crude", "region-refined", "classification-crude",
+                                        "classification-refined", "set-change-crude"}));
     // The Sun rows are fitted, after the workload step has matched their ratios.
     for (const WorkloadSpec& w : set.workload)
-        for (const std::string& id : {w.numerator, w.denominator}) EXPECT_EQ(set.find(id)->machine, "sun4-280") << w.key;
+        for (const std::string& id : {w.numerator, w.denominator})
+            EXPECT_EQ(set.find(id)->machine, "sun4-280") << w.key;
 }
 
 TEST(Targets, FormulaRowsAreAKernelsFigureFromItsInputs) {
-    const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("pp5_formula_rows_" + std::to_string(::getpid()));
+    const std::filesystem::path dir =
+        std::filesystem::temp_directory_path() / ("pp5_formula_rows_" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
     const auto file_with = [&](const std::string& row) {
         const std::filesystem::path path = dir / "formula.toml";
         std::ofstream(path) << "[[targets]]\nid = \"argon\"\nsource = \"Wilson et al. 2002\"\n" << row;
         return path;
     };
-    const std::string good = "kernel = \"wilson\"\nformula = \"storage_megabytes\"\n"
-                             "inputs = { low_resolution = [256, 256, 256], points = 361000, error_grid = [512, 512, 512] }\n"
-                             "reported = 37.0\nexactness = \"estimate\"\nuse = \"check\"\n";
+    const std::string good =
+        "kernel = \"wilson\"\nformula = \"storage_megabytes\"\n"
+        "inputs = { low_resolution = [256, 256, 256], points = 361000, error_grid = [512, 512, 512] }\n"
+        "reported = 37.0\nexactness = \"estimate\"\nuse = \"check\"\n";
     const TargetSet set = load_targets(file_with(good));
     ASSERT_TRUE(set.targets.at(0).is_formula());
     EXPECT_EQ(set.targets[0].unit, "MB");
@@ -398,9 +415,10 @@ TEST(Targets, FormulaRowsAreAKernelsFigureFromItsInputs) {
     // Each input has its declared length, checked for every kernel's formulas alike.
     expect_error(replace(good, "[256, 256, 256]", "[256, 256]"), "targets[0].inputs.low_resolution");
     expect_error(replace(good, "points = 361000", "points = [361000, 5]"), "targets[0].inputs.points");
-    const std::string perm_row = "kernel = \"perm\"\nformula = \"memory_megabytes\"\n"
-                                 "inputs = { dims = [256, 256, 113], candidates = 900000, density_positions = 8, gradient_positions = 8, "
-                                 "index_bytes = 2, density_bytes = 1 }\nreported = 6.0\nexactness = \"estimate\"\nuse = \"check\"\n";
+    const std::string perm_row =
+        "kernel = \"perm\"\nformula = \"memory_megabytes\"\n"
+        "inputs = { dims = [256, 256, 113], candidates = 900000, density_positions = 8, gradient_positions = 8, "
+        "index_bytes = 2, density_bytes = 1 }\nreported = 6.0\nexactness = \"estimate\"\nuse = \"check\"\n";
     EXPECT_NO_THROW(load_targets(file_with(perm_row)));
     expect_error(replace(perm_row, "candidates = 900000", "candidates = [900000, 1]"), "targets[0].inputs.candidates");
     expect_error(good + "scenario = \"mr-head\"\n", "targets[0].scenario");
@@ -423,7 +441,8 @@ TEST(Targets, TheShippedLimShinFileLoadsAndMatchesBothTables) {
     const FitReport report = evaluate_targets(model, {});
     ASSERT_EQ(report.results.size(), 10u);
     // Tables 1 and 2 print whole megabytes: every row rounds to what is printed.
-    for (const TargetResult& r : report.results) EXPECT_EQ(std::lround(r.simulated), std::lround(r.target.reported)) << r.target.id;
+    for (const TargetResult& r : report.results)
+        EXPECT_EQ(std::lround(r.simulated), std::lround(r.target.reported)) << r.target.id;
 }
 
 TEST(Targets, TheShippedYuanFileLoads) {
@@ -435,9 +454,11 @@ TEST(Targets, TheShippedYuanFileLoads) {
     }
     // The view distance of the mixed view was chosen to give the paper's splat fraction; the Pixel-planes 5
     // rows are the paper's P4 ratios beside another machine's. Neither is a prediction.
-    EXPECT_EQ(rows_with_use(set, TargetUse::ByConstruction), (std::vector<std::string>{"checker-mixed-splat-fraction"}));
+    EXPECT_EQ(rows_with_use(set, TargetUse::ByConstruction),
+              (std::vector<std::string>{"checker-mixed-splat-fraction"}));
     EXPECT_EQ(rows_with_use(set, TargetUse::Comparison),
-              (std::vector<std::string>{"checker-splat-point-ratio-pxpl5", "checker-mixed-point-ratio-pxpl5", "skull-splat-point-ratio-pxpl5"}));
+              (std::vector<std::string>{"checker-splat-point-ratio-pxpl5", "checker-mixed-point-ratio-pxpl5",
+                                        "skull-splat-point-ratio-pxpl5"}));
     EXPECT_EQ(rows_with_use(set, TargetUse::Predict).size(), 9u);
     EXPECT_GE(ratios, 4);
     EXPECT_EQ(set.figures.size(), 3u);

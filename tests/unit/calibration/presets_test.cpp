@@ -29,7 +29,8 @@ TEST(Presets, Pxpl5RestatesEveryMachineDefault) {
         for (const ParamGroup* group : kernel->param_groups())
             if (!group->prefix().starts_with("gp_cost")) run_settings.push_back(group->prefix() + ".");
     const auto is_run_setting = [&](const std::string& key) {
-        return std::any_of(run_settings.begin(), run_settings.end(), [&](const std::string& p) { return key.starts_with(p); });
+        return std::any_of(run_settings.begin(), run_settings.end(),
+                           [&](const std::string& p) { return key.starts_with(p); });
     };
     std::size_t checked = 0;
     for (const auto& [key, entry] : defaults.items()) {

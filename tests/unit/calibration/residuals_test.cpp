@@ -2,8 +2,8 @@
 // parameter moved gives, the what-if it proposes really reconciles the row when the machine is re-timed
 // with it, and only rows more than 10% off are explained.
 
-#include "calibration/fit.h"
 #include "calibration/residuals.h"
+#include "calibration/fit.h"
 #include "calibration/sensitivity.h"
 #include "calibration/timing_model.h"
 #include "calibration_support.h"
@@ -32,7 +32,8 @@ struct Rows {
         set.name = "residuals";
         set.targets = {crude_row(files, "slow", 1), crude_row(files, "exact", 2)};
         model = std::make_unique<CalibrationModel>(set);
-        const std::vector<double> v = model->simulate(files.machine.string(), CalibrationScales{}, {&model->targets().targets[0], &model->targets().targets[1]});
+        const std::vector<double> v = model->simulate(files.machine.string(), CalibrationScales{},
+                                                      {&model->targets().targets[0], &model->targets().targets[1]});
         set.targets[0].reported = 1.3 * v[0];
         set.targets[1].reported = v[1];
         model = std::make_unique<CalibrationModel>(set);
@@ -42,11 +43,14 @@ struct Rows {
 
 TEST(Sensitivity, ElasticitiesAreWhatRetimingGives) {
     const Rows rows;
-    const MachineSensitivity s = measure_sensitivity(*rows.model, rows.files.machine.string(), CalibrationScales{}, rows.pointers());
+    const MachineSensitivity s =
+        measure_sensitivity(*rows.model, rows.files.machine.string(), CalibrationScales{}, rows.pointers());
     ASSERT_FALSE(s.parameters.empty());
-    EXPECT_TRUE(std::none_of(s.parameters.begin(), s.parameters.end(), [](const ParameterElasticity& p) { return p.key.starts_with("calibration."); }));
+    EXPECT_TRUE(std::none_of(s.parameters.begin(), s.parameters.end(),
+                             [](const ParameterElasticity& p) { return p.key.starts_with("calibration."); }));
     // The sustained GP rate: the crude pass is mostly GP work, so a faster GP shortens it.
-    const auto gp = std::find_if(s.parameters.begin(), s.parameters.end(), [](const ParameterElasticity& p) { return p.key == "gp.sustained_mflops"; });
+    const auto gp = std::find_if(s.parameters.begin(), s.parameters.end(),
+                                 [](const ParameterElasticity& p) { return p.key == "gp.sustained_mflops"; });
     ASSERT_NE(gp, s.parameters.end());
     EXPECT_LT(gp->elasticity[0], -0.1);
     // Checked against a re-timing of our own at 20% more.
@@ -65,7 +69,8 @@ TEST(Residuals, TheWhatIfReconcilesTheRowWhenRetimed) {
     EXPECT_EQ(a.id, "slow");
     EXPECT_NEAR(a.needed_factor, 1.3, 1e-9);
     ASSERT_FALSE(a.phases.empty());
-    EXPECT_TRUE(std::any_of(a.phases.begin(), a.phases.end(), [](const PhaseAccount& p) { return p.name == "ray_casting" && p.seconds > 0; }));
+    EXPECT_TRUE(std::any_of(a.phases.begin(), a.phases.end(),
+                            [](const PhaseAccount& p) { return p.name == "ray_casting" && p.seconds > 0; }));
     ASSERT_EQ(a.against.size(), 1u);  // the other frame timed by the same measure
     EXPECT_EQ(a.against[0].other, "exact");
     ASSERT_TRUE(a.what_if.has_value());

@@ -20,9 +20,10 @@ TEST(TimingModel, RetimingEqualsRenderingOnTheRetimedMachine) {
     const RecordedScenario recording(scenario, recorded_on, 3);
 
     // Every kind of timing parameter changes: GP count, costs, ring, cache, renderer clock, scales.
-    const MachineConfig other = load_run_config(files.machine.string(),
-                                                {"gp.count=3", "gp_cost.levoy.sample_step_flops=9", "ring.clock_mhz=10", "gp.cache_bits=200000",
-                                                 "renderer.clock_mhz=33", "calibration.gp_cycles_scale=1.7", "calibration.pp_cycles_scale=0.6"});
+    const MachineConfig other =
+        load_run_config(files.machine.string(), {"gp.count=3", "gp_cost.levoy.sample_step_flops=9", "ring.clock_mhz=10",
+                                                 "gp.cache_bits=200000", "renderer.clock_mhz=33",
+                                                 "calibration.gp_cycles_scale=1.7", "calibration.pp_cycles_scale=0.6"});
     const std::vector<FrameTiming> retimed = recording.time_on(other);
     ASSERT_EQ(retimed.size(), 3u);
 
@@ -31,9 +32,13 @@ TEST(TimingModel, RetimingEqualsRenderingOnTheRetimedMachine) {
     LevoyRenderer workstation(machine, volume, LevoySettings::from(other), levoy_image_settings(scenario.image));
     for (std::size_t i = 0; i < 3; ++i) {
         const LevoyFrameReport report = workstation.render(levoy_frame_inputs(scenario.frames[i], volume));
-        EXPECT_EQ(recording.metric("crude_seconds", i, retimed[i]), ticks_to_seconds(report.passes.front().end_ps)) << "frame " << i;
-        EXPECT_EQ(recording.metric("refined_seconds", i, retimed[i]), ticks_to_seconds(report.duration_ps())) << "frame " << i;
-        EXPECT_EQ(recording.metric("pp_seconds", i, retimed[i]), ticks_to_seconds(report.pixel_processors.duration_ps())) << "frame " << i;
+        EXPECT_EQ(recording.metric("crude_seconds", i, retimed[i]), ticks_to_seconds(report.passes.front().end_ps))
+            << "frame " << i;
+        EXPECT_EQ(recording.metric("refined_seconds", i, retimed[i]), ticks_to_seconds(report.duration_ps()))
+            << "frame " << i;
+        EXPECT_EQ(recording.metric("pp_seconds", i, retimed[i]),
+                  ticks_to_seconds(report.pixel_processors.duration_ps()))
+            << "frame " << i;
     }
     // And the changes did change the times, or the comparison would prove little.
     EXPECT_NE(retimed[0].duration_ps(), recording.time_on(recorded_on)[0].duration_ps());

@@ -2,8 +2,8 @@
 // the band of a figure whose response is known is the one the rectangular distributions give, and
 // on a real recording the linearised band holds the figures of machines drawn from the ranges.
 
-#include "calibration/timing_model.h"
 #include "calibration/uncertainty.h"
+#include "calibration/timing_model.h"
 #include "calibration_support.h"
 #include "kernels/registry/registry.h"
 #include "kernels/registry/run_config.h"
@@ -24,7 +24,8 @@ TEST(Uncertainty, EveryTimingGuessHasAPlausibleRangeWithAReason) {
         for (const ParamSpec& spec : group->specs()) {
             const std::string key = group->prefix() + "." + spec.name;
             if (spec.type != ParamType::Integer && spec.type != ParamType::Real) continue;
-            if (!is_timing_parameter(key) || key.starts_with("calibration.") || spec.provenance != Provenance::Default) continue;
+            if (!is_timing_parameter(key) || key.starts_with("calibration.") || spec.provenance != Provenance::Default)
+                continue;
             ++guesses;
             ASSERT_TRUE(spec.plausible.has_value()) << key << " is a guess without a plausible range";
             EXPECT_FALSE(spec.plausible->why.empty()) << key;
@@ -37,7 +38,8 @@ TEST(Uncertainty, ARangeDeclaredAroundTheDefaultMovesWithAnotherMachinesValue) {
     MachineConfig config(run_param_groups());
     config.set("gp_cost.cache_lookup_cycles", 30.0, "test");  // the default is 10, plausibly 5 to 20
     const std::vector<UncertainParameter> found = uncertain_parameters(config, {find_kernel("levoy")});
-    const auto lookup = std::find_if(found.begin(), found.end(), [](const auto& p) { return p.key == "gp_cost.cache_lookup_cycles"; });
+    const auto lookup =
+        std::find_if(found.begin(), found.end(), [](const auto& p) { return p.key == "gp_cost.cache_lookup_cycles"; });
     ASSERT_NE(lookup, found.end());
     EXPECT_DOUBLE_EQ(lookup->low, 15.0);
     EXPECT_DOUBLE_EQ(lookup->high, 60.0);
@@ -91,12 +93,14 @@ TEST(Uncertainty, APerOperationCostIsReTimedAtItsFarEndOnly) {
         if (p.key == "gp_cost.cache_lookup_cycles") guesses.push_back(p);
     ASSERT_EQ(guesses.size(), 1u);
     EXPECT_TRUE(guesses[0].per_operation);
-    const FigureEvaluator figure = [](const MachineConfig& c) { return std::vector<double>{100.0 + 10.0 * c.real("gp_cost.cache_lookup_cycles")}; };
+    const FigureEvaluator figure = [](const MachineConfig& c) {
+        return std::vector<double>{100.0 + 10.0 * c.real("gp_cost.cache_lookup_cycles")};
+    };
     const UncertaintyTable table = measure_uncertainty(config, guesses, figure);
     EXPECT_EQ(table.retimings, 2u);
     EXPECT_EQ(table.drawn_ends, 1u);
     ASSERT_EQ(table.parameters.size(), 1u);
-    EXPECT_NEAR(table.response[0][0].at_low, std::log(150.0 / 200.0), 1e-12);  // at 5 cycles
+    EXPECT_NEAR(table.response[0][0].at_low, std::log(150.0 / 200.0), 1e-12);   // at 5 cycles
     EXPECT_NEAR(table.response[0][0].at_high, std::log(300.0 / 200.0), 1e-12);  // at 20, re-timed
 }
 
@@ -122,7 +126,8 @@ TEST(Uncertainty, TheBandHoldsTheFramesOfMachinesDrawnFromTheRanges) {
         MachineConfig c = machine;
         for (const UncertainParameter& p : guesses) {
             const double u = unit(random);
-            double x = p.logarithmic ? std::exp(std::log(p.low) + u * (std::log(p.high) - std::log(p.low))) : p.low + u * (p.high - p.low);
+            double x = p.logarithmic ? std::exp(std::log(p.low) + u * (std::log(p.high) - std::log(p.low)))
+                                     : p.low + u * (p.high - p.low);
             if (p.integer) c.set(p.key, static_cast<std::int64_t>(std::llround(x)), "draw");
             else c.set(p.key, x, "draw");
         }
@@ -134,7 +139,8 @@ TEST(Uncertainty, TheBandHoldsTheFramesOfMachinesDrawnFromTheRanges) {
         const Band whole = extremes(table, f);
         EXPECT_LT(b.low, table.base[f]);
         EXPECT_GT(b.high, table.base[f]);
-        const auto inside = std::count_if(drawn[f].begin(), drawn[f].end(), [&](double s) { return s >= b.low && s <= b.high; });
+        const auto inside =
+            std::count_if(drawn[f].begin(), drawn[f].end(), [&](double s) { return s >= b.low && s <= b.high; });
         // 95% nominal: at least 40 of 48 draws, allowing for the linearisation and the draw.
         EXPECT_GE(inside, 40) << "frame " << f << ": band [" << b.low << ", " << b.high << "]";
         // And the band is no wider than it needs to be: the draws reach well into it on both sides.

@@ -2,10 +2,10 @@
 // ratio its rows were made with, keeps a bound it cannot get past (and says so), sets the value on every
 // machine the model records and times with, and refuses [[workload]] rows that could bias the fit.
 
+#include "calibration/workload.h"
 #include "calibration/fit.h"
 #include "calibration/targets.h"
 #include "calibration/timing_model.h"
-#include "calibration/workload.h"
 #include "calibration_support.h"
 #include "kernels/registry/run_config.h"
 #include "sim/core/input_error.h"
@@ -31,8 +31,9 @@ TargetSet refinement_rows(const test::CalibrationFiles& files, double threshold)
     set.name = "workload";
     set.targets = {row(files, "refinement", "refinement_seconds"), row(files, "crude", "crude_seconds")};
     const CalibrationModel generator(set, std::nullopt, {{"levoy.refinement_threshold", threshold, false}});
-    const std::vector<double> v = generator.simulate(files.machine.string(), CalibrationScales{},
-                                                     {&generator.targets().targets[0], &generator.targets().targets[1]});
+    const std::vector<double> v =
+        generator.simulate(files.machine.string(), CalibrationScales{},
+                           {&generator.targets().targets[0], &generator.targets().targets[1]});
     set.targets[0].reported = v[0];
     set.targets[1].reported = v[1];
     set.workload.push_back({"levoy.refinement_threshold", 0.0, 0.4, false, "refinement", "crude", "synthetic"});
@@ -56,7 +57,8 @@ TEST(Workload, FindsTheValueWhoseRatioTheRowsWereMadeWith) {
     // The model then records and times with it on every machine.
     const CalibrationModel model(set, std::nullopt, workload_settings(found));
     EXPECT_DOUBLE_EQ(model.base_config(files.machine.string()).real("levoy.refinement_threshold"), w.value);
-    const std::vector<double> v = model.simulate(files.machine.string(), CalibrationScales{}, {&model.targets().targets[0], &model.targets().targets[1]});
+    const std::vector<double> v = model.simulate(files.machine.string(), CalibrationScales{},
+                                                 {&model.targets().targets[0], &model.targets().targets[1]});
     EXPECT_NEAR(v[0] / v[1], w.simulated_ratio, 1e-9 * w.simulated_ratio);
 }
 
@@ -94,7 +96,8 @@ TEST(Workload, LeaveOneOutIdentifiesTheWorkloadAgainWithoutTheRow) {
     {
         const CalibrationModel generator(TargetSet{set.file, set.name, {}, {third}, {}, {}}, std::nullopt,
                                          {{"levoy.refinement_threshold", 0.03, false}});
-        third.reported = generator.simulate(files.machine.string(), CalibrationScales{}, {&generator.targets().targets[0]}).front();
+        third.reported =
+            generator.simulate(files.machine.string(), CalibrationScales{}, {&generator.targets().targets[0]}).front();
     }
     set.targets.push_back(third);
     const std::vector<IdentifiedWorkload> found = identify_workload(set, {});
@@ -107,29 +110,33 @@ TEST(Workload, LeaveOneOutIdentifiesTheWorkloadAgainWithoutTheRow) {
     EXPECT_EQ(report.freedom[0].workload_parameters, 1);
     EXPECT_EQ(report.freedom[0].degrees_of_freedom(), 3 - report.freedom[0].free_scales - 1);
     for (const TargetResult& r : report.results) {
-        EXPECT_EQ(report.group_of(r.target), r.target.id == "still" ? RowGroup::Fitted : RowGroup::Workload) << r.target.id;
+        EXPECT_EQ(report.group_of(r.target), r.target.id == "still" ? RowGroup::Fitted : RowGroup::Workload)
+            << r.target.id;
         ASSERT_TRUE(r.leave_one_out.has_value()) << r.target.id << ": " << r.leave_one_out_note;
         if (r.target.id == "still") {
             EXPECT_EQ(r.leave_one_out_note.find("workload"), std::string::npos) << r.leave_one_out_note;
             continue;
         }
-        EXPECT_NE(r.leave_one_out_note.find("levoy.refinement_threshold at the machine file's value"), std::string::npos)
+        EXPECT_NE(r.leave_one_out_note.find("levoy.refinement_threshold at the machine file's value"),
+                  std::string::npos)
             << r.target.id << ": " << r.leave_one_out_note;
     }
     // Without its ratio the threshold is the file's 0.1, which refines far less than the 0.03 the rows
     // were made with: the refinement row's honest prediction misses it.
-    const auto refinement = std::find_if(report.results.begin(), report.results.end(), [](const TargetResult& r) { return r.target.id == "refinement"; });
+    const auto refinement = std::find_if(report.results.begin(), report.results.end(),
+                                         [](const TargetResult& r) { return r.target.id == "refinement"; });
     EXPECT_LT(*refinement->leave_one_out_error, -0.1) << *refinement->leave_one_out;
 }
 
 std::filesystem::path workload_file(const test::CalibrationFiles& files, const std::string& workload) {
     const std::filesystem::path path = files.dir / "targets-workload.toml";
     std::ofstream out(path);
-    for (const auto& [id, exactness, machine] : {std::tuple{"a", "measured", files.machine.string()}, std::tuple{"b", "measured", files.machine.string()},
-                                                 std::tuple{"c", "estimate", files.machine.string()}, std::tuple{"d", "measured", std::string("pxpl5")}}) {
+    for (const auto& [id, exactness, machine] :
+         {std::tuple{"a", "measured", files.machine.string()}, std::tuple{"b", "measured", files.machine.string()},
+          std::tuple{"c", "estimate", files.machine.string()}, std::tuple{"d", "measured", std::string("pxpl5")}}) {
         out << "[[targets]]\nid = \"" << id << "\"\nsource = \"test\"\nscenario = \"" << files.scenario.string()
-            << "\"\nframe = 1\nmachine = \"" << machine << "\"\nmetric = \"crude_seconds\"\nreported = 0.1\nexactness = \"" << exactness
-            << "\"\nuse = \"fit\"\n\n";
+            << "\"\nframe = 1\nmachine = \"" << machine
+            << "\"\nmetric = \"crude_seconds\"\nreported = 0.1\nexactness = \"" << exactness << "\"\nuse = \"fit\"\n\n";
     }
     out << "[[workload]]\n" << workload;
     return path;
@@ -137,7 +144,8 @@ std::filesystem::path workload_file(const test::CalibrationFiles& files, const s
 
 TEST(Workload, RowsThatCouldBiasTheFitAreRefused) {
     const test::CalibrationFiles files = test::write_calibration_files("workload_bad");
-    const std::string good = "parameter = \"levoy.refinement_threshold\"\nbounds = [0.0, 0.5]\nratio_of = [\"a\", \"b\"]\nwhy = \"test\"\n";
+    const std::string good =
+        "parameter = \"levoy.refinement_threshold\"\nbounds = [0.0, 0.5]\nratio_of = [\"a\", \"b\"]\nwhy = \"test\"\n";
     EXPECT_EQ(load_targets(workload_file(files, good)).workload.size(), 1u);
     const auto expect_error = [&](const std::string& text, const std::string& field, const std::string& reason) {
         const std::filesystem::path path = workload_file(files, text);
@@ -155,7 +163,8 @@ TEST(Workload, RowsThatCouldBiasTheFitAreRefused) {
         text.replace(text.find(from), from.size(), to);
         return text;
     };
-    expect_error(with("levoy.refinement_threshold", "levoy.no_such_thing"), "parameter", "not a machine or kernel parameter");
+    expect_error(with("levoy.refinement_threshold", "levoy.no_such_thing"), "parameter",
+                 "not a machine or kernel parameter");
     expect_error(with("levoy.refinement_threshold", "calibration.gp_flops_scale"), "parameter", "only changes timing");
     expect_error(with("levoy.refinement_threshold", "levoy.ray_assignment"), "parameter", "not a number");
     expect_error(with("[0.0, 0.5]", "[0.5, 0.0]"), "bounds", "lower < upper");
@@ -165,7 +174,8 @@ TEST(Workload, RowsThatCouldBiasTheFitAreRefused) {
     expect_error(with("[\"a\", \"b\"]", "[\"a\", \"zz\"]"), "ratio_of", "no target has the id");
     expect_error(with("[\"a\", \"b\"]", "[\"a\", \"a\"]"), "ratio_of", "two different targets");
     expect_error(good + "step = 2\n", "step", "unknown field");
-    expect_error(with("parameter = \"levoy.refinement_threshold\"\nbounds = [0.0, 0.5]", "parameter = \"levoy.jitter_samples\"\nbounds = [1.5, 4]"),
+    expect_error(with("parameter = \"levoy.refinement_threshold\"\nbounds = [0.0, 0.5]",
+                      "parameter = \"levoy.jitter_samples\"\nbounds = [1.5, 4]"),
                  "bounds", "whole numbers");
 }
 

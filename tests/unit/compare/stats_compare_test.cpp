@@ -13,8 +13,12 @@ namespace {
 
 nlohmann::json run(double busy, double frame_seconds, int gps, double host) {
     nlohmann::json components = nlohmann::json::object();
-    for (int g = 0; g < gps; ++g) components["gp[" + std::to_string(g) + "]"]["busy_time"] = {{"value", busy}, {"unit", "ps"}, {"description", "d"}};
-    components["ring"]["latency"] = {{"unit", "ring cycles"}, {"description", "d"}, {"value", {{"bounds", {0, 1, 2}}, {"counts", {5, 1}}, {"sum", 7}}}};
+    for (int g = 0; g < gps; ++g)
+        components["gp[" + std::to_string(g) + "]"]["busy_time"] = {
+            {"value", busy}, {"unit", "ps"}, {"description", "d"}};
+    components["ring"]["latency"] = {{"unit", "ring cycles"},
+                                     {"description", "d"},
+                                     {"value", {{"bounds", {0, 1, 2}}, {"counts", {5, 1}}, {"sum", 7}}}};
     return {{"components", components},
             {"frames", {{{"simulated_seconds", frame_seconds}, {"host_seconds", host}, {"label", "front"}}}},
             {"summary", {{"simulated_seconds", {frame_seconds}}, {"host_seconds", host}}}};

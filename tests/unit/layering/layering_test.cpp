@@ -23,11 +23,22 @@ struct Layer {
     int rank;
 };
 constexpr Layer kLayers[] = {
-    {"sim/core", 0},          {"ring", 1},           {"sim/renderer", 1},       {"kernels/volume", 1},
-    {"kernels/render", 1},    {"sim/components", 2}, {"kernels/reference", 2},  {"sim/machine", 3},
-    {"kernels/scenario", 3},  {"sim/timing", 4},     {"kernels/interface", 5},  {"kernels/pp_volume", 5},  {"kernels/screen_regions", 5},
+    {"sim/core", 0},
+    {"ring", 1},
+    {"sim/renderer", 1},
+    {"kernels/volume", 1},
+    {"kernels/render", 1},
+    {"sim/components", 2},
+    {"kernels/reference", 2},
+    {"sim/machine", 3},
+    {"kernels/scenario", 3},
+    {"sim/timing", 4},
+    {"kernels/interface", 5},
+    {"kernels/pp_volume", 5},
+    {"kernels/screen_regions", 5},
     {"kernels/registry", 7},
-    {"calibration", 8},       {"frontends", 9},
+    {"calibration", 8},
+    {"frontends", 9},
 };
 constexpr int kKernelRank = 6;
 
@@ -91,7 +102,8 @@ std::vector<Include> project_includes() {
             std::ifstream in(entry.path());
             std::string line;
             while (std::getline(in, line))
-                if (std::string header = quoted_include(line); !header.empty()) all.push_back(Include{file, std::move(header)});
+                if (std::string header = quoted_include(line); !header.empty())
+                    all.push_back(Include{file, std::move(header)});
         }
     }
     return all;
@@ -107,13 +119,13 @@ TEST(Layering, EveryIncludePointsDown) {
 
 TEST(Layering, TheCheckCatchesWhatItForbids) {
     const std::vector<std::string> found = violations({
-        {"sim/components/renderer.cpp", "kernels/pp_volume/pp_shading.h"},   // the machine naming a kernel
-        {"ring/ring_network.cpp", "sim/components/renderer.h"},          // the ring above the event core
-        {"kernels/levoy/ray_caster.cpp", "kernels/yuan/splat.h"},        // a kernel including another
-        {"calibration/fit.cpp", "frontends/plot.h"},                     // calibration above the frontends
-        {"frontends/cli/main.cpp", "calibration/fit.h"},                 // fine
+        {"sim/components/renderer.cpp", "kernels/pp_volume/pp_shading.h"},  // the machine naming a kernel
+        {"ring/ring_network.cpp", "sim/components/renderer.h"},             // the ring above the event core
+        {"kernels/levoy/ray_caster.cpp", "kernels/yuan/splat.h"},           // a kernel including another
+        {"calibration/fit.cpp", "frontends/plot.h"},                        // calibration above the frontends
+        {"frontends/cli/main.cpp", "calibration/fit.h"},                    // fine
         {"kernels/levoy/ray_caster.cpp", "kernels/reference/trilinear.h"},  // fine: shared maths
-        {"sim/timing/frame_engine.cpp", "sim/timing/frame_engine.h"},    // fine: its own folder
+        {"sim/timing/frame_engine.cpp", "sim/timing/frame_engine.h"},       // fine: its own folder
     });
     EXPECT_EQ(found.size(), 4u);
 }

@@ -20,7 +20,8 @@
 namespace pp5 {
 namespace {
 
-PolygonSpec triangle(glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 color = glm::vec3(1.0f, 0.0f, 0.0f), float opacity = 1.0f) {
+PolygonSpec triangle(glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 color = glm::vec3(1.0f, 0.0f, 0.0f),
+                     float opacity = 1.0f) {
     return PolygonSpec{{a, b, c}, {color}, {opacity}};
 }
 
@@ -45,7 +46,8 @@ TEST(PolygonArea, OnlyThePartInsideTheVolumeCounts) {
     EXPECT_NEAR(area_inside_box(square, glm::dvec3(-1), glm::dvec3(5, 20, 20)), 50.0, 1e-9);
     EXPECT_EQ(area_inside_box(square, glm::dvec3(11, -1, -1), glm::dvec3(20)), 0.0);
     const std::vector<glm::vec3> huge = {{0, 0, 0}, {9e8f, 0, 0}, {0, 9e8f, 0}};
-    EXPECT_NEAR(area_inside_box(huge, glm::dvec3(-1), glm::dvec3(32)), 32.0 * 32.0, 1e-6);  // the box's quarter of x, y >= 0
+    EXPECT_NEAR(area_inside_box(huge, glm::dvec3(-1), glm::dvec3(32)), 32.0 * 32.0,
+                1e-6);  // the box's quarter of x, y >= 0
 }
 
 TEST(ScanConversion, CoverageApproachesTheAreaAsTranslationsGrow) {
@@ -82,7 +84,8 @@ TEST(ScanConversion, OneTranslationIsABinaryVoxelisationOfTheCentres) {
 
 TEST(ScanConversion, PolygonBetweenVoxelCentresSplitsItsCoverage) {
     // Edge-on to the grid: the plane z = 10.5 lies exactly between two layers of voxel centres.
-    const PreparedPolygon p = prepare_polygon(PolygonSpec{{{4, 4, 10.5f}, {20, 4, 10.5f}, {20, 20, 10.5f}, {4, 20, 10.5f}}, {glm::vec3(1.0f)}, {1.0f}});
+    const PreparedPolygon p = prepare_polygon(
+        PolygonSpec{{{4, 4, 10.5f}, {20, 4, 10.5f}, {20, 20, 10.5f}, {4, 20, 10.5f}}, {glm::vec3(1.0f)}, {1.0f}});
     const auto offsets = subvoxel_offsets(64);
     double lower = 0.0, upper = 0.0;
     for (int y = 0; y < 25; ++y)
@@ -104,10 +107,13 @@ TEST(ScanConversion, BadPolygonsAreRejectedAndDegenerateOnesCoverNothing) {
         }
         return std::string("accepted");
     };
-    EXPECT_NE(why(PolygonSpec{{{0, 0, 0}, {1, 0, 0}}, {glm::vec3(1.0f)}, {1.0f}}).find("three vertices"), std::string::npos);
+    EXPECT_NE(why(PolygonSpec{{{0, 0, 0}, {1, 0, 0}}, {glm::vec3(1.0f)}, {1.0f}}).find("three vertices"),
+              std::string::npos);
     EXPECT_NE(why(triangle({0, 0, 0}, {NAN, 1, 0}, {0, 1, 0})).find("finite"), std::string::npos);
-    EXPECT_NE(why(PolygonSpec{{{0, 0, 0}, {4, 0, 0}, {1, 1, 0}, {0, 4, 0}}, {glm::vec3(1.0f)}, {1.0f}}).find("convex"), std::string::npos);
-    EXPECT_NE(why(PolygonSpec{{{0, 0, 0}, {4, 0, 0}, {4, 4, 1}, {0, 4, 0}}, {glm::vec3(1.0f)}, {1.0f}}).find("plane"), std::string::npos);
+    EXPECT_NE(why(PolygonSpec{{{0, 0, 0}, {4, 0, 0}, {1, 1, 0}, {0, 4, 0}}, {glm::vec3(1.0f)}, {1.0f}}).find("convex"),
+              std::string::npos);
+    EXPECT_NE(why(PolygonSpec{{{0, 0, 0}, {4, 0, 0}, {4, 4, 1}, {0, 4, 0}}, {glm::vec3(1.0f)}, {1.0f}}).find("plane"),
+              std::string::npos);
     EXPECT_NE(why(triangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, glm::vec3(2.0f))).find("[0, 1]"), std::string::npos);
     const PolygonSpec collinear = triangle({0, 0, 0}, {2, 2, 2}, {5, 5, 5});
     EXPECT_EQ(why(collinear), "accepted");
@@ -117,7 +123,8 @@ TEST(ScanConversion, BadPolygonsAreRejectedAndDegenerateOnesCoverNothing) {
 }
 
 MachineConfig scan_conversion_machine(std::initializer_list<std::string_view> overrides = {}) {
-    return test::levoy_config({"renderer.count=4", "renderer.pp_columns=32", "renderer.pp_rows=32", "gp.count=2"}, overrides);
+    return test::levoy_config({"renderer.count=4", "renderer.pp_columns=32", "renderer.pp_rows=32", "gp.count=2"},
+                              overrides);
 }
 
 // The 32^3 test volumes seen from the front, parallel.
@@ -135,7 +142,8 @@ ShadedVolume scan_converted(const std::vector<PolygonSpec>& polygons, int sample
     const MachineConfig config = scan_conversion_machine({"levoy.jitter_samples=" + std::to_string(samples)});
     Machine machine(config);
     const Volume volume = make_constant_volume(glm::ivec3(32), 50.0f);
-    LevoyRenderer renderer(machine, volume, LevoySettings::from(config), LevoyImageSettings{16, 16, 1.0f, 0.95f, glm::vec3(0.0f)});
+    LevoyRenderer renderer(machine, volume, LevoySettings::from(config),
+                           LevoyImageSettings{16, 16, 1.0f, 0.95f, glm::vec3(0.0f)});
     renderer.set_polygons(polygons);
     LevoyFrameInputs in;
     in.camera = front_view();
@@ -152,12 +160,17 @@ ShadedVolume scan_converted(const std::vector<PolygonSpec>& polygons, int sample
 // Levoy: on a sequential machine the cost of scan-converting a polygon is proportional to its area.
 TEST(ScanConversion, OnOneProcessorItsCostGrowsInProportionToArea) {
     const auto seconds_for = [](float side, const char* voxels_per_area = "levoy.scan_voxels_per_area=2") {
-        const MachineConfig config = scan_conversion_machine({"levoy.jitter_samples=16", "gp.sustained_mflops=1.1", voxels_per_area});
+        const MachineConfig config =
+            scan_conversion_machine({"levoy.jitter_samples=16", "gp.sustained_mflops=1.1", voxels_per_area});
         Machine machine(config);
         const Volume volume = make_constant_volume(glm::ivec3(32), 50.0f);
-        LevoyRenderer renderer(machine, volume, LevoySettings::from(config), LevoyImageSettings{16, 16, 1.0f, 0.95f, glm::vec3(0.0f)});
+        LevoyRenderer renderer(machine, volume, LevoySettings::from(config),
+                               LevoyImageSettings{16, 16, 1.0f, 0.95f, glm::vec3(0.0f)});
         PolygonSpec square;
-        square.vertices = {{4.0f, 4.0f, 10.0f}, {4.0f + side, 4.0f, 10.0f}, {4.0f + side, 4.0f + side, 10.0f}, {4.0f, 4.0f + side, 10.0f}};
+        square.vertices = {{4.0f, 4.0f, 10.0f},
+                           {4.0f + side, 4.0f, 10.0f},
+                           {4.0f + side, 4.0f + side, 10.0f},
+                           {4.0f, 4.0f + side, 10.0f}};
         square.colors = {glm::vec3(1.0f)};
         square.opacities = {1.0f};
         renderer.set_polygons({square});
@@ -179,7 +192,8 @@ TEST(ScanConversion, OnOneProcessorItsCostGrowsInProportionToArea) {
 }
 
 TEST(ScanConversion, PixelProcessorsCountWhatTheHostCounts) {
-    const PolygonSpec spec = triangle({3.2f, 4.1f, 5.3f}, {27.7f, 6.2f, 11.9f}, {9.4f, 26.8f, 25.1f}, glm::vec3(1.0f), 1.0f);
+    const PolygonSpec spec =
+        triangle({3.2f, 4.1f, 5.3f}, {27.7f, 6.2f, 11.9f}, {9.4f, 26.8f, 25.1f}, glm::vec3(1.0f), 1.0f);
     const int samples = 16;
     const ShadedVolume v = scan_converted({spec}, samples);
     const PreparedPolygon p = prepare_polygon(spec);
@@ -192,7 +206,8 @@ TEST(ScanConversion, PixelProcessorsCountWhatTheHostCounts) {
             for (int x = 0; x < 32; ++x) {
                 const int count = host_coverage(p, offsets, {x, y, z});
                 const int expect = 255 * count / samples;  // the PPs' integer divide
-                const int got = static_cast<int>(std::lround(v.rgba[static_cast<std::size_t>(x + 32 * (y + 32 * z))].a * 255.0f));
+                const int got =
+                    static_cast<int>(std::lround(v.rgba[static_cast<std::size_t>(x + 32 * (y + 32 * z))].a * 255.0f));
                 covered += count > 0 ? 1 : 0;
                 differ += got != expect ? 1 : 0;
                 coverage_sum += got / 255.0;
@@ -210,7 +225,9 @@ TEST(ScanConversion, MattingFullAndZeroCoverageMatchesTheClosedForm) {
     const PolygonSpec square{{{4, 4, 10}, {20, 4, 10}, {20, 20, 10}, {4, 20, 10}}, {purple}, {1.0f}};
     const ShadedVolume v = scan_converted({square}, 8);
     const ShadedVolume plain = scan_converted({}, 8);
-    const auto at = [](const ShadedVolume& s, int x, int y, int z) { return s.rgba[static_cast<std::size_t>(x + 32 * (y + 32 * z))]; };
+    const auto at = [](const ShadedVolume& s, int x, int y, int z) {
+        return s.rgba[static_cast<std::size_t>(x + 32 * (y + 32 * z))];
+    };
     for (int y = 6; y <= 18; ++y)
         for (int x = 6; x <= 18; ++x) {
             const glm::vec4 full = at(v, x, y, 10);
@@ -269,10 +286,12 @@ struct RegionRun {
     LevoyFrameReport report;
 };
 
-RegionRun with_region(const std::optional<RegionOfInterest>& region, const Volume& volume = make_constant_volume(glm::ivec3(32), 50.0f)) {
+RegionRun with_region(const std::optional<RegionOfInterest>& region,
+                      const Volume& volume = make_constant_volume(glm::ivec3(32), 50.0f)) {
     const MachineConfig config = scan_conversion_machine();
     Machine machine(config);
-    LevoyRenderer renderer(machine, volume, LevoySettings::from(config), LevoyImageSettings{16, 16, 1.0f, 0.95f, glm::vec3(0.0f)});
+    LevoyRenderer renderer(machine, volume, LevoySettings::from(config),
+                           LevoyImageSettings{16, 16, 1.0f, 0.95f, glm::vec3(0.0f)});
     LevoyFrameInputs in;
     in.camera = front_view();
     in.classification.kind = ClassificationKind::PiecewiseLinear;
@@ -316,7 +335,8 @@ TEST(RegionOfInterest, PixelProcessorsScaleOpacityAsTheHostModelSays) {
             for (int y = 0; y < 32; ++y)
                 for (int x = 0; x < 32; ++x) {
                     const float expect = std::min(1.0f, base * cut.factor(glm::vec3(x, y, z)));
-                    worst = std::max(worst, std::abs(run.volume.rgba[static_cast<std::size_t>(x + 32 * (y + 32 * z))].a - expect));
+                    worst = std::max(
+                        worst, std::abs(run.volume.rgba[static_cast<std::size_t>(x + 32 * (y + 32 * z))].a - expect));
                 }
         EXPECT_LE(worst, 2.5f / 255.0f) << "shape " << static_cast<int>(shape);
         const glm::ivec3 c(cut.center);
@@ -361,11 +381,13 @@ TEST(RegionOfInterest, CappingShadesTheTransitionZoneAsIfTheRegionHeldAir) {
                     ++unchanged;
                     continue;
                 }
-                if (faces_in_band != 1 || distance < -half + 0.25f || distance > half - 0.25f) continue;  // an edge, or a band's rim
+                if (faces_in_band != 1 || distance < -half + 0.25f || distance > half - 0.25f)
+                    continue;  // an edge, or a band's rim
                 const int axis = face.x > -half ? 0 : face.y > -half ? 1 : 2;
                 glm::vec3 normal(0.0f);
                 normal[axis] = p[axis] > cut.center[axis] ? -1.0f : 1.0f;
-                const glm::vec3 expect = phong_shade(defaults.lighting, glm::vec3(0.5f), normal, to_viewer, to_viewer, 0.0f);
+                const glm::vec3 expect =
+                    phong_shade(defaults.lighting, glm::vec3(0.5f), normal, to_viewer, to_viewer, 0.0f);
                 const glm::vec3 got(capped.volume.rgba[i]);
                 worst = std::max(worst, glm::length(got - expect));
                 ++banded;
@@ -410,9 +432,11 @@ TEST(ScanConversion, RepeatingAFrameReproducesTheSameVoxels) {
     const MachineConfig config = scan_conversion_machine();
     Machine machine(config);
     const Volume volume = make_head_phantom(32);
-    LevoyRenderer renderer(machine, volume, LevoySettings::from(config), LevoyImageSettings{16, 16, 1.0f, 0.95f, glm::vec3(0.0f)});
-    renderer.set_polygons({triangle({3.2f, 4.1f, 5.3f}, {27.7f, 6.2f, 11.9f}, {9.4f, 26.8f, 25.1f}, glm::vec3(0.2f, 0.3f, 1.0f), 0.7f),
-                           PolygonSpec{{{4, 4, 10}, {20, 4, 10}, {20, 20, 10}, {4, 20, 10}}, {glm::vec3(1.0f)}, {1.0f}}});
+    LevoyRenderer renderer(machine, volume, LevoySettings::from(config),
+                           LevoyImageSettings{16, 16, 1.0f, 0.95f, glm::vec3(0.0f)});
+    renderer.set_polygons(
+        {triangle({3.2f, 4.1f, 5.3f}, {27.7f, 6.2f, 11.9f}, {9.4f, 26.8f, 25.1f}, glm::vec3(0.2f, 0.3f, 1.0f), 0.7f),
+         PolygonSpec{{{4, 4, 10}, {20, 4, 10}, {20, 20, 10}, {4, 20, 10}}, {glm::vec3(1.0f)}, {1.0f}}});
     LevoyFrameInputs in;
     in.camera = front_view();
     in.classification.contours = {{40.0f, 0.3f, 1.5f}, {160.0f, 0.9f, 1.5f}};
@@ -469,9 +493,10 @@ namespace pp5 {
 namespace {
 
 TEST(ScanConversion, RepeatedVertexGivesFiniteColours) {
-    const PolygonSpec square{{{4, 4, 10}, {4, 4, 10}, {20, 4, 10}, {20, 20, 10}, {4, 20, 10}},
-                             {glm::vec3(1, 0, 0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, 0, 1), glm::vec3(1, 1, 1)},
-                             {1.0f}};
+    const PolygonSpec square{
+        {{4, 4, 10}, {4, 4, 10}, {20, 4, 10}, {20, 20, 10}, {4, 20, 10}},
+        {glm::vec3(1, 0, 0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, 0, 1), glm::vec3(1, 1, 1)},
+        {1.0f}};
     EXPECT_NO_THROW(validate_polygon(square, "s.toml", "polygons[0]"));
     const PreparedPolygon p = prepare_polygon(square);
     for (const LinearFunction* f : {&p.red, &p.green, &p.blue, &p.opacity}) {

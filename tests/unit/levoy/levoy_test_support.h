@@ -12,7 +12,8 @@
 namespace pp5::test {
 
 // The default machine and levoy settings, then `base` and `overrides` applied in order.
-inline MachineConfig levoy_config(std::initializer_list<std::string_view> base, std::initializer_list<std::string_view> overrides) {
+inline MachineConfig levoy_config(std::initializer_list<std::string_view> base,
+                                  std::initializer_list<std::string_view> overrides) {
     std::vector<const ParamGroup*> groups = Machine::param_groups();
     groups.push_back(&VoxelStoreSettings::params());
     groups.push_back(&LevoySettings::params());

@@ -2,8 +2,8 @@
 // floating-point reference, the passes that each kind of change reruns, the simulated time against
 // the cost model, determinism across thread counts, and the errors for a machine too small.
 
-#include "frontends/image_io.h"
 #include "kernels/pp_volume/pp_shading.h"
+#include "frontends/image_io.h"
 #include "kernels/reference/composite.h"
 #include "kernels/reference/reference_renderer.h"
 #include "kernels/reference/voxel_opacity.h"
@@ -23,8 +23,9 @@ namespace {
 
 // A small machine so tests run in milliseconds: 4 renderers of 32x32 PPs, 2048 bits of backing store.
 MachineConfig pp_shading_machine(std::initializer_list<std::string_view> overrides = {}) {
-    return test::levoy_config({"renderer.count=4", "renderer.pp_columns=32", "renderer.pp_rows=32", "renderer.backing_store_bits=2048"},
-                              overrides);
+    return test::levoy_config(
+        {"renderer.count=4", "renderer.pp_columns=32", "renderer.pp_rows=32", "renderer.backing_store_bits=2048"},
+        overrides);
 }
 
 Classification skin_contour() {
@@ -125,7 +126,8 @@ TEST(PpShading, VoxelColoursAndOpacitiesMatchTheReference) {
     for (std::size_t i = 0; i < opacities.size(); ++i) {
         if (opacities[i] <= 0.0f) continue;
         worst_opacity = std::max(worst_opacity, std::abs(machine_colours.rgba[i].a - reference.rgba[i].a));
-        for (int c = 0; c < 3; ++c) worst_colour = std::max(worst_colour, std::abs(machine_colours.rgba[i][c] - reference.rgba[i][c]));
+        for (int c = 0; c < 3; ++c)
+            worst_colour = std::max(worst_colour, std::abs(machine_colours.rgba[i][c] - reference.rgba[i][c]));
         flat_opaque += gradients.gradients[i] == glm::vec3(0.0f) ? 1 : 0;
     }
     EXPECT_GT(flat_opaque, 500u) << "the test needs flat opaque voxels";
@@ -167,7 +169,8 @@ TEST(PpShading, EachChangeRerunsOnlyItsPass) {
     const ShadedVolume reclassified = pps.shaded_volume();
     bool opacity_changed = false;
     for (std::size_t i = 0; i < relit.rgba.size(); ++i) {
-        ASSERT_EQ(glm::vec3(relit.rgba[i]), glm::vec3(reclassified.rgba[i])) << "colour changed with the classification";
+        ASSERT_EQ(glm::vec3(relit.rgba[i]), glm::vec3(reclassified.rgba[i]))
+            << "colour changed with the classification";
         opacity_changed |= relit.rgba[i].a != reclassified.rgba[i].a;
     }
     EXPECT_TRUE(opacity_changed);
@@ -201,8 +204,8 @@ TEST(PpShading, SameResultsAtOneAndTwoThreads) {
         Machine machine(config);
         PpShading pps(machine, lumpy, VoxelStoreSettings::from(config));
         const Camera camera = oblique_camera(lumpy);
-        const PpFrameReport report =
-            pps.update(skin_contour(), kWarm, phong(), make_shading_view(camera, lumpy.dims(), lumpy.spacing()), true, true);
+        const PpFrameReport report = pps.update(skin_contour(), kWarm, phong(),
+                                                make_shading_view(camera, lumpy.dims(), lumpy.spacing()), true, true);
         return std::make_pair(pps.shaded_volume(), report.duration_ps());
     };
     const auto one = run(1);
@@ -226,11 +229,14 @@ TEST(PpShading, StationaryLightImageMatchesTheReference) {
     const Rendered r = render_both(ball, skin_contour(), kWarm, with_stationary_lights(), pp_shading_machine());
     const ImageDifference d = compare_images(r.machine, r.reference);
     EXPECT_GE(d.psnr_db, 35.0) << "rms " << d.rms_error << " max " << d.max_error;
-    const Rendered key_only = render_both(ball, skin_contour(), kWarm, [] {
-        PhongLighting l = with_stationary_lights();
-        l.stationary_lights.clear();
-        return l;
-    }(), pp_shading_machine());
+    const Rendered key_only = render_both(
+        ball, skin_contour(), kWarm,
+        [] {
+            PhongLighting l = with_stationary_lights();
+            l.stationary_lights.clear();
+            return l;
+        }(),
+        pp_shading_machine());
     EXPECT_LT(compare_images(r.machine, key_only.machine).psnr_db, 30.0) << "the stationary lights should show";
 }
 

@@ -2,10 +2,10 @@
 // against the reference compositor (exact, with and without skipping), its work records, and the
 // whole frame on a small machine (caches warm across frames, identical results at 1 and 2 threads).
 
+#include "kernels/levoy/ray_caster.h"
 #include "kernels/levoy/adaptive_refinement.h"
 #include "kernels/levoy/binary_pyramid.h"
 #include "kernels/levoy/levoy_renderer.h"
-#include "kernels/levoy/ray_caster.h"
 #include "kernels/reference/composite.h"
 #include "kernels/reference/trilinear.h"
 #include "kernels/volume/phantoms.h"
@@ -15,8 +15,8 @@
 #include "tests/unit/render/test_scenes.h"
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <numeric>
@@ -26,8 +26,8 @@ namespace pp5 {
 namespace {
 
 MachineConfig ray_casting_machine(std::initializer_list<std::string_view> overrides = {}) {
-    return test::levoy_config({"renderer.count=4", "renderer.pp_columns=32", "renderer.pp_rows=32", "renderer.backing_store_bits=2048",
-                               "gp.count=4", "levoy.tile_pixels=8"},
+    return test::levoy_config({"renderer.count=4", "renderer.pp_columns=32", "renderer.pp_rows=32",
+                               "renderer.backing_store_bits=2048", "gp.count=4", "levoy.tile_pixels=8"},
                               overrides);
 }
 
@@ -49,9 +49,11 @@ TEST(ShadedCodes, InterpolateExactlyAsTheirDecodedFloatsAtEightAndSixteenBits) {
         std::uniform_real_distribution<float> along(-0.5f, 7.5f);
         for (int n = 0; n < 500; ++n) {
             const detail::Cell cell = grid.cell({along(random), along(random), along(random)});
-            const glm::vec4 from_codes = codes.narrow() ? grid.interpolate_codes(cell, codes.narrow_codes(), codes.code_max())
-                                                        : grid.interpolate_codes(cell, codes.wide_codes(), codes.code_max());
-            ASSERT_EQ(from_codes, grid.interpolate_rgba(cell, floats.rgba.data())) << "sample " << n << ", largest code " << code_max;
+            const glm::vec4 from_codes = codes.narrow()
+                                             ? grid.interpolate_codes(cell, codes.narrow_codes(), codes.code_max())
+                                             : grid.interpolate_codes(cell, codes.wide_codes(), codes.code_max());
+            ASSERT_EQ(from_codes, grid.interpolate_rgba(cell, floats.rgba.data()))
+                << "sample " << n << ", largest code " << code_max;
         }
     }
 }
@@ -128,7 +130,8 @@ TEST(AdaptiveRefinement, SmoothImageStopsAfterTheSparsePassAndInterpolatesExactl
 TEST(AdaptiveRefinement, SplitsOnlyWhereCornersDiffer) {
     AdaptiveRefinement r(17, 17, RefinementSettings{8, 0.1f});
     std::vector<glm::vec4> colors;
-    for (const std::uint32_t p : r.pending()) colors.push_back(p == 16 ? glm::vec4(1.0f) : glm::vec4(0.0f));  // pixel (16, 0)
+    for (const std::uint32_t p : r.pending())
+        colors.push_back(p == 16 ? glm::vec4(1.0f) : glm::vec4(0.0f));  // pixel (16, 0)
     r.record(colors);
     // Only the top-right square [8,16]x[0,8] touches the bright corner: its 5 new corners.
     EXPECT_EQ(r.pending().size(), 5u);
@@ -182,11 +185,13 @@ TEST(RayCaster, FullyRefinedImageEqualsTheReferenceCompositorWithAndWithoutSkipp
         ASSERT_EQ(report.final_image.pixels.size(), reference.pixels.size());
         float worst = 0.0f;
         for (std::size_t i = 0; i < reference.pixels.size(); ++i)
-            for (int c = 0; c < 4; ++c) worst = std::max(worst, std::abs(report.final_image.pixels[i][c] - reference.pixels[i][c]));
+            for (int c = 0; c < 4; ++c)
+                worst = std::max(worst, std::abs(report.final_image.pixels[i][c] - reference.pixels[i][c]));
         EXPECT_LE(worst, 1.0f / 255.0f) << "skipping " << skipping;
         EXPECT_EQ(report.ray_cast.rays, static_cast<std::uint64_t>(s.image.width * s.image.height));
         if (skipping) {
-            EXPECT_GT(report.ray_cast.samples_skipped, report.ray_cast.samples) << "the pyramid should pass over most samples";
+            EXPECT_GT(report.ray_cast.samples_skipped, report.ray_cast.samples)
+                << "the pyramid should pass over most samples";
             EXPECT_GT(report.ray_cast.pyramid_steps, 0u);
         } else {
             EXPECT_EQ(report.ray_cast.pyramid_steps, 0u);
@@ -216,7 +221,8 @@ TEST(LevoyRenderer, AGpMemoryTooSmallForThePyramidIsRefusedBeforeThePpsAreLoaded
     } catch (const InputError& e) {
         EXPECT_EQ(e.field(), "gp.memory_bytes");
     }
-    for (const auto& renderer : machine.renderers()) EXPECT_EQ(renderer->backing_store_bits_used(), 0u) << "the PPs were loaded first";
+    for (const auto& renderer : machine.renderers())
+        EXPECT_EQ(renderer->backing_store_bits_used(), 0u) << "the PPs were loaded first";
 }
 
 TEST(RayCaster, SkippingChangesTheWorkNotThePixels) {
@@ -250,7 +256,8 @@ TEST(RayCaster, SkippingChangesTheWorkNotThePixels) {
         touched_skip += skip.rays[i].touch_count;
         // Every look-up's samples add up to the ray's.
         std::uint64_t counted = skip.rays[i].tail_samples;
-        for (std::uint32_t t = 0; t < skip.rays[i].touch_count; ++t) counted += skip.touches[skip.rays[i].first_touch + t].samples;
+        for (std::uint32_t t = 0; t < skip.rays[i].touch_count; ++t)
+            counted += skip.touches[skip.rays[i].first_touch + t].samples;
         EXPECT_EQ(counted, skip.rays[i].samples);
     }
     EXPECT_GT(touched_skip, 0u);
@@ -376,7 +383,8 @@ TEST(LevoyRenderer, StationaryLightsKeptInTheRecordGiveTheSameFramesAndCheaperLi
         s.inputs.lighting.light_follows_camera = false;
         s.inputs.lighting.specular = 0.0f;  // view-independent: an orbit reshades nothing
         s.inputs.lighting.light_direction = glm::vec3(0.3f, -1.0f, 0.5f);
-        s.inputs.lighting.stationary_lights = {{glm::vec3(-1.0f, 0.4f, 0.6f), 0.5f}, {glm::vec3(0.2f, 0.3f, 1.0f), 0.7f}};
+        s.inputs.lighting.stationary_lights = {{glm::vec3(-1.0f, 0.4f, 0.6f), 0.5f},
+                                               {glm::vec3(0.2f, 0.3f, 1.0f), 0.7f}};
         Scenario scenario;
         scenario.frames.push_back(FrameSpec{});
         scenario.frames.back().lighting = s.inputs.lighting;
@@ -430,7 +438,8 @@ TEST(LevoyRenderer, StationaryLightsKeptInTheRecordGiveTheSameFramesAndCheaperLi
         const PpProgramPass& slow = recomputed.frames[light_move].pixel_processors.shading;
         ASSERT_TRUE(fast.ran && slow.ran);
         EXPECT_LT(fast.slot_cost.compute_cycles(), slow.slot_cost.compute_cycles()) << "frame " << light_move;
-        EXPECT_LT(kept.frames[light_move].pixel_processors.duration_ps(), recomputed.frames[light_move].pixel_processors.duration_ps());
+        EXPECT_LT(kept.frames[light_move].pixel_processors.duration_ps(),
+                  recomputed.frames[light_move].pixel_processors.duration_ps());
     }
     EXPECT_FALSE(kept.frames[2].pixel_processors.shading.ran);
     // A lone processor shades a voxel once per light it computes: all three lights in the first frame
@@ -496,7 +505,9 @@ TEST(LevoyRenderer, APyramidBuildChargesTheEmptinessPassAndItsReadOutOnlyWhenRay
     const LevoyFrameReport skipping = first_frame(true, read_outs, slots_used);
     std::vector<std::string> names;
     for (const Phase& phase : skipping.work.machine.phases) names.push_back(phase.name);
-    const auto at = [&](const std::string& name) { return std::find(names.begin(), names.end(), name) - names.begin(); };
+    const auto at = [&](const std::string& name) {
+        return std::find(names.begin(), names.end(), name) - names.begin();
+    };
     ASSERT_LT(at("emptiness"), static_cast<std::ptrdiff_t>(names.size()));
     EXPECT_LT(at("classification"), at("emptiness"));
     EXPECT_LT(at("emptiness"), at("pyramid"));
@@ -588,7 +599,8 @@ TEST(LevoyRenderer, InterleavedTilesSpreadTheRaysOverTheGps) {
     EXPECT_EQ(a.ray_cast.rays, b.ray_cast.rays);
     const auto [a_fewest, a_most] = rays_per_gp(by_columns);
     const auto [b_fewest, b_most] = rays_per_gp(interleaved);
-    EXPECT_LT(b_most - b_fewest, a_most - a_fewest) << "columns " << a_fewest << ".." << a_most << ", interleaved " << b_fewest << ".." << b_most;
+    EXPECT_LT(b_most - b_fewest, a_most - a_fewest)
+        << "columns " << a_fewest << ".." << a_most << ", interleaved " << b_fewest << ".." << b_most;
 }
 
 }  // namespace

@@ -11,8 +11,8 @@
 #include "sim/timing/frame_engine.h"
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -23,12 +23,15 @@ namespace {
 // Solid material under a light from a fixed direction, depth-cued, seen from outside: every option
 // (the reduction among them) has something to act on.
 Scenario scene(int size = 40) {
-    const auto path = std::filesystem::temp_directory_path() / ("pp5sim_perm_params_" + std::to_string(::getpid()) + ".toml");
-    std::ofstream(path) << "[scenario]\nkernel = \"perm\"\n[dataset]\nphantom = \"head\"\nsize = " << size << "\n[classification]\n"
-                           "kind = \"piecewise-linear\"\npoints = [{ value = 40.0, opacity = 0.0 }, { value = 80.0, opacity = 0.9 }]\n"
-                           "[shading]\nambient = 0.2\ndiffuse = 0.7\nspecular = 0.2\nlight_direction = [0.3, 0.5, -1]\n"
-                           "depth_cue = [1.0, 0.5]\n[camera]\nprojection = \"perspective\"\nview_from = [0.3, -1.0, 0.4]\n"
-                           "up = [0.0, 0.0, 1.0]\n[image]\nwidth = 64\nheight = 64\nresampling = \"interpolate-then-shade\"\n";
+    const auto path =
+        std::filesystem::temp_directory_path() / ("pp5sim_perm_params_" + std::to_string(::getpid()) + ".toml");
+    std::ofstream(path)
+        << "[scenario]\nkernel = \"perm\"\n[dataset]\nphantom = \"head\"\nsize = " << size
+        << "\n[classification]\n"
+           "kind = \"piecewise-linear\"\npoints = [{ value = 40.0, opacity = 0.0 }, { value = 80.0, opacity = 0.9 }]\n"
+           "[shading]\nambient = 0.2\ndiffuse = 0.7\nspecular = 0.2\nlight_direction = [0.3, 0.5, -1]\n"
+           "depth_cue = [1.0, 0.5]\n[camera]\nprojection = \"perspective\"\nview_from = [0.3, -1.0, 0.4]\n"
+           "up = [0.0, 0.0, 1.0]\n[image]\nwidth = 64\nheight = 64\nresampling = \"interpolate-then-shade\"\n";
     Scenario s = load_scenario(path);
     std::filesystem::remove(path);
     return s;
@@ -53,10 +56,16 @@ std::size_t outcome(const Scenario& s, std::vector<std::string> overrides) {
 TEST(PermParameters, EachChangesWhatIsComputedStoredOrTaken) {
     const Scenario s = scene();
     const std::size_t base = outcome(s, {});
-    const std::vector<std::string> changes = {
-        "perm.density_positions=4", "perm.gradient_positions=3", "perm.positions=rounded", "perm.positions=paper",
-        "perm.qbm=13",              "perm.candidate_rule=paper_origin", "perm.index_bytes=4", "perm.residence=gp_memory;gp.memory_bytes=33554432",
-        "perm.shading=pp",          "perm.tile_pixels=8"};
+    const std::vector<std::string> changes = {"perm.density_positions=4",
+                                              "perm.gradient_positions=3",
+                                              "perm.positions=rounded",
+                                              "perm.positions=paper",
+                                              "perm.qbm=13",
+                                              "perm.candidate_rule=paper_origin",
+                                              "perm.index_bytes=4",
+                                              "perm.residence=gp_memory;gp.memory_bytes=33554432",
+                                              "perm.shading=pp",
+                                              "perm.tile_pixels=8"};
     for (const std::string& change : changes) {
         std::vector<std::string> set;  // a change may need a companion ("a;b")
         for (std::size_t at = 0, next; at <= change.size(); at = next + 1) {
@@ -85,7 +94,8 @@ TEST(PermParameters, EachCostChangesTheTimeWhereItApplies) {
     const Scenario s = scene();
     const std::vector<std::string> gp_shading = {"renderer.backing_store_bits=16384"};
     const std::vector<std::string> pp_shading = {"renderer.backing_store_bits=16384", "perm.shading=pp"};
-    const RecordedScenario gp(s, load_run_config("pxpl5", gp_shading), 1), pp(s, load_run_config("pxpl5", pp_shading), 1);
+    const RecordedScenario gp(s, load_run_config("pxpl5", gp_shading), 1),
+        pp(s, load_run_config("pxpl5", pp_shading), 1);
     for (const ParamSpec& spec : perm_cost_params().specs()) {
         const std::string key = "gp_cost.perm." + spec.name;
         bool changed = false;

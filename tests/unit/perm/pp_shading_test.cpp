@@ -11,9 +11,9 @@
 #include "sim/timing/frame_engine.h"
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -22,13 +22,14 @@ namespace pp5 {
 namespace {
 
 Scenario scenario(const std::string& name, const std::string& camera_and_light, const std::string& frames) {
-    const auto path = std::filesystem::temp_directory_path() / ("pp5sim_perm_pp_" + std::to_string(::getpid()) + "_" + name + ".toml");
-    std::ofstream(path) << "[scenario]\nkernel = \"perm\"\n[dataset]\nphantom = \"head\"\nsize = 40\n[classification]\n"
-                           "kind = \"isovalue-contours\"\ncontours = [{ value = 60.0, opacity = 0.5, thickness = 1.5 }, "
-                           "{ value = 160.0, opacity = 0.9, thickness = 1.5 }]\n"
-                        << camera_and_light
-                        << "[image]\nwidth = 96\nheight = 96\nresampling = \"interpolate-then-shade\"\n"
-                        << frames;
+    const auto path = std::filesystem::temp_directory_path() /
+                      ("pp5sim_perm_pp_" + std::to_string(::getpid()) + "_" + name + ".toml");
+    std::ofstream(path)
+        << "[scenario]\nkernel = \"perm\"\n[dataset]\nphantom = \"head\"\nsize = 40\n[classification]\n"
+           "kind = \"isovalue-contours\"\ncontours = [{ value = 60.0, opacity = 0.5, thickness = 1.5 }, "
+           "{ value = 160.0, opacity = 0.9, thickness = 1.5 }]\n"
+        << camera_and_light << "[image]\nwidth = 96\nheight = 96\nresampling = \"interpolate-then-shade\"\n"
+        << frames;
     Scenario s = load_scenario(path);
     std::filesystem::remove(path);
     return s;
@@ -59,7 +60,9 @@ Frames render(const Scenario& s, std::vector<std::string> overrides) {
 
 // Diffuse light from a fixed direction under a parallel camera, depth-cued by k2.
 std::string fixed_light(const char* k2 = "0.5") {
-    return std::string("[shading]\nambient = 0.2\ndiffuse = 0.7\nspecular = 0.0\nlight_direction = [0.3, 0.5, -1]\ndepth_cue = [1.0, ") +
+    return std::string(
+               "[shading]\nambient = 0.2\ndiffuse = 0.7\nspecular = 0.0\nlight_direction = [0.3, 0.5, -1]\ndepth_cue = "
+               "[1.0, ") +
            k2 + "]\n[camera]\nprojection = \"parallel\"\nview_from = [0.3, -1.0, 0.4]\nup = [0.0, 0.0, 1.0]\n";
 }
 

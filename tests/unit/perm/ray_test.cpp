@@ -20,10 +20,10 @@
 #include "sim/timing/frame_engine.h"
 
 #include <gtest/gtest.h>
-#include <glm/geometric.hpp>
-#include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 #include <unistd.h>
+#include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -95,8 +95,10 @@ TEST(PermRays, MatchTheSnappedFloatingPointOracle) {
                     const glm::ivec3 cell = glm::min(glm::ivec3(p), v.dims() - 2);
                     if (perm.index(cell.x, cell.y, cell.z) == PermStructure::kNull) return false;
                     const glm::vec3 f = p - glm::vec3(cell);
-                    const float value = in_cell<float>(v, cell, perm.snapped_density_fraction(f), [&](std::size_t i) { return v.samples()[i]; });
-                    const glm::vec3 g = in_cell<glm::vec3>(v, cell, perm.snapped_gradient_fraction(f), [&](std::size_t i) { return gradients.at(i); });
+                    const float value = in_cell<float>(v, cell, perm.snapped_density_fraction(f),
+                                                       [&](std::size_t i) { return v.samples()[i]; });
+                    const glm::vec3 g = in_cell<glm::vec3>(v, cell, perm.snapped_gradient_fraction(f),
+                                                           [&](std::size_t i) { return gradients.at(i); });
                     const float alpha = c.opacity(value, glm::length(g));
                     if (!(alpha > 0.0f)) return false;
                     return color.add(shader.shade(value, g, p * v.spacing()), alpha);
@@ -104,7 +106,8 @@ TEST(PermRays, MatchTheSnappedFloatingPointOracle) {
             const glm::vec4 expected = color.over(glm::vec3(0.0f));
             oracle.at(px, py) = expected;
             lit += expected.a > 0.05f;
-            for (int ch = 0; ch < 3; ++ch) worst = std::max(worst, static_cast<double>(std::abs(image.at(px, py)[ch] - expected[ch])));
+            for (int ch = 0; ch < 3; ++ch)
+                worst = std::max(worst, static_cast<double>(std::abs(image.at(px, py)[ch] - expected[ch])));
         }
     EXPECT_GT(lit, 1000);
     // Byte storage of the density (1/255 of the range) and of each gradient component is all that
@@ -118,12 +121,15 @@ std::filesystem::path temp_file(const std::string& name) {
 
 Scenario phantom_scenario(const std::string& name, int size, int image) {
     const auto path = temp_file(name + ".toml");
-    std::ofstream(path) << "[scenario]\nkernel = \"perm\"\n[dataset]\nphantom = \"head\"\nsize = " << size
-                        << "\n[classification]\nkind = \"isovalue-contours\"\ncontours = [{ value = 60.0, opacity = 0.5, thickness = 1.5 }, "
-                           "{ value = 160.0, opacity = 0.9, thickness = 1.5 }]\n[shading]\nambient = 0.2\ndiffuse = 0.7\nspecular = 0.3\n"
-                           "light_direction = [0.3, 0.5, -1]\n[camera]\nprojection = \"perspective\"\nview_from = [0.3, -1.0, 0.4]\n"
-                           "up = [0.0, 0.0, 1.0]\n[image]\nwidth = "
-                        << image << "\nheight = " << image << "\nresampling = \"interpolate-then-shade\"\n";
+    std::ofstream(path)
+        << "[scenario]\nkernel = \"perm\"\n[dataset]\nphantom = \"head\"\nsize = " << size
+        << "\n[classification]\nkind = \"isovalue-contours\"\ncontours = [{ value = 60.0, opacity = 0.5, thickness = "
+           "1.5 }, "
+           "{ value = 160.0, opacity = 0.9, thickness = 1.5 }]\n[shading]\nambient = 0.2\ndiffuse = 0.7\nspecular = "
+           "0.3\n"
+           "light_direction = [0.3, 0.5, -1]\n[camera]\nprojection = \"perspective\"\nview_from = [0.3, -1.0, 0.4]\n"
+           "up = [0.0, 0.0, 1.0]\n[image]\nwidth = "
+        << image << "\nheight = " << image << "\nresampling = \"interpolate-then-shade\"\n";
     Scenario s = load_scenario(path);
     std::filesystem::remove(path);
     return s;
@@ -143,15 +149,17 @@ Result render_once(const Scenario& s, const std::vector<std::string>& overrides)
     auto reference = find_kernel("reference")->start(host, config, s, volume);
     auto frame = run->record_frame(s.frames.front());
     const FrameTiming timing = time_frame(machine, frame->work);
-    return {frame->pass_images.back(), reference->record_frame(s.frames.front())->pass_images.back(), run->frame_stats(*frame, timing, {"f.png"})};
+    return {frame->pass_images.back(), reference->record_frame(s.frames.front())->pass_images.back(),
+            run->frame_stats(*frame, timing, {"f.png"})};
 }
 
 TEST(PermQuality, FallsWithTheQuantizationAndPrefersDensityOverGradient) {
     const Scenario s = phantom_scenario("quality", 48, 128);
     const auto psnr = [&](int d, int g) {
         // N_qc = 10 takes 5,000 bytes a cell: a machine with 16 times the backing store holds it.
-        const Result r = render_once(s, {"perm.density_positions=" + std::to_string(d), "perm.gradient_positions=" + std::to_string(g),
-                                         "renderer.backing_store_bits=65536"});
+        const Result r =
+            render_once(s, {"perm.density_positions=" + std::to_string(d),
+                            "perm.gradient_positions=" + std::to_string(g), "renderer.backing_store_bits=65536"});
         return compare_images(r.image, r.reference).psnr_db;
     };
     const double p10 = psnr(10, 10), p5 = psnr(5, 5), p3 = psnr(3, 3), p53 = psnr(5, 3), p35 = psnr(3, 5);
@@ -174,28 +182,36 @@ TEST(PermQuality, DensityPositionsBuyMoreThanGradientPositionsOnTheRealHeads) {
         {"ch2", "[91, 109, 91]",
          "contours = [{ value = 40.0, opacity = 0.95, thickness = 1.5 }]\n"
          "colors = [{ value = 0.0, color = [0.95, 0.78, 0.66] }, { value = 255.0, color = [1.0, 0.9, 0.82] }]\n"
-         "[shading]\nambient = 0.15\ndiffuse = 0.75\nspecular = 0.25\nshininess = 16.0\nlight = \"headlight\"\ndepth_cue = [1.0, 0.4]\n"},
+         "[shading]\nambient = 0.15\ndiffuse = 0.75\nspecular = 0.25\nshininess = 16.0\nlight = "
+         "\"headlight\"\ndepth_cue = [1.0, 0.4]\n"},
         {"ct-head", "[128, 128, 81]",
-         "contours = [{ value = -300.0, opacity = 0.2, thickness = 1.5 }, { value = 400.0, opacity = 0.95, thickness = 1.5 }]\n"
+         "contours = [{ value = -300.0, opacity = 0.2, thickness = 1.5 }, { value = 400.0, opacity = 0.95, thickness = "
+         "1.5 }]\n"
          "colors = [{ value = -600.0, color = [0.9, 0.65, 0.55] }, { value = 200.0, color = [0.9, 0.65, 0.55] }, "
          "{ value = 400.0, color = [1.0, 0.97, 0.9] }]\n"
-         "[shading]\nambient = 0.15\ndiffuse = 0.7\nspecular = 0.3\nshininess = 20.0\nlight = \"headlight\"\ndepth_cue = [1.0, 0.3]\n"},
+         "[shading]\nambient = 0.15\ndiffuse = 0.7\nspecular = 0.3\nshininess = 20.0\nlight = \"headlight\"\ndepth_cue "
+         "= [1.0, 0.3]\n"},
     };
     for (const Head& head : heads) {
         const PackagedDataset* data = find_packaged_dataset(head.dataset);
         ASSERT_NE(data, nullptr);
-        if (!std::filesystem::exists(data->path)) GTEST_SKIP() << data->path << " absent: apt-get install " << data->package;
+        if (!std::filesystem::exists(data->path))
+            GTEST_SKIP() << data->path << " absent: apt-get install " << data->package;
         const auto path = temp_file(std::string(head.dataset) + ".toml");
-        std::ofstream(path) << "[scenario]\nkernel = \"perm\"\n[dataset]\npackaged = \"" << head.dataset << "\"\nresample = " << head.resample
+        std::ofstream(path) << "[scenario]\nkernel = \"perm\"\n[dataset]\npackaged = \"" << head.dataset
+                            << "\"\nresample = " << head.resample
                             << "\n[classification]\nkind = \"isovalue-contours\"\n"
                             << head.transfer_and_light
-                            << "[camera]\nprojection = \"parallel\"\nview_from = [0.0, 1.0, 0.0]\nup = [0.0, 0.0, 1.0]\nazimuth = 30.0\n"
-                               "elevation = 10.0\nzoom = 1.1\n[image]\nwidth = 128\nheight = 128\nresampling = \"interpolate-then-shade\"\n";
+                            << "[camera]\nprojection = \"parallel\"\nview_from = [0.0, 1.0, 0.0]\nup = [0.0, 0.0, "
+                               "1.0]\nazimuth = 30.0\n"
+                               "elevation = 10.0\nzoom = 1.1\n[image]\nwidth = 128\nheight = 128\nresampling = "
+                               "\"interpolate-then-shade\"\n";
         const Scenario s = load_scenario(path);
         std::filesystem::remove(path);
         const auto psnr = [&](int d, int g) {
-            const Result r = render_once(s, {"perm.density_positions=" + std::to_string(d), "perm.gradient_positions=" + std::to_string(g),
-                                             "renderer.backing_store_bits=65536"});
+            const Result r =
+                render_once(s, {"perm.density_positions=" + std::to_string(d),
+                                "perm.gradient_positions=" + std::to_string(g), "renderer.backing_store_bits=65536"});
             return compare_images(r.image, r.reference).psnr_db;
         };
         const double p53 = psnr(5, 3), p35 = psnr(3, 5);
@@ -224,10 +240,11 @@ TEST(PermDeterminism, SamePictureAndCountsAtAnyThreadOrGpCount) {
 TEST(PermReduction, DropsCellsNoRayReachesAndLeavesThePictureAsItWas) {
     // Solid material (a ramp to 0.9 opacity): cells deep inside the skull are never reached.
     const auto path = temp_file("solid.toml");
-    std::ofstream(path) << "[scenario]\nkernel = \"perm\"\n[dataset]\nphantom = \"head\"\nsize = 96\n[classification]\n"
-                           "kind = \"piecewise-linear\"\npoints = [{ value = 40.0, opacity = 0.0 }, { value = 80.0, opacity = 0.9 }]\n"
-                           "[camera]\nprojection = \"perspective\"\nview_from = [0.3, -1.0, 0.4]\nup = [0.0, 0.0, 1.0]\n"
-                           "[image]\nwidth = 96\nheight = 96\nresampling = \"interpolate-then-shade\"\n";
+    std::ofstream(path)
+        << "[scenario]\nkernel = \"perm\"\n[dataset]\nphantom = \"head\"\nsize = 96\n[classification]\n"
+           "kind = \"piecewise-linear\"\npoints = [{ value = 40.0, opacity = 0.0 }, { value = 80.0, opacity = 0.9 }]\n"
+           "[camera]\nprojection = \"perspective\"\nview_from = [0.3, -1.0, 0.4]\nup = [0.0, 0.0, 1.0]\n"
+           "[image]\nwidth = 96\nheight = 96\nresampling = \"interpolate-then-shade\"\n";
     const Scenario s = load_scenario(path);
     std::filesystem::remove(path);
     const std::vector<std::string> coarse = {"perm.gradient_positions=3", "perm.reduction_opacity=0.6"};

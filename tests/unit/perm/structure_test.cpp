@@ -14,7 +14,9 @@
 namespace pp5 {
 namespace {
 
-PermMemory paper(glm::ivec3 dims, std::uint64_t candidates, int d, int g) { return PermMemory{dims, candidates, d, g, 2, 1}; }
+PermMemory paper(glm::ivec3 dims, std::uint64_t candidates, int d, int g) {
+    return PermMemory{dims, candidates, d, g, 2, 1};
+}
 
 TEST(PermMemoryEquations, TablesOneAndTwoToTheMegabyte) {
     struct Row {
@@ -28,8 +30,12 @@ TEST(PermMemoryEquations, TablesOneAndTwoToTheMegabyte) {
                         {"aneurism", {256, 256, 256}, 214'521, 168, 84},
                         {"tooth", {256, 256, 161}, 304'322, 211, 92}};
     for (const Row& r : rows) {
-        EXPECT_EQ(std::lround(static_cast<double>(paper(r.dims, r.candidates, 5, 5).total_bytes()) / 1e6), std::lround(r.table1)) << r.dataset;
-        EXPECT_EQ(std::lround(static_cast<double>(paper(r.dims, r.candidates, 5, 3).total_bytes()) / 1e6), std::lround(r.table2)) << r.dataset;
+        EXPECT_EQ(std::lround(static_cast<double>(paper(r.dims, r.candidates, 5, 5).total_bytes()) / 1e6),
+                  std::lround(r.table1))
+            << r.dataset;
+        EXPECT_EQ(std::lround(static_cast<double>(paper(r.dims, r.candidates, 5, 3).total_bytes()) / 1e6),
+                  std::lround(r.table2))
+            << r.dataset;
     }
     // With a plain 4-byte index volume no cell matches: the tables used section 4.3's 2-byte one.
     PermMemory four = paper(rows[0].dims, rows[0].candidates, 5, 5);
@@ -41,8 +47,12 @@ TEST(PermMemoryEquations, TablesOneAndTwoToTheMegabyte) {
     // The kernel's formula (target files' formula rows) is the same arithmetic.
     const Kernel* perm = find_kernel("perm");
     ASSERT_NE(perm, nullptr);
-    const double bonsai = perm->formula("memory_megabytes", {{"dims", {256, 256, 256}}, {"candidates", {754117}}, {"density_positions", {5}},
-                                                             {"gradient_positions", {3}}, {"index_bytes", {2}}, {"density_bytes", {1}}});
+    const double bonsai = perm->formula("memory_megabytes", {{"dims", {256, 256, 256}},
+                                                             {"candidates", {754117}},
+                                                             {"density_positions", {5}},
+                                                             {"gradient_positions", {3}},
+                                                             {"index_bytes", {2}},
+                                                             {"density_bytes", {1}}});
     EXPECT_NEAR(bonsai, static_cast<double>(paper({256, 256, 256}, 754'117, 5, 3).total_bytes()) / 1e6, 1e-9);
 }
 

@@ -37,12 +37,15 @@ struct DummyFrame final : KernelFrame {
 class DummyRun final : public KernelRun {
 public:
     DummyRun(const MachineConfig& config, const Scenario& scenario, std::size_t renderers)
-        : stripes_(static_cast<int>(config.integer("dummy.stripes"))), width_(scenario.image.width), height_(scenario.image.height) {
+        : stripes_(static_cast<int>(config.integer("dummy.stripes"))),
+          width_(scenario.image.width),
+          height_(scenario.image.height) {
         // Block b lives on renderer b mod R, 16 units of 32 bits.
         std::vector<std::uint32_t> first;
         std::vector<BlockPart> parts;
         for (std::uint32_t b = 0; b <= kBlocks; ++b) first.push_back(b);
-        for (std::uint32_t b = 0; b < kBlocks; ++b) parts.push_back(BlockPart{static_cast<std::uint32_t>(b % renderers), 16});
+        for (std::uint32_t b = 0; b < kBlocks; ++b)
+            parts.push_back(BlockPart{static_cast<std::uint32_t>(b % renderers), 16});
         blocks_ = std::make_shared<const BlockDirectory>(16 * 32, 32, first, parts);
     }
 
@@ -68,8 +71,18 @@ public:
         shade.ops.push_back(GpOp{0, 1});  // every step shades one pixel
         for (std::uint32_t pass = 0; pass < 2; ++pass)
             for (int y = 0; y < height_; ++y) {
-                GpTask task{pass, static_cast<std::uint32_t>(y), static_cast<std::uint32_t>(shade.items.size()),
-                            static_cast<std::uint32_t>(width_), 0, 0, 0, 0, static_cast<std::uint32_t>(width_), 0, 0, {}};
+                GpTask task{pass,
+                            static_cast<std::uint32_t>(y),
+                            static_cast<std::uint32_t>(shade.items.size()),
+                            static_cast<std::uint32_t>(width_),
+                            0,
+                            0,
+                            0,
+                            0,
+                            static_cast<std::uint32_t>(width_),
+                            0,
+                            0,
+                            {}};
                 for (int x = 0; x < width_; ++x) {
                     shade.items.push_back(GpItem{static_cast<std::uint32_t>(shade.steps.size()), 1});
                     shade.steps.push_back(GpStep{0, 1, static_cast<std::uint32_t>((x + y) % kBlocks)});
@@ -81,7 +94,8 @@ public:
         return out;
     }
 
-    nlohmann::json frame_stats(const KernelFrame& frame, const FrameTiming& timing, const std::vector<std::string>& images) const override {
+    nlohmann::json frame_stats(const KernelFrame& frame, const FrameTiming& timing,
+                               const std::vector<std::string>& images) const override {
         return {{"dummy",
                  {{"pixels_shaded", static_cast<const DummyFrame&>(frame).pixels},
                   {"shade_seconds", ticks_to_seconds(timing.phase("shade")->duration_ps())},
@@ -106,9 +120,11 @@ public:
     std::vector<const ParamGroup*> param_groups() const override { return {&dummy_params(), &dummy_costs()}; }
     bool runs_on_machine() const override { return true; }
     void check(const Scenario& scenario) const override {
-        if (!scenario.polygons.empty()) throw InputError(scenario.file.string(), "polygons", "the dummy kernel draws no polygons");
+        if (!scenario.polygons.empty())
+            throw InputError(scenario.file.string(), "polygons", "the dummy kernel draws no polygons");
     }
-    std::unique_ptr<KernelRun> start(Machine& machine, const MachineConfig& config, const Scenario& scenario, const Volume&) const override {
+    std::unique_ptr<KernelRun> start(Machine& machine, const MachineConfig& config, const Scenario& scenario,
+                                     const Volume&) const override {
         return std::make_unique<DummyRun>(config, scenario, machine.renderers().size());
     }
     std::vector<KernelMetric> metrics() const override { return {{"shade_seconds", "s", "the shading phase"}}; }

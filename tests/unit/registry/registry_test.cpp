@@ -3,9 +3,9 @@
 // engine, staged output), with its parameters, costs, statistics and metric. Unknown kernels are
 // refused, naming the file and listing the known ones.
 
+#include "kernels/registry/registry.h"
 #include "dummy_kernel.h"
 #include "frontends/render_scenario.h"
-#include "kernels/registry/registry.h"
 #include "kernels/registry/run_config.h"
 #include "sim/core/input_error.h"
 
@@ -27,7 +27,8 @@ fs::path write_scenario(const std::string& name, const std::string& kernel) {
     const fs::path file = dir / "scenario.toml";
     std::ofstream(file) << "[scenario]\nname = \"" << name << "\"\nkernel = \"" << kernel
                         << "\"\n[dataset]\nphantom = \"sphere\"\nsize = 16\n[image]\nwidth = 24\nheight = 16\n"
-                           "[classification]\nkind = \"piecewise-linear\"\npoints = [{ value = 50.0, opacity = 0.0 }, { value = 150.0, opacity = 0.8 }]\n"
+                           "[classification]\nkind = \"piecewise-linear\"\npoints = [{ value = 50.0, opacity = 0.0 }, "
+                           "{ value = 150.0, opacity = 0.8 }]\n"
                            "[[frames]]\nlabel = \"first\"\n[[frames]]\nlabel = \"again\"\n";
     return file;
 }
@@ -71,7 +72,8 @@ TEST(Registry, AnUnknownKernelNamesTheFileAndListsTheKnownOnes) {
 TEST(Registry, ADummyKernelRendersEndToEndThroughTheRegistry) {
     register_dummy_once();
     // Its parameters join the run configuration like any kernel's.
-    const MachineConfig config = load_run_config("pxpl5", {"gp.count=4", "dummy.stripes=3", "gp_cost.dummy.shade_flops=20"});
+    const MachineConfig config =
+        load_run_config("pxpl5", {"gp.count=4", "dummy.stripes=3", "gp_cost.dummy.shade_flops=20"});
     EXPECT_EQ(config.integer("dummy.stripes"), 3);
 
     const fs::path file = write_scenario("dummy", "dummy");
@@ -86,7 +88,8 @@ TEST(Registry, ADummyKernelRendersEndToEndThroughTheRegistry) {
     ASSERT_EQ(stats["frames"].size(), 2u);
     for (const auto& frame : stats["frames"]) {
         EXPECT_EQ(frame["dummy"]["pixels_shaded"], 2 * 24 * 16);
-        EXPECT_GT(frame["simulated_seconds"].get<double>(), frame["dummy"]["shade_seconds"].get<double>());  // the broadcast came first
+        EXPECT_GT(frame["simulated_seconds"].get<double>(),
+                  frame["dummy"]["shade_seconds"].get<double>());  // the broadcast came first
         EXPECT_EQ(frame["dummy"]["pass_images"].size(), 2u);
         EXPECT_TRUE(frame.contains("fidelity"));  // compared with the reference renderer like any machine kernel
     }
@@ -95,8 +98,10 @@ TEST(Registry, ADummyKernelRendersEndToEndThroughTheRegistry) {
     const nlohmann::json& c = stats["components"];
     EXPECT_EQ(c["frame_buffer"]["pixels_written"]["value"], 2 * 2 * 24 * 16);
     std::uint64_t shaded = 0;
-    for (int g = 0; g < 4; ++g) shaded += c["gp[" + std::to_string(g) + "]"]["operations.dummy.shade"]["value"].get<std::uint64_t>();
-    EXPECT_EQ(shaded, 2u * (2 * 24 * 16 + 4 * 100));  // per frame: one per pixel and pass, and 100 after the broadcast on each GP
+    for (int g = 0; g < 4; ++g)
+        shaded += c["gp[" + std::to_string(g) + "]"]["operations.dummy.shade"]["value"].get<std::uint64_t>();
+    EXPECT_EQ(shaded, 2u * (2 * 24 * 16 +
+                            4 * 100));  // per frame: one per pixel and pass, and 100 after the broadcast on each GP
     EXPECT_GT(c["renderer[0]"]["fetches"]["value"].get<std::uint64_t>(), 0u);
     EXPECT_EQ(c["ring"]["messages"]["value"]["broadcast"], 2 * 16);
     EXPECT_TRUE(fs::exists(out / "frame_0001.png"));
@@ -108,13 +113,15 @@ TEST(Registry, ADummyKernelRendersEndToEndThroughTheRegistry) {
     const MachineConfig cheaper = load_run_config("pxpl5", {"gp.count=4", "gp_cost.dummy.shade_flops=5"});
     StagedOutput again(file.parent_path() / "cheaper");
     const ScenarioRender faster = render_scenario(scenario, cheaper, again);
-    EXPECT_LT(faster.stats["frames"][0]["dummy"]["shade_seconds"].get<double>(), stats["frames"][0]["dummy"]["shade_seconds"].get<double>());
+    EXPECT_LT(faster.stats["frames"][0]["dummy"]["shade_seconds"].get<double>(),
+              stats["frames"][0]["dummy"]["shade_seconds"].get<double>());
 }
 
 TEST(Registry, AKernelRefusesWhatItCannotRender) {
     register_dummy_once();
     const fs::path file = write_scenario("dummy-polygons", "dummy");
-    std::ofstream(file, std::ios::app) << "[[polygons]]\nvertices = [[1.0, 1.0, 1.0], [5.0, 1.0, 1.0], [1.0, 5.0, 1.0]]\ncolor = [1.0, 1.0, 1.0]\nopacity = 1.0\n";
+    std::ofstream(file, std::ios::app) << "[[polygons]]\nvertices = [[1.0, 1.0, 1.0], [5.0, 1.0, 1.0], [1.0, 5.0, "
+                                          "1.0]]\ncolor = [1.0, 1.0, 1.0]\nopacity = 1.0\n";
     const Scenario scenario = load_scenario(file);
     ASSERT_FALSE(scenario.polygons.empty());
     StagedOutput output(file.parent_path() / "out");

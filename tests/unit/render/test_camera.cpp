@@ -2,9 +2,9 @@
 #include "sim/core/input_error.h"
 #include "tests/support/vector_expectations.h"
 
+#include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
-#include <gtest/gtest.h>
 
 #include <cmath>
 

@@ -59,9 +59,9 @@ TEST(RegionBoundaries, GradientTimesInterpolatedOpacity) {
     const Classification c = regions({{0.0f, 0.0f}, {100.0f, 0.5f}, {200.0f, 1.0f}});
     EXPECT_NEAR(c.opacity(50.0f, 0.4f), 0.4f * 0.25f, 1e-6f);
     EXPECT_NEAR(c.opacity(150.0f, 1.0f), 0.75f, 1e-6f);
-    EXPECT_EQ(c.opacity(150.0f, 0.0f), 0.0f);    // flat regions are transparent
-    EXPECT_EQ(c.opacity(150.0f, 10.0f), 1.0f);   // clamped
-    EXPECT_EQ(c.opacity(-1.0f, 1.0f), 0.0f);     // outside the points' range
+    EXPECT_EQ(c.opacity(150.0f, 0.0f), 0.0f);   // flat regions are transparent
+    EXPECT_EQ(c.opacity(150.0f, 10.0f), 1.0f);  // clamped
+    EXPECT_EQ(c.opacity(-1.0f, 1.0f), 0.0f);    // outside the points' range
     EXPECT_EQ(c.opacity(201.0f, 1.0f), 0.0f);
     EXPECT_NEAR(c.opacity(200.0f, 0.5f), 0.5f, 1e-6f);  // the last point itself is inside
 }

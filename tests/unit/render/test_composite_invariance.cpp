@@ -66,10 +66,12 @@ using Renderer = std::function<Image(const LumpyScene&, const Classification&, c
                                      CompositeStats*)>;
 
 const std::vector<std::pair<std::string, Renderer>> kOrders = {
-    {"shade-then-interpolate", [](const LumpyScene& s, const Classification& c, const Camera& cam,
-                                  const CompositeSettings& st, CompositeStats* stats) { return s.pre(c, cam, st, stats); }},
-    {"interpolate-then-shade", [](const LumpyScene& s, const Classification& c, const Camera& cam,
-                                  const CompositeSettings& st, CompositeStats* stats) { return s.post(c, cam, st, stats); }},
+    {"shade-then-interpolate",
+     [](const LumpyScene& s, const Classification& c, const Camera& cam, const CompositeSettings& st,
+        CompositeStats* stats) { return s.pre(c, cam, st, stats); }},
+    {"interpolate-then-shade",
+     [](const LumpyScene& s, const Classification& c, const Camera& cam, const CompositeSettings& st,
+        CompositeStats* stats) { return s.post(c, cam, st, stats); }},
 };
 
 TEST(Invariance, SkippingEmptySpaceChangesNoByte) {
@@ -164,8 +166,10 @@ TEST(Invariance, OnDemandShadingMatchesShadingEverything) {
     for (float azimuth : {0.0f, 5.0f, 10.0f, 10.0f}) {
         orbit.azimuth_degrees = azimuth;
         const Camera camera = orbit_camera(test::box_center(scene.volume), test::box_radius(scene.volume), orbit);
-        const ShadedVolume all = shade_voxels(scene.volume, scene.gradients, opacity, scene.colors, scene.lighting, camera);
-        EXPECT_TRUE(test::same_bytes(renderer.render(camera, settings), composite(all, camera, settings.composite_settings())))
+        const ShadedVolume all =
+            shade_voxels(scene.volume, scene.gradients, opacity, scene.colors, scene.lighting, camera);
+        EXPECT_TRUE(
+            test::same_bytes(renderer.render(camera, settings), composite(all, camera, settings.composite_settings())))
             << "azimuth " << azimuth;
     }
 }

@@ -7,8 +7,8 @@
 #include "sim/core/input_error.h"
 #include "test_scenes.h"
 
-#include <glm/trigonometric.hpp>
 #include <gtest/gtest.h>
+#include <glm/trigonometric.hpp>
 
 #include <cmath>
 #include <numbers>
@@ -25,8 +25,8 @@ const glm::vec3 kBackground{0.1f, 0.2f, 0.3f};
 Image render_slab(const Volume& volume, float alpha, const Camera& camera, CompositeSettings settings) {
     const GradientField gradients = compute_gradients(volume);
     const std::vector<float> opacity = classify_voxels(volume, gradients, test::constant_opacity(alpha));
-    const ShadedVolume shaded = shade_voxels(volume, gradients, opacity, test::constant_color(kSlabColor),
-                                             test::flat_lighting(), camera);
+    const ShadedVolume shaded =
+        shade_voxels(volume, gradients, opacity, test::constant_color(kSlabColor), test::flat_lighting(), camera);
     settings.background = kBackground;
     return composite(shaded, camera, settings);
 }

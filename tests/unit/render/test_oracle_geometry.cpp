@@ -30,9 +30,11 @@ TEST(OracleRegion, OpacitiesAreScaledByTheRegionsFactor) {
     std::vector<float> opacity(static_cast<std::size_t>(dims.x * dims.y * dims.z), 0.5f);
     const RegionOfInterest region = cut_box();
     scale_by_region(opacity, dims, region);
-    const auto at = [&](int x, int y, int z) { return opacity[static_cast<std::size_t>(x + dims.x * (y + dims.y * z))]; };
-    EXPECT_FLOAT_EQ(at(10, 10, 10), 0.0f);                    // inside: cut away
-    EXPECT_FLOAT_EQ(at(0, 0, 0), 0.5f);                       // far outside: kept
+    const auto at = [&](int x, int y, int z) {
+        return opacity[static_cast<std::size_t>(x + dims.x * (y + dims.y * z))];
+    };
+    EXPECT_FLOAT_EQ(at(10, 10, 10), 0.0f);                                         // inside: cut away
+    EXPECT_FLOAT_EQ(at(0, 0, 0), 0.5f);                                            // far outside: kept
     EXPECT_FLOAT_EQ(at(14, 10, 10), 0.5f * region.factor(glm::vec3(14, 10, 10)));  // on the face: halfway
     EXPECT_NEAR(at(14, 10, 10), 0.25f, 1e-6f);
 }
@@ -47,7 +49,8 @@ TEST(OracleRegion, CappingShadesTheTransitionZoneAsIfTheRegionHeldAir) {
     EXPECT_NEAR(g.y, 0.0f, 1e-4f);
     EXPECT_NEAR(g.z, 0.0f, 1e-4f);
     // Beyond the band, or without capping, the gradient is the volume's.
-    EXPECT_EQ(region.capped_gradient(glm::vec3(17.0f, 10.0f, 10.0f), 100.0f, glm::vec3(1.0f, 2.0f, 3.0f), 0.0f), glm::vec3(1.0f, 2.0f, 3.0f));
+    EXPECT_EQ(region.capped_gradient(glm::vec3(17.0f, 10.0f, 10.0f), 100.0f, glm::vec3(1.0f, 2.0f, 3.0f), 0.0f),
+              glm::vec3(1.0f, 2.0f, 3.0f));
     region.cap = false;
     EXPECT_EQ(region.capped_gradient(glm::vec3(14.0f, 10.0f, 10.0f), 100.0f, glm::vec3(0.0f), 0.0f), glm::vec3(0.0f));
 }
@@ -62,7 +65,9 @@ PolygonSpec square(float z, float side, glm::vec3 color, float opacity) {
 
 // Voxel `v` of a volume of `dims`, of a uniform blue at opacity 0.5, after the mattes of its block.
 glm::vec4 matted_voxel(const PolygonMattes& mattes, glm::ivec3 dims, glm::ivec3 v) {
-    ShadedVolume shaded{dims, glm::vec3(1.0f), std::vector<glm::vec4>(static_cast<std::size_t>(dims.x * dims.y * dims.z), glm::vec4(0.0f, 0.0f, 1.0f, 0.5f))};
+    ShadedVolume shaded{
+        dims, glm::vec3(1.0f),
+        std::vector<glm::vec4>(static_cast<std::size_t>(dims.x * dims.y * dims.z), glm::vec4(0.0f, 0.0f, 1.0f, 0.5f))};
     mattes.apply(OccupancyGrid(dims).block_index(v / OccupancyGrid::kBlockSize), shaded);
     return shaded.rgba[static_cast<std::size_t>(v.x + dims.x * (v.y + dims.y * v.z))];
 }

@@ -88,8 +88,9 @@ TEST_F(RendererCache, InterpolateThenShadeMatchesTheStageFunction) {
     settings.resampling = ResamplingOrder::InterpolateThenShade;
     const Camera c = camera();
     const Image cached = renderer.render(c, settings);
-    const Image direct = render_post_classified(volume, compute_gradients(volume), renderer.classification(),
-                                                renderer.color_map(), renderer.lighting(), c, settings.composite_settings());
+    const Image direct =
+        render_post_classified(volume, compute_gradients(volume), renderer.classification(), renderer.color_map(),
+                               renderer.lighting(), c, settings.composite_settings());
     EXPECT_TRUE(test::same_bytes(cached, direct));
 }
 

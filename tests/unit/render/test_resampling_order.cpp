@@ -53,9 +53,8 @@ TEST(ResamplingOrder, AgreeOnSmoothData) {
 // there is 100 a voxel, r = 0.4 reaches 40), so Levoy's order sees nothing; interpolated samples cross
 // 100 and show the surface.
 TEST(ResamplingOrder, ThinContourSeenOnlyWhenClassifyingSamples) {
-    const Volume step = test::make_volume(glm::ivec3(32), glm::vec3(1.0f), [](int x, int, int) {
-        return x < 16 ? 200.0f : 0.0f;
-    });
+    const Volume step =
+        test::make_volume(glm::ivec3(32), glm::vec3(1.0f), [](int x, int, int) { return x < 16 ? 200.0f : 0.0f; });
     Classification thin;
     thin.kind = ClassificationKind::IsovalueContours;
     thin.contours = {{100.0f, 1.0f, 0.4f}};

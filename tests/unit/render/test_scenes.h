@@ -20,7 +20,8 @@ namespace pp5::test {
 template <class Fn>
 Volume make_volume(glm::ivec3 dims, glm::vec3 spacing, Fn&& value_at) {
     std::vector<float> samples;
-    samples.reserve(static_cast<std::size_t>(dims.x) * static_cast<std::size_t>(dims.y) * static_cast<std::size_t>(dims.z));
+    samples.reserve(static_cast<std::size_t>(dims.x) * static_cast<std::size_t>(dims.y) *
+                    static_cast<std::size_t>(dims.z));
     for (int z = 0; z < dims.z; ++z) {
         for (int y = 0; y < dims.y; ++y) {
             for (int x = 0; x < dims.x; ++x) samples.push_back(value_at(x, y, z));

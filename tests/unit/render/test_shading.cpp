@@ -2,9 +2,9 @@
 #include "sim/core/input_error.h"
 #include "tests/support/vector_expectations.h"
 
+#include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
-#include <gtest/gtest.h>
 
 #include <cmath>
 
@@ -97,7 +97,8 @@ TEST(PhongShader, StationaryLightsAddTheirOwnTerms) {
     all.stationary_lights = {{glm::vec3(-1.0f, 0.5f, 1.0f), 0.4f}, {glm::vec3(0.0f, 2.0f, 1.0f), 1.0f}};
     const PhongShader shader(all);
     const PhongShader key_only(key);
-    for (const glm::vec3 n : {glm::normalize(glm::vec3(0.2f, -0.4f, 1.0f)), glm::normalize(glm::vec3(-1.0f, 1.0f, 0.1f)), kZ}) {
+    for (const glm::vec3 n :
+         {glm::normalize(glm::vec3(0.2f, -0.4f, 1.0f)), glm::normalize(glm::vec3(-1.0f, 1.0f, 0.1f)), kZ}) {
         glm::vec3 expected = key_only.shade(kBase, n, key.light_direction, kZ, 0.6f);
         for (const StationaryLight& light : all.stationary_lights) {
             PhongLighting one = key;

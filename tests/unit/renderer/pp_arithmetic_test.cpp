@@ -40,7 +40,8 @@ void check_pairs(int a_bits, bool a_signed, int b_bits, bool b_signed, Body body
         lowest = std::min(lowest, want);
         highest = std::max(highest, want);
         if (values[static_cast<std::size_t>(p)] != want && failures < 5) {
-            ADD_FAILURE() << "a=" << a << " b=" << b << ": got " << values[static_cast<std::size_t>(p)] << ", want " << want;
+            ADD_FAILURE() << "a=" << a << " b=" << b << ": got " << values[static_cast<std::size_t>(p)] << ", want "
+                          << want;
             ++failures;
         }
     }
@@ -53,93 +54,113 @@ void check_pairs(int a_bits, bool a_signed, int b_bits, bool b_signed, Body body
 
 TEST(PpArithmetic, AddAndSubtractAllEightBitPairs) {
     for (bool is_signed : {false, true}) {
-        check_pairs(8, is_signed, 8, is_signed, [](PpProgramBuilder& b, Operands o) { return b.add("sum", o.a, o.b); },
-                    [](std::int64_t a, std::int64_t b) { return a + b; });
-        check_pairs(8, is_signed, 8, is_signed, [](PpProgramBuilder& b, Operands o) { return b.sub("difference", o.a, o.b); },
-                    [](std::int64_t a, std::int64_t b) { return a - b; });
+        check_pairs(
+            8, is_signed, 8, is_signed, [](PpProgramBuilder& b, Operands o) { return b.add("sum", o.a, o.b); },
+            [](std::int64_t a, std::int64_t b) { return a + b; });
+        check_pairs(
+            8, is_signed, 8, is_signed, [](PpProgramBuilder& b, Operands o) { return b.sub("difference", o.a, o.b); },
+            [](std::int64_t a, std::int64_t b) { return a - b; });
     }
 }
 
 TEST(PpArithmetic, MixedSignednessAllEightBitPairs) {
     // A signed and an unsigned operand: the result's range, and so its width, comes from both.
-    check_pairs(8, true, 8, false, [](PpProgramBuilder& b, Operands o) { return b.add("sum", o.a, o.b); },
-                [](std::int64_t a, std::int64_t b) { return a + b; });
-    check_pairs(8, false, 8, true, [](PpProgramBuilder& b, Operands o) { return b.sub("difference", o.a, o.b); },
-                [](std::int64_t a, std::int64_t b) { return a - b; });
-    check_pairs(8, true, 8, false, [](PpProgramBuilder& b, Operands o) { return b.mul("product", o.a, o.b, 5); },
-                [](std::int64_t a, std::int64_t b) { return (a * b) >> 5; });
+    check_pairs(
+        8, true, 8, false, [](PpProgramBuilder& b, Operands o) { return b.add("sum", o.a, o.b); },
+        [](std::int64_t a, std::int64_t b) { return a + b; });
+    check_pairs(
+        8, false, 8, true, [](PpProgramBuilder& b, Operands o) { return b.sub("difference", o.a, o.b); },
+        [](std::int64_t a, std::int64_t b) { return a - b; });
+    check_pairs(
+        8, true, 8, false, [](PpProgramBuilder& b, Operands o) { return b.mul("product", o.a, o.b, 5); },
+        [](std::int64_t a, std::int64_t b) { return (a * b) >> 5; });
     // Unequal widths: 8-bit a, 6-bit b.
-    check_pairs(8, true, 6, true, [](PpProgramBuilder& b, Operands o) { return b.mul("product", o.a, o.b); },
-                [](std::int64_t a, std::int64_t b) { return a * b; });
+    check_pairs(
+        8, true, 6, true, [](PpProgramBuilder& b, Operands o) { return b.mul("product", o.a, o.b); },
+        [](std::int64_t a, std::int64_t b) { return a * b; });
 }
 
 TEST(PpArithmetic, SquaresOfEveryEightBitValue) {
     // mul(a, a) knows a square is never negative: unsigned, one bit narrower than a general product.
     for (bool is_signed : {false, true}) {
-        check_pairs(8, is_signed, 0, false, [](PpProgramBuilder& b, Operands o) { return b.mul("square", o.a, o.a); },
-                    [](std::int64_t a, std::int64_t) { return a * a; });
+        check_pairs(
+            8, is_signed, 0, false, [](PpProgramBuilder& b, Operands o) { return b.mul("square", o.a, o.a); },
+            [](std::int64_t a, std::int64_t) { return a * a; });
     }
 }
 
 TEST(PpArithmetic, MultiplyAllEightBitPairsWithAndWithoutShift) {
     for (bool is_signed : {false, true}) {
         for (int shift : {0, 3, 8}) {
-            check_pairs(8, is_signed, 8, is_signed, [&](PpProgramBuilder& b, Operands o) { return b.mul("product", o.a, o.b, shift); },
-                        [&](std::int64_t a, std::int64_t b) { return (a * b) >> shift; });
+            check_pairs(
+                8, is_signed, 8, is_signed,
+                [&](PpProgramBuilder& b, Operands o) { return b.mul("product", o.a, o.b, shift); },
+                [&](std::int64_t a, std::int64_t b) { return (a * b) >> shift; });
         }
     }
 }
 
 TEST(PpArithmetic, DivideAllEightBitPairsSaturating) {
     // (a << 4) / b into 9 bits: saturates at 511 for b = 0 and for quotients that do not fit.
-    check_pairs(8, false, 8, false, [](PpProgramBuilder& b, Operands o) { return b.div("quotient", o.a, o.b, 4, 9); },
-                [](std::int64_t a, std::int64_t b) { return b == 0 ? 511 : std::min<std::int64_t>((a << 4) / b, 511); },
-                Width::Declared);
+    check_pairs(
+        8, false, 8, false, [](PpProgramBuilder& b, Operands o) { return b.div("quotient", o.a, o.b, 4, 9); },
+        [](std::int64_t a, std::int64_t b) { return b == 0 ? 511 : std::min<std::int64_t>((a << 4) / b, 511); },
+        Width::Declared);
     // Without a shift, into 8 bits: only b = 0 saturates.
-    check_pairs(8, false, 8, false, [](PpProgramBuilder& b, Operands o) { return b.div("quotient", o.a, o.b, 0, 8); },
-                [](std::int64_t a, std::int64_t b) { return b == 0 ? 255 : a / b; }, Width::Declared);
+    check_pairs(
+        8, false, 8, false, [](PpProgramBuilder& b, Operands o) { return b.div("quotient", o.a, o.b, 0, 8); },
+        [](std::int64_t a, std::int64_t b) { return b == 0 ? 255 : a / b; }, Width::Declared);
 }
 
 TEST(PpArithmetic, ConstantFormsOverEveryInput) {
     for (bool is_signed : {false, true}) {
         for (std::int64_t k : {-300, -128, -7, -1, 0, 1, 5, 100, 127, 255}) {
-            check_pairs(8, is_signed, 0, false, [&](PpProgramBuilder& b, Operands o) { return b.add_const("r", o.a, k); },
-                        [&](std::int64_t a, std::int64_t) { return a + k; });
-            check_pairs(8, is_signed, 0, false, [&](PpProgramBuilder& b, Operands o) { return b.abs_diff_const("r", o.a, k); },
-                        [&](std::int64_t a, std::int64_t) { return std::abs(a - k); });
-            check_pairs(8, is_signed, 0, false, [&](PpProgramBuilder& b, Operands o) { return b.min_const("r", o.a, k); },
-                        [&](std::int64_t a, std::int64_t) { return std::min(a, k); });
-            check_pairs(8, is_signed, 0, false, [&](PpProgramBuilder& b, Operands o) { return b.max_const("r", o.a, k); },
-                        [&](std::int64_t a, std::int64_t) { return std::max(a, k); });
-            check_pairs(8, is_signed, 0, false, [&](PpProgramBuilder& b, Operands o) { return b.mul_const("r", o.a, k, 2); },
-                        [&](std::int64_t a, std::int64_t) { return (a * k) >> 2; });
-            check_pairs(8, is_signed, 0, false, [&](PpProgramBuilder& b, Operands o) { return b.move("r", o.a, 3); },
-                        [&](std::int64_t a, std::int64_t) { return a >> 3; });
+            check_pairs(
+                8, is_signed, 0, false, [&](PpProgramBuilder& b, Operands o) { return b.add_const("r", o.a, k); },
+                [&](std::int64_t a, std::int64_t) { return a + k; });
+            check_pairs(
+                8, is_signed, 0, false, [&](PpProgramBuilder& b, Operands o) { return b.abs_diff_const("r", o.a, k); },
+                [&](std::int64_t a, std::int64_t) { return std::abs(a - k); });
+            check_pairs(
+                8, is_signed, 0, false, [&](PpProgramBuilder& b, Operands o) { return b.min_const("r", o.a, k); },
+                [&](std::int64_t a, std::int64_t) { return std::min(a, k); });
+            check_pairs(
+                8, is_signed, 0, false, [&](PpProgramBuilder& b, Operands o) { return b.max_const("r", o.a, k); },
+                [&](std::int64_t a, std::int64_t) { return std::max(a, k); });
+            check_pairs(
+                8, is_signed, 0, false, [&](PpProgramBuilder& b, Operands o) { return b.mul_const("r", o.a, k, 2); },
+                [&](std::int64_t a, std::int64_t) { return (a * k) >> 2; });
+            check_pairs(
+                8, is_signed, 0, false, [&](PpProgramBuilder& b, Operands o) { return b.move("r", o.a, 3); },
+                [&](std::int64_t a, std::int64_t) { return a >> 3; });
         }
     }
 }
 
 TEST(PpArithmetic, SquareRootOfEverySixteenBitValue) {
-    check_pairs(16, false, 0, false, [](PpProgramBuilder& b, Operands o) { return b.sqrt("root", o.a); },
-                [](std::int64_t a, std::int64_t) {
-                    std::int64_t r = 0;
-                    while ((r + 1) * (r + 1) <= a) ++r;
-                    return r;
-                });
+    check_pairs(
+        16, false, 0, false, [](PpProgramBuilder& b, Operands o) { return b.sqrt("root", o.a); },
+        [](std::int64_t a, std::int64_t) {
+            std::int64_t r = 0;
+            while ((r + 1) * (r + 1) <= a) ++r;
+            return r;
+        });
     // A signed operand: negative values give 0 (the root's range starts at 0, so it is unsigned).
-    check_pairs(16, true, 0, false, [](PpProgramBuilder& b, Operands o) { return b.sqrt("root", o.a); },
-                [](std::int64_t a, std::int64_t) {
-                    std::int64_t r = 0;
-                    while ((r + 1) * (r + 1) <= a) ++r;
-                    return r;
-                });
+    check_pairs(
+        16, true, 0, false, [](PpProgramBuilder& b, Operands o) { return b.sqrt("root", o.a); },
+        [](std::int64_t a, std::int64_t) {
+            std::int64_t r = 0;
+            while ((r + 1) * (r + 1) <= a) ++r;
+            return r;
+        });
 }
 
 TEST(PpArithmetic, LookupOfEveryIndex) {
     PpTable table{"squares", {}};
     for (int i = 0; i < 256; ++i) table.entries.push_back((i * i) % 1000 - 500);
-    check_pairs(8, false, 0, false, [&](PpProgramBuilder& b, Operands o) { return b.lookup("r", o.a, table, 10, true); },
-                [&](std::int64_t a, std::int64_t) { return table.entries[static_cast<std::size_t>(a)]; }, Width::Declared);
+    check_pairs(
+        8, false, 0, false, [&](PpProgramBuilder& b, Operands o) { return b.lookup("r", o.a, table, 10, true); },
+        [&](std::int64_t a, std::int64_t) { return table.entries[static_cast<std::size_t>(a)]; }, Width::Declared);
 }
 
 TEST(PpArithmetic, QeeGivesEachPpItsOwnValue) {
@@ -152,7 +173,8 @@ TEST(PpArithmetic, QeeGivesEachPpItsOwnValue) {
     const auto values = array.field_values(q);
     for (int y = 0; y < 5; ++y)
         for (int x = 0; x < 7; ++x)
-            EXPECT_EQ(values[static_cast<std::size_t>(x + 7 * y)], (3 * x * x - 2 * x * y + y * y + 5 * x - 7 * y + 40) >> 2);
+            EXPECT_EQ(values[static_cast<std::size_t>(x + 7 * y)],
+                      (3 * x * x - 2 * x * y + y * y + 5 * x - 7 * y + 40) >> 2);
 }
 
 TEST(PpArithmetic, DisabledPpsKeepTheirValues) {
@@ -181,8 +203,8 @@ TEST(PpArithmetic, WidthsFollowTheValueRanges) {
     const PpField gz = b.load("gz", 16, 8, true);
     const PpField sum = b.add("s", b.add("s2", b.mul("x2", gx, gx), b.mul("y2", gy, gy)), b.mul("z2", gz, gz));
     EXPECT_FALSE(sum.is_signed);
-    EXPECT_EQ(sum.bits, 16);  // 3 * 128^2 = 49152 < 2^16
-    EXPECT_EQ(b.sqrt("m", sum).bits, 8);  // 221
+    EXPECT_EQ(sum.bits, 16);                  // 3 * 128^2 = 49152 < 2^16
+    EXPECT_EQ(b.sqrt("m", sum).bits, 8);      // 221
     EXPECT_EQ(b.mul("xy", gx, gy).bits, 16);  // [-16256, 16384]: signed
     EXPECT_EQ(pp_bits_for_range(-128, 127), 8);
     EXPECT_EQ(pp_bits_for_range(0, 256), 9);

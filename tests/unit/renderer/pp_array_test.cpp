@@ -57,7 +57,8 @@ TEST(PpBackingStore, RandomWritesMatchABitByBitModel) {
         const int read_pp = static_cast<int>(rng() % 6);
         std::uint64_t want = 0;
         for (int i = 0; i < read_bits; ++i) {
-            if (model[static_cast<std::size_t>(read_pp)][static_cast<std::size_t>(read_offset + i)]) want |= std::uint64_t{1} << i;
+            if (model[static_cast<std::size_t>(read_pp)][static_cast<std::size_t>(read_offset + i)])
+                want |= std::uint64_t{1} << i;
         }
         ASSERT_EQ(array.read_backing(read_pp, read_offset, read_bits), want)
             << "step " << step << ": PP " << read_pp << ", " << read_bits << " bits at " << read_offset;
@@ -107,8 +108,9 @@ TEST(PpArray, EveryResultWrapsToItsFieldsWidth) {
     // bit-serial hardware would keep (the builder never makes such a program, except by QEE).
     PpProgram p;
     p.name = "narrow";
-    p.fields = {PpField{0, 0, 8, false, 0}, PpField{1, 8, 4, true, 1},  PpField{2, 12, 4, false, 2}, PpField{3, 16, 8, false, 3},
-                PpField{4, 24, 3, true, 4}, PpField{5, 27, 5, false, 5}, PpField{6, 32, 6, true, 6}};
+    p.fields = {PpField{0, 0, 8, false, 0},  PpField{1, 8, 4, true, 1},  PpField{2, 12, 4, false, 2},
+                PpField{3, 16, 8, false, 3}, PpField{4, 24, 3, true, 4}, PpField{5, 27, 5, false, 5},
+                PpField{6, 32, 6, true, 6}};
     p.storage_slots = 7;
     p.field_names = {"a", "twice", "next", "k", "lut", "prod", "neg"};
     p.tables = {PpTable{"wide", {}}};
@@ -121,9 +123,9 @@ TEST(PpArray, EveryResultWrapsToItsFieldsWidth) {
         in.imm = imm;
         return in;
     };
-    p.instructions = {op(PpOp::Load, 0, -1, -1, 0),          op(PpOp::Add, 1, 0, 0, 0),
-                      op(PpOp::AddConst, 2, 0, -1, 1),       op(PpOp::SetConst, 3, -1, -1, 300),
-                      op(PpOp::Lookup, 4, 0, -1, 0),         op(PpOp::MulConst, 5, 0, -1, 7),
+    p.instructions = {op(PpOp::Load, 0, -1, -1, 0),    op(PpOp::Add, 1, 0, 0, 0),
+                      op(PpOp::AddConst, 2, 0, -1, 1), op(PpOp::SetConst, 3, -1, -1, 300),
+                      op(PpOp::Lookup, 4, 0, -1, 0),   op(PpOp::MulConst, 5, 0, -1, 7),
                       op(PpOp::Sub, 6, 3, 0, 0)};
     p.instructions[4].table = 0;
     p.local_memory_bits_used = 38;
@@ -132,7 +134,9 @@ TEST(PpArray, EveryResultWrapsToItsFieldsWidth) {
     for (int v = 0; v < 256; ++v) array.write_backing(v, 0, 8, static_cast<std::uint64_t>(v));
     array.run(p, PpSlotContext{});
     for (int v = 0; v < 256; ++v) {
-        const auto at = [&](int id) { return array.field_values(p.fields[static_cast<std::size_t>(id)])[static_cast<std::size_t>(v)]; };
+        const auto at = [&](int id) {
+            return array.field_values(p.fields[static_cast<std::size_t>(id)])[static_cast<std::size_t>(v)];
+        };
         ASSERT_EQ(at(1), wrapped(2 * v, 4, true)) << v;
         ASSERT_EQ(at(2), wrapped(v + 1, 4, false)) << v;
         ASSERT_EQ(at(3), 44) << v;  // 300 mod 256
@@ -213,17 +217,19 @@ TEST(PpArray, EveryWriteAndStoreIsMaskedByTheEnableBit) {
         b.mul_const("mul_const", a, -7, 1),
         b.move("move", a, 1),
         b.sqrt("sqrt", bb),
-        b.lookup("lookup", bb, PpTable{"t", [] {
-                                           std::vector<std::int64_t> e;
-                                           for (int i = 0; i < 256; ++i) e.push_back((i * 37) % 101);
-                                           return e;
-                                       }()},
+        b.lookup("lookup", bb,
+                 PpTable{"t",
+                         [] {
+                             std::vector<std::int64_t> e;
+                             for (int i = 0; i < 256; ++i) e.push_back((i * 37) % 101);
+                             return e;
+                         }()},
                  7, false),
         b.qee("qee", 0, 24, true, 1),
     };
     results.push_back(b.div("div", bb, results[0], 3, 10));
     const PpField copy = b.set_const("copy", 0, 10, true);  // add: [-128, 382]
-    b.assign(copy, results[1]);  // a Move into an existing field
+    b.assign(copy, results[1]);                             // a Move into an existing field
     results.push_back(copy);
     b.store(results[1], 40);
     b.store(a, 60);  // loaded on every PP: an unmasked store would change a disabled PP's record
@@ -238,7 +244,8 @@ TEST(PpArray, EveryWriteAndStoreIsMaskedByTheEnableBit) {
 
     // What the second inputs give with every PP enabled.
     PpArray reference(columns, rows, 4096, 128);
-    write_inputs(reference, MaskInputs{std::vector<int>(static_cast<std::size_t>(pps), 1), second.a, second.b, second.late});
+    write_inputs(reference,
+                 MaskInputs{std::vector<int>(static_cast<std::size_t>(pps), 1), second.a, second.b, second.late});
     reference.run(program, PpSlotContext{0, one(q2)});
 
     PpArray array(columns, rows, 4096, 128);
@@ -262,7 +269,8 @@ TEST(PpArray, EveryWriteAndStoreIsMaskedByTheEnableBit) {
         for (std::size_t r = 0; r < results.size(); ++r) {
             const std::int64_t want = on ? reference.field_values(results[r])[i] : before[r][i];
             ASSERT_EQ(array.field_values(results[r])[i], want)
-                << program.field_names[static_cast<std::size_t>(results[r].id)] << " at PP " << p << (on ? " (enabled)" : " (disabled)");
+                << program.field_names[static_cast<std::size_t>(results[r].id)] << " at PP " << p
+                << (on ? " (enabled)" : " (disabled)");
         }
         const std::uint64_t stored = on ? reference.read_backing(p, 40, results[1].bits) : stored_before[i];
         ASSERT_EQ(array.read_backing(p, 40, results[1].bits), stored) << "store at PP " << p;
@@ -275,7 +283,8 @@ TEST(PpArray, EveryWriteAndStoreIsMaskedByTheEnableBit) {
     const auto n = static_cast<std::uint64_t>(program.instructions.size());
     EXPECT_EQ(counts.instructions, n);
     EXPECT_EQ(counts.pp_operations, n * static_cast<std::uint64_t>(pps));
-    EXPECT_EQ(counts.enabled_pp_operations, 4u * static_cast<std::uint64_t>(pps) + (n - 4u) * static_cast<std::uint64_t>(enabled));
+    EXPECT_EQ(counts.enabled_pp_operations,
+              4u * static_cast<std::uint64_t>(pps) + (n - 4u) * static_cast<std::uint64_t>(enabled));
     EXPECT_NE(first.a, second.a);
 }
 
@@ -300,7 +309,7 @@ TEST(PpArray, DivideAndSquareRootAreExactAtFullWidth) {
         const std::int64_t k = (std::int64_t{1} << 24) - 1 - p / 3;
         square[i] = p % 3 == 0 ? k * k - 1 : p % 3 == 1 ? k * k : k * k + 1;
         if (p == kPps - 1) square[i] = (std::int64_t{1} << 48) - 1;
-        dividend[i] = static_cast<std::int64_t>(rng() >> 24);  // 40 bits
+        dividend[i] = static_cast<std::int64_t>(rng() >> 24);                              // 40 bits
         divisor[i] = p % 17 == 0 ? 0 : static_cast<std::int64_t>(rng() >> (24 + p % 40));  // 40 bits down to 1
         array.write_backing(p, 0, 48, static_cast<std::uint64_t>(square[i]));
         array.write_backing(p, 48, 40, static_cast<std::uint64_t>(dividend[i]));

@@ -43,7 +43,8 @@ TEST(PpWidths, BitsForRange) {
     EXPECT_EQ(pp_bits_for_range(127, -128), 8);  // either order
     EXPECT_EQ(pp_bits_for_range(0, (std::int64_t{1} << 47) - 1), 47);
     EXPECT_EQ(pp_bits_for_range(0, std::numeric_limits<std::int64_t>::max()), 63);
-    EXPECT_EQ(pp_bits_for_range(std::numeric_limits<std::int64_t>::min(), std::numeric_limits<std::int64_t>::max()), 64);
+    EXPECT_EQ(pp_bits_for_range(std::numeric_limits<std::int64_t>::min(), std::numeric_limits<std::int64_t>::max()),
+              64);
 }
 
 TEST(PpWidths, EachOperationsResultFromItsOperandRanges) {
@@ -57,29 +58,29 @@ TEST(PpWidths, EachOperationsResultFromItsOperandRanges) {
         EXPECT_EQ(f.bits, bits);
         EXPECT_EQ(f.is_signed, is_signed);
     };
-    expect(b.add("a", u8, u9), 10, false);              // [0, 766]: the header's example
-    expect(b.sub("b", u8, u8), 1, false);               // x - x is 0
-    expect(b.sub("c", u8, u9), 10, true);               // [-511, 255]
-    expect(b.add_const("d", s8, 128), 8, false);        // [0, 255]
-    expect(b.add_const("e", u8, -256), 9, true);        // [-256, -1]
-    expect(b.abs_diff_const("f", u8, 40), 8, false);    // [0, 215]
-    expect(b.abs_diff_const("g", u8, 300), 9, false);   // [45, 300]
-    expect(b.min_const("h", u8, 100), 7, false);        // [0, 100]
-    expect(b.max_const("i", s8, 0), 7, false);          // [0, 127]
-    expect(b.max_const("j", s8, -200), 8, true);        // unchanged: [-128, 127]
-    expect(b.move("k", s8, 3), 5, true);                // [-16, 15]
-    expect(b.move("l", u16, 15), 1, false);             // [0, 1]
-    expect(b.mul("m", u8, s8), 16, true);               // [-32640, 32385]
-    expect(b.mul("n", s8, s8), 15, false);              // a square: [0, 16384]
-    expect(b.mul("o", u8, u9, 8), 9, false);            // [0, 130305] >> 8 = [0, 509]
-    expect(b.mul("p", s8, u8, 4), 12, true);            // [-32640, 32385] >> 4 = [-2040, 2024]
-    expect(b.mul_const("q", u8, -3), 11, true);         // [-765, 0]
-    expect(b.mul_const("r", u8, 5, 2), 9, false);       // [0, 1275] >> 2 = [0, 318]
-    expect(b.mul_const("s", u8, 0), 1, false);          // 0
-    expect(b.div("t", u8, u9, 6, 12), 12, false);       // declared, unsigned
-    expect(b.sqrt("u", u16), 8, false);                 // [0, 255]
-    expect(b.sqrt("v", s8), 4, false);                  // [0, 11]
-    expect(b.qee("w", 0, 20, true, 3), 20, true);       // declared
+    expect(b.add("a", u8, u9), 10, false);             // [0, 766]: the header's example
+    expect(b.sub("b", u8, u8), 1, false);              // x - x is 0
+    expect(b.sub("c", u8, u9), 10, true);              // [-511, 255]
+    expect(b.add_const("d", s8, 128), 8, false);       // [0, 255]
+    expect(b.add_const("e", u8, -256), 9, true);       // [-256, -1]
+    expect(b.abs_diff_const("f", u8, 40), 8, false);   // [0, 215]
+    expect(b.abs_diff_const("g", u8, 300), 9, false);  // [45, 300]
+    expect(b.min_const("h", u8, 100), 7, false);       // [0, 100]
+    expect(b.max_const("i", s8, 0), 7, false);         // [0, 127]
+    expect(b.max_const("j", s8, -200), 8, true);       // unchanged: [-128, 127]
+    expect(b.move("k", s8, 3), 5, true);               // [-16, 15]
+    expect(b.move("l", u16, 15), 1, false);            // [0, 1]
+    expect(b.mul("m", u8, s8), 16, true);              // [-32640, 32385]
+    expect(b.mul("n", s8, s8), 15, false);             // a square: [0, 16384]
+    expect(b.mul("o", u8, u9, 8), 9, false);           // [0, 130305] >> 8 = [0, 509]
+    expect(b.mul("p", s8, u8, 4), 12, true);           // [-32640, 32385] >> 4 = [-2040, 2024]
+    expect(b.mul_const("q", u8, -3), 11, true);        // [-765, 0]
+    expect(b.mul_const("r", u8, 5, 2), 9, false);      // [0, 1275] >> 2 = [0, 318]
+    expect(b.mul_const("s", u8, 0), 1, false);         // 0
+    expect(b.div("t", u8, u9, 6, 12), 12, false);      // declared, unsigned
+    expect(b.sqrt("u", u16), 8, false);                // [0, 255]
+    expect(b.sqrt("v", s8), 4, false);                 // [0, 11]
+    expect(b.qee("w", 0, 20, true, 3), 20, true);      // declared
     expect(b.set_const("x", 0), 1, false);
     expect(b.set_const("y", -1), 1, true);
     expect(b.set_const("z", 255), 8, false);
@@ -174,7 +175,8 @@ TEST(PpBuilder, RejectsFieldWidthsOutsideOneToFortyEight) {
     PpProgramBuilder b("widths", 4096);
     EXPECT_EQ(b.alloc("widest", kMaxPpFieldBits, true).bits, 48);
     EXPECT_EQ(b.alloc("narrowest", 1, false).bits, 1);
-    EXPECT_THAT(invalid_argument_message([&] { b.alloc("zero", 0, false); }), HasSubstr("zero of 0 bits (1 to 48 allowed)"));
+    EXPECT_THAT(invalid_argument_message([&] { b.alloc("zero", 0, false); }),
+                HasSubstr("zero of 0 bits (1 to 48 allowed)"));
     EXPECT_THAT(invalid_argument_message([&] { b.alloc("wide", 49, false); }), HasSubstr("wide of 49 bits"));
     EXPECT_THROW(b.load("l", 0, 0, false), std::invalid_argument);
     EXPECT_THROW(b.set_const("c", 0, 49, true), std::invalid_argument);
@@ -183,7 +185,8 @@ TEST(PpBuilder, RejectsFieldWidthsOutsideOneToFortyEight) {
     EXPECT_THROW(b.div("d", u8, u8, 0, 0), std::invalid_argument);
     EXPECT_THROW(b.lookup("t", u8, PpTable{"t", std::vector<std::int64_t>(256, 0)}, 49, false), std::invalid_argument);
     // A value that does not fit its declared field.
-    EXPECT_THAT(invalid_argument_message([&] { b.set_const("c", 128, 8, true); }), HasSubstr("128 does not fit field c"));
+    EXPECT_THAT(invalid_argument_message([&] { b.set_const("c", 128, 8, true); }),
+                HasSubstr("128 does not fit field c"));
     EXPECT_THROW(b.set_const("c", -1, 8, false), std::invalid_argument);
     // A constant too wide for any field.
     EXPECT_THROW(b.set_const("huge", std::int64_t{1} << 50), std::invalid_argument);
@@ -195,10 +198,12 @@ TEST(PpBuilder, RejectsResultsWiderThanAnyField) {
     const PpField t30 = b.load("t30", 30, 30, true);
     const PpField w48 = b.load("w48", 60, 48, true);
     // [-2^29 (2^29 - 1), 2^58]: 60 bits signed, more than a field holds.
-    EXPECT_THAT(invalid_argument_message([&] { b.mul("p", s30, t30); }), HasSubstr("field p of 60 bits (1 to 48 allowed)"));
+    EXPECT_THAT(invalid_argument_message([&] { b.mul("p", s30, t30); }),
+                HasSubstr("field p of 60 bits (1 to 48 allowed)"));
     EXPECT_THAT(invalid_argument_message([&] { b.add("s", w48, w48); }), HasSubstr("field s of 49 bits"));
     // Ranges past 64 bits are refused without overflowing (no undefined behaviour).
-    EXPECT_THAT(invalid_argument_message([&] { b.mul("q", w48, s30); }), HasSubstr("values of field q would need more than 64 bits"));
+    EXPECT_THAT(invalid_argument_message([&] { b.mul("q", w48, s30); }),
+                HasSubstr("values of field q would need more than 64 bits"));
     const auto top = std::numeric_limits<std::int64_t>::max();
     const auto bottom = std::numeric_limits<std::int64_t>::min();
     EXPECT_THAT(invalid_argument_message([&] { b.mul_const("m", w48, top); }), HasSubstr("more than 64 bits"));
@@ -213,7 +218,8 @@ TEST(PpBuilder, RejectsReleasedUnknownAndForeignFields) {
     const PpField a = b.load("a", 0, 8, false);
     const PpField c = b.load("c", 8, 8, false);
     b.release(a);
-    EXPECT_THAT(invalid_argument_message([&] { b.add("s", a, c); }), HasSubstr("field a (id 0) used after it was released"));
+    EXPECT_THAT(invalid_argument_message([&] { b.add("s", a, c); }),
+                HasSubstr("field a (id 0) used after it was released"));
     EXPECT_THROW(b.release(a), std::invalid_argument);
     EXPECT_THROW(b.store(a, 0), std::invalid_argument);
     EXPECT_THROW(b.enable_if(a, PpCompare::Equal, 0), std::invalid_argument);
@@ -258,12 +264,16 @@ TEST(PpBuilder, LookupNeedsAnUnsignedIndexAndAFullTableThatFits) {
     const PpField u4 = b.load("u4", 0, 4, false);
     const PpField s4 = b.load("s4", 4, 4, true);
     const PpTable sixteen{"sixteen", std::vector<std::int64_t>(16, 1)};
-    EXPECT_THAT(invalid_argument_message([&] { b.lookup("r", s4, sixteen, 4, false); }), HasSubstr("indexed by signed field s4"));
-    EXPECT_THAT(invalid_argument_message([&] { b.lookup("r", u4, PpTable{"short", std::vector<std::int64_t>(15, 1)}, 4, false); }),
+    EXPECT_THAT(invalid_argument_message([&] { b.lookup("r", s4, sixteen, 4, false); }),
+                HasSubstr("indexed by signed field s4"));
+    EXPECT_THAT(invalid_argument_message([&] {
+                    b.lookup("r", u4, PpTable{"short", std::vector<std::int64_t>(15, 1)}, 4, false);
+                }),
                 HasSubstr("has 15 entries; a 4-bit index needs 2^4"));
     PpTable big = sixteen;
     big.entries[9] = 16;
-    EXPECT_THAT(invalid_argument_message([&] { b.lookup("r", u4, big, 4, false); }), HasSubstr("entry 9 = 16 does not fit r"));
+    EXPECT_THAT(invalid_argument_message([&] { b.lookup("r", u4, big, 4, false); }),
+                HasSubstr("entry 9 = 16 does not fit r"));
     PpTable negative = sixteen;
     negative.entries[3] = -1;
     EXPECT_THROW(b.lookup("r", u4, negative, 4, false), std::invalid_argument);
@@ -320,9 +330,11 @@ TEST(PpLocalMemory, AProgramOneBitOverSaysSoNamingFieldAndKey) {
         b.set_const("flag", 1);
         FAIL() << "209 bits do not fit in 208";
     } catch (const InputError& e) {
-        EXPECT_EQ(e.file(), "");  // the run's configuration names where the value came from (MachineConfig::naming_origin)
+        EXPECT_EQ(e.file(),
+                  "");  // the run's configuration names where the value came from (MachineConfig::naming_origin)
         EXPECT_EQ(e.field(), "renderer.local_memory_bits");
-        EXPECT_EQ(e.reason(), "PP program big needs 209 bits of local memory for field flag; each PP has 208 (1 bit short)");
+        EXPECT_EQ(e.reason(),
+                  "PP program big needs 209 bits of local memory for field flag; each PP has 208 (1 bit short)");
     }
     // Another key, and a larger shortfall.
     PpProgramBuilder small("small", 40, "machine.pp_bits");
@@ -348,8 +360,9 @@ TEST(PpLocalMemory, FreeBitsInPiecesSayWhyTheyDoNotFit) {
         FAIL() << "no 12 contiguous bits";
     } catch (const InputError& e) {
         EXPECT_EQ(e.field(), "renderer.local_memory_bits");
-        EXPECT_EQ(e.reason(), "PP program pieces needs 12 contiguous bits of local memory for field wide; each PP has 64, "
-                              "24 of them free but the longest free run is 8 bits (4 bits short)");
+        EXPECT_EQ(e.reason(),
+                  "PP program pieces needs 12 contiguous bits of local memory for field wide; each PP has 64, "
+                  "24 of them free but the longest free run is 8 bits (4 bits short)");
     }
 }
 
@@ -376,7 +389,7 @@ TEST(PpBuilder, StoreIntoARecordFieldFillsEveryBit) {
     array.run(program, PpSlotContext{});
     for (int pp = 0; pp < 4; ++pp) {
         EXPECT_EQ(array.read_backing(pp, 8, 8), 3u);
-        EXPECT_EQ(array.read_backing(pp, 0, 8), 0xFFu);   // its neighbours untouched
+        EXPECT_EQ(array.read_backing(pp, 0, 8), 0xFFu);  // its neighbours untouched
         EXPECT_EQ(array.read_backing(pp, 16, 8), 0xFFu);
     }
 }
@@ -412,7 +425,8 @@ TEST(PpBuilder, ReleasedFieldsShareHostStorage) {
     const auto values = array.field_values(total);
     std::int64_t step_sum = 0;
     for (int k = 0; k < kSteps; ++k) step_sum += k % 7;
-    for (int pp = 0; pp < array.size(); ++pp) EXPECT_EQ(values[static_cast<std::size_t>(pp)], kSteps * pp * 3 + step_sum) << pp;
+    for (int pp = 0; pp < array.size(); ++pp)
+        EXPECT_EQ(values[static_cast<std::size_t>(pp)], kSteps * pp * 3 + step_sum) << pp;
 }
 
 }  // namespace

@@ -32,22 +32,22 @@ TEST(PpCost, SingleOperationsAtDefaultCosts) {
     };
     const PpField u7 = b.load("u7", 48, 7, false);
     const PpField w7 = b.load("w7", 56, 7, false);
-    EXPECT_EQ(cycles_of([&] { b.add("sum8", u7, w7); }), 8u);           // an 8-bit add: [0, 254]
-    EXPECT_EQ(cycles_of([&] { b.add("sum", u8, v8); }), 9u);            // 9-bit result
-    EXPECT_EQ(cycles_of([&] { b.sub("difference", u8, v8); }), 9u);     // [-255, 255]: 9 bits signed
-    EXPECT_EQ(cycles_of([&] { b.add_const("plus", u8, 1); }), 9u);      // [1, 256]
+    EXPECT_EQ(cycles_of([&] { b.add("sum8", u7, w7); }), 8u);        // an 8-bit add: [0, 254]
+    EXPECT_EQ(cycles_of([&] { b.add("sum", u8, v8); }), 9u);         // 9-bit result
+    EXPECT_EQ(cycles_of([&] { b.sub("difference", u8, v8); }), 9u);  // [-255, 255]: 9 bits signed
+    EXPECT_EQ(cycles_of([&] { b.add_const("plus", u8, 1); }), 9u);   // [1, 256]
     EXPECT_EQ(cycles_of([&] { b.set_const("k", 100); }), 7u);
-    EXPECT_EQ(cycles_of([&] { b.max_const("high", u8, 3); }), 16u);     // 2 x 8 operand bits
-    EXPECT_EQ(cycles_of([&] { b.mul_const("negated", u8, -5); }), 24u); // |-5| has 3 bits
-    EXPECT_EQ(cycles_of([&] { b.mul_const("zero", u8, 0); }), 8u);      // at least one constant bit
+    EXPECT_EQ(cycles_of([&] { b.max_const("high", u8, 3); }), 16u);        // 2 x 8 operand bits
+    EXPECT_EQ(cycles_of([&] { b.mul_const("negated", u8, -5); }), 24u);    // |-5| has 3 bits
+    EXPECT_EQ(cycles_of([&] { b.mul_const("zero", u8, 0); }), 8u);         // at least one constant bit
     EXPECT_EQ(cycles_of([&] { b.mul_const("times256", u8, 256); }), 72u);  // 9 constant bits
-    EXPECT_EQ(cycles_of([&] { b.store(u8, 100); }), 0u);               // the backing-store port's, not the ALU's
+    EXPECT_EQ(cycles_of([&] { b.store(u8, 100); }), 0u);                   // the backing-store port's, not the ALU's
     EXPECT_EQ(cycles_of([&] { b.load("more", 120, 16, false); }), 0u);
     EXPECT_EQ(cycles_of([&] { b.move("copy", w16); }), 16u);
-    EXPECT_EQ(cycles_of([&] { b.mul("product", u8, v8); }), 64u);      // 8 x 8
-    EXPECT_EQ(cycles_of([&] { b.mul_const("times5", u8, 5); }), 24u);  // 8 bits x 3 constant bits
+    EXPECT_EQ(cycles_of([&] { b.mul("product", u8, v8); }), 64u);          // 8 x 8
+    EXPECT_EQ(cycles_of([&] { b.mul_const("times5", u8, 5); }), 24u);      // 8 bits x 3 constant bits
     EXPECT_EQ(cycles_of([&] { b.div("quotient", w16, d9, 0, 8); }), 80u);  // 8 quotient bits x (9 + 1)
-    EXPECT_EQ(cycles_of([&] { b.sqrt("root", w16); }), 80u);           // 8-bit root x (8 + 2)
+    EXPECT_EQ(cycles_of([&] { b.sqrt("root", w16); }), 80u);               // 8-bit root x (8 + 2)
     EXPECT_EQ(cycles_of([&] { b.abs_diff_const("distance", u8, 40); }), 16u);
     EXPECT_EQ(cycles_of([&] { b.min_const("low", u8, 100); }), 16u);
     EXPECT_EQ(cycles_of([&] { b.enable_if(u8, PpCompare::Greater, 3); }), 8u);
@@ -110,9 +110,9 @@ TEST(PpCost, EveryParameterComesFromTheConfiguration) {
     const PpField w16 = b.load("w16", 8, 16, false);
     const PpField d9 = b.load("d9", 24, 9, false);
     const PpField r40 = b.load("r40", 40, 40, false);
-    b.add("sum", u8, u8);          // 9 bits x 1.5 = 13.5: 14
-    b.div("q", w16, d9, 0, 8);     // 8 x 10 x 2 = 160
-    b.store(r40, 100);             // 40 bits in 16-bit blocks: 3
+    b.add("sum", u8, u8);       // 9 bits x 1.5 = 13.5: 14
+    b.div("q", w16, d9, 0, 8);  // 8 x 10 x 2 = 160
+    b.store(r40, 100);          // 40 bits in 16-bit blocks: 3
     const PpProgram p = b.finish();
     EXPECT_EQ(model.alu_cycles(p, p.instructions[4]), 14u);
     EXPECT_EQ(model.alu_cycles(p, p.instructions[5]), 160u);
@@ -144,9 +144,13 @@ TEST(PpCost, FractionalFactorsRoundUpToWholeCyclesWithoutFloatingPointError) {
 TEST(PpCost, ParameterTableDocumentsEveryKey) {
     const ParamGroup& g = PpCostModel::params();
     EXPECT_EQ(g.prefix(), "pp");
-    const std::vector<std::string> keys = {"cycles_per_bit", "multiply_cycles_per_bit_product", "divide_cycles_per_bit_product",
-                                           "qee_latency_cycles", "controller_cycles_per_instruction",
-                                           "backing_store_cycles_per_block", "backing_store_setup_cycles"};
+    const std::vector<std::string> keys = {"cycles_per_bit",
+                                           "multiply_cycles_per_bit_product",
+                                           "divide_cycles_per_bit_product",
+                                           "qee_latency_cycles",
+                                           "controller_cycles_per_instruction",
+                                           "backing_store_cycles_per_block",
+                                           "backing_store_setup_cycles"};
     ASSERT_EQ(g.specs().size(), keys.size());
     for (std::size_t i = 0; i < keys.size(); ++i) {
         const ParamSpec& spec = g.specs()[i];
@@ -174,7 +178,7 @@ TEST(PpCost, BackingStoreTransfersAndTheSlotPipeline) {
     PpProgramBuilder b("slot", 208);
     const PpField in = b.load("record", 0, 40, false);  // 2 blocks of 32 bits
     const PpField out = b.add_const("out", in, 1);
-    b.store(out, 0);                                   // 41 bits: 2 blocks
+    b.store(out, 0);  // 41 bits: 2 blocks
     const PpProgram p = b.finish();
     const PpProgramCost c = model.cost(p);
     EXPECT_EQ(c.load_blocks, 2u);

@@ -3,9 +3,9 @@
 // one-instruction program over every combination of operands, one combination per PP.
 
 #include "sim/components/renderer.h"
+#include "sim/core/calibration.h"
 #include "sim/core/config.h"
 #include "sim/renderer/pp_array.h"
-#include "sim/core/calibration.h"
 #include "sim/renderer/pp_cost_model.h"
 #include "sim/renderer/pp_program.h"
 
@@ -14,7 +14,9 @@
 
 namespace pp5::test {
 
-inline MachineConfig pp_config() { return MachineConfig({&Renderer::params(), &PpCostModel::params(), &CalibrationScales::params()}); }
+inline MachineConfig pp_config() {
+    return MachineConfig({&Renderer::params(), &PpCostModel::params(), &CalibrationScales::params()});
+}
 
 // Operands for each PP, loaded from its backing store (a at bit 0, b at bit 32).
 struct Operands {
@@ -37,7 +39,8 @@ inline std::vector<std::int64_t> run_exhaustive(int a_bits, bool a_signed, int b
     const std::int64_t b_min = b_signed ? -(count_b / 2) : 0;
     for (std::int64_t p = 0; p < pps; ++p) {
         array.write_backing(static_cast<int>(p), 0, a_bits, static_cast<std::uint64_t>(a_min + p % count_a));
-        if (b_bits > 0) array.write_backing(static_cast<int>(p), 32, b_bits, static_cast<std::uint64_t>(b_min + p / count_a));
+        if (b_bits > 0)
+            array.write_backing(static_cast<int>(p), 32, b_bits, static_cast<std::uint64_t>(b_min + p / count_a));
     }
     PpProgramBuilder builder("exhaustive", 208);
     Operands ops;

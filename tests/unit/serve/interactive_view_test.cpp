@@ -9,10 +9,10 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <unistd.h>
 
 namespace pp5 {
 namespace {
@@ -20,12 +20,17 @@ namespace {
 namespace fs = std::filesystem;
 
 Scenario small_scenario(bool region, const std::string& more_shading = "") {
-    const fs::path file = fs::temp_directory_path() / ("pp5_view_test_" + std::to_string(getpid()) + (region ? "_region" : "") + ".toml");
-    std::ofstream(file) << "[scenario]\nname = \"view-test\"\n[dataset]\nphantom = \"head\"\nsize = 32\n[image]\nwidth = 48\nheight = 48\n"
-                           "[classification]\nkind = \"piecewise-linear\"\npoints = [{ value = 40.0, opacity = 0.0 }, { value = 120.0, opacity = 0.9 }]\n"
-                           "[shading]\nlight_direction = [0.4, 1.0, 0.5]\nspecular = 0.0\n" << more_shading
-                        << "[camera]\nazimuth = 30.0\nelevation = 10.0\n"
-                        << (region ? "[region]\nshape = \"box\"\ncenter = [16.0, 10.0, 16.0]\nhalf_size = [6.0, 6.0, 6.0]\nscale_inside = 0.0\n" : "")
+    const fs::path file =
+        fs::temp_directory_path() / ("pp5_view_test_" + std::to_string(getpid()) + (region ? "_region" : "") + ".toml");
+    std::ofstream(file) << "[scenario]\nname = \"view-test\"\n[dataset]\nphantom = \"head\"\nsize = 32\n[image]\nwidth "
+                           "= 48\nheight = 48\n"
+                           "[classification]\nkind = \"piecewise-linear\"\npoints = [{ value = 40.0, opacity = 0.0 }, "
+                           "{ value = 120.0, opacity = 0.9 }]\n"
+                           "[shading]\nlight_direction = [0.4, 1.0, 0.5]\nspecular = 0.0\n"
+                        << more_shading << "[camera]\nazimuth = 30.0\nelevation = 10.0\n"
+                        << (region ? "[region]\nshape = \"box\"\ncenter = [16.0, 10.0, 16.0]\nhalf_size = [6.0, 6.0, "
+                                     "6.0]\nscale_inside = 0.0\n"
+                                   : "")
                         << "[[frames]]\nlabel = \"first\"\n";
     Scenario s = load_scenario(file);
     fs::remove(file);
@@ -56,7 +61,8 @@ TEST(InteractiveView, AMachineChangeOfTimingOnlyRetimesTheFrameAndAnotherRenders
     EXPECT_EQ(control(before, "calibration.gp_flops_scale"), 1.0);
     view.apply({{"machine", {{"calibration.gp_flops_scale", 2.0}}}});
     EXPECT_EQ(view.state()["machine_change"]["kind"], "re-timed");
-    EXPECT_GT(view.state()["frame"]["simulated_seconds"].get<double>(), before["frame"]["simulated_seconds"].get<double>());
+    EXPECT_GT(view.state()["frame"]["simulated_seconds"].get<double>(),
+              before["frame"]["simulated_seconds"].get<double>());
     view.apply({{"machine", {{"calibration.gp_flops_scale", 1.0}}}});
     EXPECT_EQ(view.state()["frame"]["simulated_seconds"], before["frame"]["simulated_seconds"]);
 
@@ -68,7 +74,8 @@ TEST(InteractiveView, AMachineChangeOfTimingOnlyRetimesTheFrameAndAnotherRenders
     EXPECT_EQ(fewer["frame"]["index"], before["frame"]["index"]);  // no new frame
     EXPECT_GT(fewer["frame"]["simulated_seconds"].get<double>(), before["frame"]["simulated_seconds"].get<double>());
     EXPECT_EQ(control(fewer, "gp.count"), 4);
-    EXPECT_NE(fewer["machine_summary"].get<std::string>().find(": 4 GPs"), std::string::npos) << fewer["machine_summary"];
+    EXPECT_NE(fewer["machine_summary"].get<std::string>().find(": 4 GPs"), std::string::npos)
+        << fewer["machine_summary"];
     // Back to the first machine: the session's own time, replayed from cold caches as it was.
     view.apply({{"machine", {{"gp.count", gps}}}});
     EXPECT_EQ(view.state()["frame"]["simulated_seconds"], before["frame"]["simulated_seconds"]);
@@ -138,8 +145,10 @@ TEST(InteractiveView, TheTimelineAndTileMapShowTheMachineThatTimedTheFrame) {
         EXPECT_EQ(t["slices_dropped"], 0);
         // The lanes' busy time over count x frame is the utilisation the frame reports (to the
         // rounding of each bin's share to two decimals).
-        EXPECT_NEAR(busy["GPs"] / (200.0 * static_cast<double>(gps)), state["frame"]["utilisation"]["gps"].get<double>(), 0.01);
-        EXPECT_NEAR(busy["ring"] / (200.0 * static_cast<double>(lanes["ring"])), state["frame"]["utilisation"]["ring"].get<double>(), 0.01);
+        EXPECT_NEAR(busy["GPs"] / (200.0 * static_cast<double>(gps)),
+                    state["frame"]["utilisation"]["gps"].get<double>(), 0.01);
+        EXPECT_NEAR(busy["ring"] / (200.0 * static_cast<double>(lanes["ring"])),
+                    state["frame"]["utilisation"]["ring"].get<double>(), 0.01);
         // Each pass reaches the frame buffer after the one before, within the frame.
         const auto& ready = state["frame"]["passes_ready_seconds"];
         EXPECT_EQ(ready.size(), state["frame"]["passes"].get<std::size_t>());
@@ -253,8 +262,9 @@ TEST(InteractiveView, ALightMoveReshadesAndCastsButKeepsTheClassificationAndPyra
 // Levoy's two bats: the page's light control moves the key light, the scenario's stationary lights
 // stay, and their sum, stored by the first frame, is not recomputed.
 TEST(InteractiveView, ALightMoveKeepsTheStationaryLightsAndTheirStoredSum) {
-    InteractiveView view(small_scenario(false, "stationary_lights = [{ direction = [-1.0, 0.2, 0.3], intensity = 0.6 }]\n"),
-                         load_run_config("pxpl5", {}));
+    InteractiveView view(
+        small_scenario(false, "stationary_lights = [{ direction = [-1.0, 0.2, 0.3], intensity = 0.6 }]\n"),
+        load_run_config("pxpl5", {}));
     EXPECT_TRUE(phase(view.state(), "stationary_lights")["ran"].get<bool>());
     const std::string first = view.frame_png();
     view.apply({{"light", {{"direction", {-0.6, 1.0, 0.3}}}}});

@@ -7,10 +7,10 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <set>
-#include <unistd.h>
 
 namespace pp5 {
 namespace {
@@ -28,9 +28,12 @@ TEST(LecturePictures, TheStripHoldsEveryPassSideBySide) {
 }
 
 TEST(LecturePictures, TheTileMapColoursEachTileByTheGpThatRanIt) {
-    const std::filesystem::path file = std::filesystem::temp_directory_path() / ("pp5_pictures_" + std::to_string(getpid()) + ".toml");
-    std::ofstream(file) << "[scenario]\nname = \"pictures\"\n[dataset]\nphantom = \"sphere\"\nsize = 24\n[image]\nwidth = 64\nheight = 64\n"
-                           "[classification]\nkind = \"piecewise-linear\"\npoints = [{ value = 50.0, opacity = 0.0 }, { value = 150.0, opacity = 0.8 }]\n";
+    const std::filesystem::path file =
+        std::filesystem::temp_directory_path() / ("pp5_pictures_" + std::to_string(getpid()) + ".toml");
+    std::ofstream(file) << "[scenario]\nname = \"pictures\"\n[dataset]\nphantom = \"sphere\"\nsize = "
+                           "24\n[image]\nwidth = 64\nheight = 64\n"
+                           "[classification]\nkind = \"piecewise-linear\"\npoints = [{ value = 50.0, opacity = 0.0 }, "
+                           "{ value = 150.0, opacity = 0.8 }]\n";
     const Scenario scenario = load_scenario(file);
     std::filesystem::remove(file);
     RenderSession session(scenario, load_run_config("pxpl5", {"gp.count=4"}));
@@ -68,10 +71,11 @@ namespace {
 TEST(LecturePictures, UtilisationOverTimeIsBusyTimePerBinOverTheComponentCount) {
     TraceRecorder trace(0, 0, 0);  // keeps no events, only the busy spans
     trace.keep_busy_spans(true);
-    const int gp0 = trace.track("GPs", "gp[0]"), gp1 = trace.track("GPs", "gp[1]"), ring = trace.track("ring", "channel[0]");
-    trace.slice(gp0, "computing", 0, 100);     // the whole first half
-    trace.slice(gp1, "computing", 50, 100);    // half of it
-    trace.slice(gp1, "waiting", 100, 200);     // idle: not counted
+    const int gp0 = trace.track("GPs", "gp[0]"), gp1 = trace.track("GPs", "gp[1]"),
+              ring = trace.track("ring", "channel[0]");
+    trace.slice(gp0, "computing", 0, 100);   // the whole first half
+    trace.slice(gp1, "computing", 50, 100);  // half of it
+    trace.slice(gp1, "waiting", 100, 200);   // idle: not counted
     trace.slice(ring, "fetch_request", 150, 200);
     const PlotSpec spec = utilisation_over_time(trace, 0, 200, {{"GPs", 2}, {"ring", 1}, {"renderers", 4}}, 2);
     ASSERT_EQ(spec.series.size(), 2u);  // nothing recorded for the renderers

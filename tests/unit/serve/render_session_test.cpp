@@ -4,9 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 
 namespace pp5 {
 namespace {
@@ -14,10 +14,13 @@ namespace {
 namespace fs = std::filesystem;
 
 Scenario phantom_scenario(const std::string& kernel) {
-    const fs::path file = fs::temp_directory_path() / ("pp5_session_test_" + std::to_string(getpid()) + "_" + kernel + ".toml");
-    std::ofstream(file) << "[scenario]\nname = \"session-test\"\nkernel = \"" << kernel << "\"\n[dataset]\nphantom = \"head\"\nsize = 32\n"
+    const fs::path file =
+        fs::temp_directory_path() / ("pp5_session_test_" + std::to_string(getpid()) + "_" + kernel + ".toml");
+    std::ofstream(file) << "[scenario]\nname = \"session-test\"\nkernel = \"" << kernel
+                        << "\"\n[dataset]\nphantom = \"head\"\nsize = 32\n"
                         << "[image]\nwidth = 48\nheight = 40\n"
-                        << "[classification]\nkind = \"piecewise-linear\"\npoints = [{ value = 40.0, opacity = 0.0 }, { value = 120.0, opacity = 0.9 }]\n";
+                        << "[classification]\nkind = \"piecewise-linear\"\npoints = [{ value = 40.0, opacity = 0.0 }, "
+                           "{ value = 120.0, opacity = 0.9 }]\n";
     Scenario s = load_scenario(file);
     fs::remove(file);
     return s;

@@ -8,13 +8,13 @@
 #include <gtest/gtest.h>
 #include <httplib.h>
 
-#include <filesystem>
-#include <fstream>
-#include <thread>
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
+#include <filesystem>
+#include <fstream>
+#include <thread>
 
 namespace pp5 {
 namespace {
@@ -23,9 +23,12 @@ namespace fs = std::filesystem;
 
 Scenario tiny_scenario() {
     const fs::path file = fs::temp_directory_path() / ("pp5_server_test_" + std::to_string(getpid()) + ".toml");
-    std::ofstream(file) << "[scenario]\nname = \"server-test\"\n[dataset]\nphantom = \"sphere\"\nsize = 24\n[image]\nwidth = 32\nheight = 32\n"
-                           "[classification]\nkind = \"piecewise-linear\"\npoints = [{ value = 50.0, opacity = 0.0 }, { value = 150.0, opacity = 0.8 }]\n"
-                           "[shading]\nspecular = 0.0\nlight_direction = [0.4, 1.0, 0.5]\n[[frames]]\nlabel = \"first\"\n";
+    std::ofstream(file)
+        << "[scenario]\nname = \"server-test\"\n[dataset]\nphantom = \"sphere\"\nsize = 24\n[image]\nwidth = "
+           "32\nheight = 32\n"
+           "[classification]\nkind = \"piecewise-linear\"\npoints = [{ value = 50.0, opacity = 0.0 }, { value = 150.0, "
+           "opacity = 0.8 }]\n"
+           "[shading]\nspecular = 0.0\nlight_direction = [0.4, 1.0, 0.5]\n[[frames]]\nlabel = \"first\"\n";
     Scenario s = load_scenario(file);
     fs::remove(file);
     return s;
@@ -51,7 +54,9 @@ protected:
         c.set_read_timeout(60, 0);
         return c;
     }
-    httplib::Result change(const std::string& body, const char* type = "application/json") const { return client().Post("/api/change", body, type); }
+    httplib::Result change(const std::string& body, const char* type = "application/json") const {
+        return client().Post("/api/change", body, type);
+    }
 
     std::unique_ptr<InteractiveView> view;
     std::unique_ptr<ViewServer> server;
@@ -130,8 +135,11 @@ TEST_F(ServerTest, RefusesBadRequestsWithAReasonAndKeepsServing) {
     EXPECT_EQ(client().Get("/../../etc/passwd")->status, 404);
     EXPECT_EQ(client().Get("/api/pass/99.png")->status, 404);
     // A known path with a method it does not answer: 405, saying which it does.
-    for (const auto& [method, path] : std::vector<std::pair<std::string, std::string>>{
-             {"GET", "/api/change"}, {"DELETE", "/api/state"}, {"POST", "/"}, {"PUT", "/api/image.png"}, {"POST", "/api/pass/0.png"}}) {
+    for (const auto& [method, path] : std::vector<std::pair<std::string, std::string>>{{"GET", "/api/change"},
+                                                                                       {"DELETE", "/api/state"},
+                                                                                       {"POST", "/"},
+                                                                                       {"PUT", "/api/image.png"},
+                                                                                       {"POST", "/api/pass/0.png"}}) {
         httplib::Request request;
         request.method = method;
         request.path = path;

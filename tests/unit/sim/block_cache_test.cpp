@@ -1,5 +1,5 @@
-#include "sim/components/graphics_processor.h"
 #include "sim/components/block_cache.h"
+#include "sim/components/graphics_processor.h"
 #include "sim/core/input_error.h"
 #include "sim/machine/machine.h"
 
@@ -76,11 +76,11 @@ TEST(BlockCache, BlocksUsedThisFrameComeInTheOrderOfTheirFirstUse) {
     cache.insert(9);
     cache.begin_frame();  // a new frame: nothing used in it yet
     EXPECT_TRUE(cache.blocks_used_this_frame().empty());
-    EXPECT_TRUE(cache.lookup(9));   // first use: 9
-    cache.insert(5);                // a fill after a miss is a use: 5
-    EXPECT_TRUE(cache.lookup(3));   // then 3
-    EXPECT_TRUE(cache.lookup(9));   // used again: still first
-    cache.insert(11, false);        // a refreshed copy nobody asked for yet is not a use
+    EXPECT_TRUE(cache.lookup(9));  // first use: 9
+    cache.insert(5);               // a fill after a miss is a use: 5
+    EXPECT_TRUE(cache.lookup(3));  // then 3
+    EXPECT_TRUE(cache.lookup(9));  // used again: still first
+    cache.insert(11, false);       // a refreshed copy nobody asked for yet is not a use
     EXPECT_EQ(cache.blocks_used_this_frame(), (std::vector<std::uint64_t>{9, 5, 3}));
     EXPECT_TRUE(cache.lookup(11));  // until a ray looks it up
     EXPECT_EQ(cache.blocks_used_this_frame(), (std::vector<std::uint64_t>{9, 5, 3, 11}));

@@ -104,12 +104,15 @@ TEST(MachineConfig, KeysNestedDeeperThanAnyParameterAreRefusedBeforeParsing) {
     MachineConfig config = Machine::default_config();
     std::string deep;
     for (int i = 0; i < 20000; ++i) deep += "a.";
-    for (const std::string& text : {"[gp]\ncount = 32\n" + deep + "b = 1\n", "[" + deep + "b]\n", "x = { " + deep + "b = 1 }\n"}) {
+    for (const std::string& text :
+         {"[gp]\ncount = 32\n" + deep + "b = 1\n", "[" + deep + "b]\n", "x = { " + deep + "b = 1 }\n"}) {
         const auto path = write_temp("deep.toml", text);
-        const std::string why = expect_input_error([&] { config.load_file(path); }, path.string(), text.starts_with("[gp]") ? "line 3" : "line 1");
+        const std::string why = expect_input_error([&] { config.load_file(path); }, path.string(),
+                                                   text.starts_with("[gp]") ? "line 3" : "line 1");
         EXPECT_NE(why.find("20001 dotted parts"), std::string::npos) << why;
     }
-    const auto fine = write_temp("dots.toml", "[machine]\nname = \"a.b.c.d.e.f.g.h\" # " + deep + "\n[gp]\nclock_mhz = 40.0\n");
+    const auto fine =
+        write_temp("dots.toml", "[machine]\nname = \"a.b.c.d.e.f.g.h\" # " + deep + "\n[gp]\nclock_mhz = 40.0\n");
     EXPECT_NO_THROW(config.load_file(fine));
 }
 

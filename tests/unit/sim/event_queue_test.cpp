@@ -1,5 +1,5 @@
-#include "sim/core/clock_domain.h"
 #include "sim/core/event_queue.h"
+#include "sim/core/clock_domain.h"
 
 #include <gtest/gtest.h>
 

@@ -14,7 +14,8 @@ namespace {
 
 TEST(HostMemory, IsNoMoreThanThePhysicalMemoryOrTheProcessLimits) {
     const HostMemory memory = host_memory();
-    const double physical = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) * static_cast<double>(::sysconf(_SC_PAGE_SIZE));
+    const double physical =
+        static_cast<double>(::sysconf(_SC_PHYS_PAGES)) * static_cast<double>(::sysconf(_SC_PAGE_SIZE));
     EXPECT_GT(memory.bytes, 0);
     EXPECT_LE(memory.bytes, physical);
     for (const int resource : {RLIMIT_AS, RLIMIT_DATA}) {

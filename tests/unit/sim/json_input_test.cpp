@@ -1,8 +1,8 @@
 // User JSON nested beyond any file pp5sim writes is refused while it is parsed, before anything walks it
 // recursively (a document tens of thousands deep would overflow the stack); malformed JSON names the file.
 
-#include "sim/core/input_error.h"
 #include "sim/core/json_input.h"
+#include "sim/core/input_error.h"
 
 #include <gtest/gtest.h>
 

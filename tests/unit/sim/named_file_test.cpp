@@ -1,5 +1,5 @@
-#include "sim/core/input_error.h"
 #include "sim/core/named_file.h"
+#include "sim/core/input_error.h"
 #include "tests/support/temp_dir.h"
 
 #include <gtest/gtest.h>

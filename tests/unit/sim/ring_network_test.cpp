@@ -34,9 +34,11 @@ TEST(RingNetwork, UnloadedMessageTakesHopsTimesLatencyPlusSizeOverWidth) {
             ASSERT_GT(hops, 0u);
             // 100 bits on a 32-bit channel: four words of payload.
             const RingTransit t = ring.transmit(0, RingMessage{MessageKind::FetchRequest, from, to, 100, false});
-            const std::uint64_t cycles = hops * static_cast<std::uint64_t>(hop_latency) + static_cast<std::uint64_t>(header) + 4;
+            const std::uint64_t cycles =
+                hops * static_cast<std::uint64_t>(hop_latency) + static_cast<std::uint64_t>(header) + 4;
             EXPECT_EQ(t.start, 0);
-            EXPECT_EQ(t.arrival, ring.clock().cycles_to_ticks(cycles)) << "hop latency " << hop_latency << ", header " << header;
+            EXPECT_EQ(t.arrival, ring.clock().cycles_to_ticks(cycles))
+                << "hop latency " << hop_latency << ", header " << header;
             EXPECT_EQ(t.hops, hops);
         }
     }
@@ -64,13 +66,13 @@ TEST(RingNetwork, SaturatedChannelCarriesItsBandwidthAndNoMore) {
     const int messages = 1000;
     const std::uint64_t payload_bits = 125 * 32;
     RingTransit last;
-    for (int i = 0; i < messages; ++i) last = ring.transmit(0, RingMessage{MessageKind::FetchReply, from, to, payload_bits, false});
+    for (int i = 0; i < messages; ++i)
+        last = ring.transmit(0, RingMessage{MessageKind::FetchReply, from, to, payload_bits, false});
     // Every message waits for all before it: the channel streams words back to back.
     const std::uint64_t words = ring.message_words(payload_bits);
     EXPECT_EQ(last.start, ring.clock().cycles_to_ticks(words * (messages - 1)));
     const Tick busy_until = last.start + ring.clock().cycles_to_ticks(words);
-    const double carried_bits_per_second =
-        static_cast<double>(words * messages * 32) / ticks_to_seconds(busy_until);
+    const double carried_bits_per_second = static_cast<double>(words * messages * 32) / ticks_to_seconds(busy_until);
     EXPECT_DOUBLE_EQ(carried_bits_per_second, ring.bandwidth_bits_per_second());
     EXPECT_EQ(ring.horizon(), busy_until);
 }
@@ -78,7 +80,8 @@ TEST(RingNetwork, SaturatedChannelCarriesItsBandwidthAndNoMore) {
 TEST(RingNetwork, MessagesSpreadOverChannelsThenQueue) {
     RingNetwork ring(config_with({"ring.channels=8", "ring.header_words=0", "ring.hop_latency_cycles=0"}), 8, 2);
     std::vector<RingTransit> sent;
-    for (int i = 0; i < 16; ++i) sent.push_back(ring.transmit(0, RingMessage{MessageKind::PixelBlock, 1, 2, 10 * 32, false}));
+    for (int i = 0; i < 16; ++i)
+        sent.push_back(ring.transmit(0, RingMessage{MessageKind::PixelBlock, 1, 2, 10 * 32, false}));
     for (int i = 0; i < 8; ++i) {
         EXPECT_EQ(sent[static_cast<std::size_t>(i)].channel, i);
         EXPECT_EQ(sent[static_cast<std::size_t>(i)].start, 0);

@@ -1,5 +1,5 @@
-#include "sim/core/component.h"
 #include "sim/core/statistics.h"
+#include "sim/core/component.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -11,8 +11,9 @@ TEST(Statistics, CounterVectorAndFormula) {
     StatGroup group;
     Counter& hits = group.counter("hits", "count", "Cache hits");
     Counter& misses = group.counter("misses", "count", "Cache misses");
-    group.formula("hit_rate", "ratio", "hits / accesses",
-                  [&] { return static_cast<double>(hits.value()) / static_cast<double>(hits.value() + misses.value()); });
+    group.formula("hit_rate", "ratio", "hits / accesses", [&] {
+        return static_cast<double>(hits.value()) / static_cast<double>(hits.value() + misses.value());
+    });
     VectorStat& bytes = group.vector("bytes", "bytes", "By type", {"request", "reply"});
     hits += 3;
     ++misses;

@@ -12,7 +12,9 @@ namespace {
 
 struct WorkRecorder final : WorkListener {
     std::vector<std::pair<std::string, std::size_t>> heard;
-    void on_work(std::string_view stage, std::size_t done, std::size_t) override { heard.emplace_back(std::string(stage), done); }
+    void on_work(std::string_view stage, std::size_t done, std::size_t) override {
+        heard.emplace_back(std::string(stage), done);
+    }
 };
 
 TEST(WorkProgress, ReachesTheListenerOfTheCallingThreadWhileItIsInstalled) {

@@ -15,15 +15,16 @@
 
 #include <cstdlib>
 #include <filesystem>
-#include <functional>
 #include <fstream>
+#include <functional>
 #include <set>
 
 namespace pp5 {
 namespace {
 
 std::filesystem::path write(const std::string& name, const std::string& text) {
-    const auto path = std::filesystem::temp_directory_path() / ("pp5sim_sweep_" + std::to_string(::getpid()) + "_" + name + ".toml");
+    const auto path =
+        std::filesystem::temp_directory_path() / ("pp5sim_sweep_" + std::to_string(::getpid()) + "_" + name + ".toml");
     std::ofstream(path) << text;
     return path;
 }
@@ -43,7 +44,8 @@ TEST(SweepFile, AxesKeepTheFilesOrderAndPointsFollowTheGrid) {
     EXPECT_EQ(spec.axes[0].values, (std::vector<std::string>{"10", "20"}));
     const std::vector<SweepPoint> plan = plan_sweep(spec);
     ASSERT_EQ(plan.size(), 7u);
-    EXPECT_EQ(plan[1].parameters, (SweepAssignment{{"ring.clock_mhz", "10"}, {"gp.count", "8"}}));  // first axis slowest
+    EXPECT_EQ(plan[1].parameters,
+              (SweepAssignment{{"ring.clock_mhz", "10"}, {"gp.count", "8"}}));  // first axis slowest
     EXPECT_EQ(plan[3].parameters, (SweepAssignment{{"ring.clock_mhz", "20"}, {"gp.count", "4"}}));
     EXPECT_EQ(plan[6].parameters, (SweepAssignment{{"gp.count", "64"}, {"levoy.ray_assignment", "work_queue"}}));
 }
@@ -61,21 +63,26 @@ TEST(SweepFile, MalformedFilesAreRefusedNamingTheField) {
         {std::string(kHead) + "[vary]\n\"gp.count\" = [[1]]\n", "vary.gp.count[0]"},
         {std::string(kHead) + "[vary]\na.b.c.d.e.f.g.h.i.j = [1]\n", "vary.a.b.c.d.e.f.g.h.i"},
         {"[sweep]\nscenarios = [\"no-such-scenario\"]\n[vary]\n\"gp.count\" = [4]\n", "sweep.scenarios[0]"},
-        {"[sweep]\nscenarios = [\"head-phantom\"]\nset = [\"gp.count=8\"]\n[vary]\n\"gp.count\" = [4]\n", "vary.gp.count"},
+        {"[sweep]\nscenarios = [\"head-phantom\"]\nset = [\"gp.count=8\"]\n[vary]\n\"gp.count\" = [4]\n",
+         "vary.gp.count"},
         {std::string(kHead) + "plot_x = \"ring.clock_mhz\"\n[vary]\n\"gp.count\" = [4]\n", "sweep.plot_x"},
         {std::string(kHead) + "uncertainty = 1\n[vary]\n\"gp.count\" = [4]\n", "sweep.uncertainty"},
         // Over the point cap: refused as such before any value is checked (0 GPs would be refused too).
-        {std::string(kHead) + "[vary]\n\"gp.count\" = [0,2,3,4,5,6,7,8,9,10,11]\n\"gp.ray_contexts\" = [1,2,3,4,5,6,7,8,9,10]\n"
-                              "\"gp.clock_mhz\" = [1,2,3,4,5,6,7,8,9,10]\n\"ring.channels\" = [1,2,3,4,5,6,7,8,9,10]\n"
-                              "\"ring.clock_mhz\" = [1,2,3,4,5,6,7,8,9,10]\n",
+        {std::string(kHead) +
+             "[vary]\n\"gp.count\" = [0,2,3,4,5,6,7,8,9,10,11]\n\"gp.ray_contexts\" = [1,2,3,4,5,6,7,8,9,10]\n"
+             "\"gp.clock_mhz\" = [1,2,3,4,5,6,7,8,9,10]\n\"ring.channels\" = [1,2,3,4,5,6,7,8,9,10]\n"
+             "\"ring.clock_mhz\" = [1,2,3,4,5,6,7,8,9,10]\n",
          "vary"},
-        {std::string(kHead) + "[[points]]\n\"gp.count\" = 4\n\"gp.count\" = 8\n", ""},  // TOML itself refuses a key twice
+        {std::string(kHead) + "[[points]]\n\"gp.count\" = 4\n\"gp.count\" = 8\n",
+         ""},  // TOML itself refuses a key twice
         // The name becomes out/sweeps/<name>: nothing that climbs out of it.
-        {"[sweep]\nname = \"../../elsewhere\"\nscenarios = [\"head-phantom\"]\n[vary]\n\"gp.count\" = [4]\n", "sweep.name"},
+        {"[sweep]\nname = \"../../elsewhere\"\nscenarios = [\"head-phantom\"]\n[vary]\n\"gp.count\" = [4]\n",
+         "sweep.name"},
         {"[sweep]\nname = \"/tmp/x\"\nscenarios = [\"head-phantom\"]\n[vary]\n\"gp.count\" = [4]\n", "sweep.name"},
         {"[sweep]\nname = \"..\"\nscenarios = [\"head-phantom\"]\n[vary]\n\"gp.count\" = [4]\n", "sweep.name"},
         // Rows and plots are known by the scenario's name: the same scenario twice is refused.
-        {"[sweep]\nscenarios = [\"head-phantom\", \"head-phantom\"]\n[vary]\n\"gp.count\" = [4]\n", "sweep.scenarios[1]"},
+        {"[sweep]\nscenarios = [\"head-phantom\", \"head-phantom\"]\n[vary]\n\"gp.count\" = [4]\n",
+         "sweep.scenarios[1]"},
     };
     for (std::size_t i = 0; i < cases.size(); ++i) {
         const auto path = write("bad" + std::to_string(i), cases[i].first);
@@ -102,7 +109,8 @@ TEST(SweepShards, EveryPointRunsInExactlyOneShardAndTheLaunchersSayWhich) {
         EXPECT_EQ(std::set<std::size_t>(taken.begin(), taken.end()).size(), 23u);
     }
     EXPECT_EQ(parse_shard("2/5").index, 2u);
-    for (const char* bad : {"5/5", "1", "a/2", "-1/2", "1/0", "1/2/3"}) EXPECT_THROW(parse_shard(bad), InputError) << bad;
+    for (const char* bad : {"5/5", "1", "a/2", "-1/2", "1/0", "1/2/3"})
+        EXPECT_THROW(parse_shard(bad), InputError) << bad;
 
     ::setenv("OMPI_COMM_WORLD_RANK", "1", 1);
     ::setenv("OMPI_COMM_WORLD_SIZE", "3", 1);
@@ -139,11 +147,13 @@ nlohmann::json hand_written_shard(std::size_t index) {
       "results": []})");
     for (std::size_t point = index; point < 4; point += 2) {
         const std::string gps = point % 2 == 0 ? "4" : "8";
-        shard["results"].push_back({{"index", point},
-                                    {"scenario", point < 2 ? "a b" : "a_b"},
-                                    {"varied", {{"gp.count", gps}}},
-                                    {"frames", {{{"frame", 0}, {"label", "f"}, {"metrics", {{"frame_ms", 10.0 + static_cast<double>(point)}}}}}},
-                                    {"parameters", {{"gp.count", std::stoi(gps)}}}});
+        shard["results"].push_back(
+            {{"index", point},
+             {"scenario", point < 2 ? "a b" : "a_b"},
+             {"varied", {{"gp.count", gps}}},
+             {"frames",
+              {{{"frame", 0}, {"label", "f"}, {"metrics", {{"frame_ms", 10.0 + static_cast<double>(point)}}}}}},
+             {"parameters", {{"gp.count", std::stoi(gps)}}}});
     }
     shard["shard"] = {{"index", index}, {"count", 2}};
     return shard;
@@ -151,7 +161,8 @@ nlohmann::json hand_written_shard(std::size_t index) {
 
 TEST(SweepShards, MalformedShardsAreRefusedNamingTheFileAndTheField) {
     const auto shards_with = [](const std::function<void(nlohmann::json&)>& change) {
-        std::vector<std::pair<std::string, nlohmann::json>> shards{{"s0.json", hand_written_shard(0)}, {"s1.json", hand_written_shard(1)}};
+        std::vector<std::pair<std::string, nlohmann::json>> shards{{"s0.json", hand_written_shard(0)},
+                                                                   {"s1.json", hand_written_shard(1)}};
         change(shards[0].second);
         return shards;
     };
@@ -177,7 +188,10 @@ TEST(SweepShards, MalformedShardsAreRefusedNamingTheFileAndTheField) {
         {[](auto& j) { j = nlohmann::json::array(); }, "sweep"},
         {[](auto& j) { j["sweep"] = "x"; }, "sweep"},
         {[](auto& j) { j["sweep"].erase("axes"); }, "sweep.axes"},
-        {[](auto& j) { j["sweep"]["axes"][0]["values"] = {4, 8}; }, "sweep.axes[0].values[0]"},
+        {[](auto& j) {
+             j["sweep"]["axes"][0]["values"] = {4, 8};
+         },
+         "sweep.axes[0].values[0]"},
         {[](auto& j) { j["sweep"]["axes"][0]["values"] = nlohmann::json::array(); }, "sweep.axes[0].values"},
         {[](auto& j) { j["sweep"]["axes"][0] = "gp.count"; }, "sweep.axes[0]"},
         {[](auto& j) { j["sweep"]["total_points"] = 5; }, "sweep.total_points"},
@@ -189,8 +203,10 @@ TEST(SweepShards, MalformedShardsAreRefusedNamingTheFileAndTheField) {
         {[](auto& j) { j["results"][0]["index"] = 9; }, "results[0].index"},
         {[](auto& j) { j["results"][0]["scenario"] = "c"; }, "results[0].scenario"},
         {[](auto& j) { j["results"][0]["varied"]["gp.count"] = 4; }, "results[0].varied.gp.count"},
-        {[](auto& j) { j["results"][0]["frames"][0]["metrics"]["frame_ms"] = "fast"; }, "results[0].frames[0].metrics.frame_ms"},
-        {[](auto& j) { j["results"][0]["frames"][0]["metrics"].erase("frame_ms"); }, "results[0].frames[0].metrics.frame_ms"},
+        {[](auto& j) { j["results"][0]["frames"][0]["metrics"]["frame_ms"] = "fast"; },
+         "results[0].frames[0].metrics.frame_ms"},
+        {[](auto& j) { j["results"][0]["frames"][0]["metrics"].erase("frame_ms"); },
+         "results[0].frames[0].metrics.frame_ms"},
         {[](auto& j) { j["results"][0]["frames"][0]["frame"] = -3; }, "results[0].frames[0].frame"},
         {[](auto& j) { j["results"][0]["error"] = 7; }, "results[0].error"},
         {[](auto& j) { j["results"][1]["index"] = 1; }, "results"},  // point 1 is shard 1's
@@ -229,7 +245,8 @@ TEST(SweepRun, ShardsMergeIntoTheWholeSweepAndThreadsChangeNothing) {
     std::vector<std::pair<std::string, nlohmann::json>> shards;
     for (std::size_t k = 0; k < 3; ++k) {
         const Shard shard{k, 3};
-        shards.emplace_back(shard_file_name(shard), nlohmann::json::parse(sweep_to_json(run_sweep(spec, shard), shard).dump()));
+        shards.emplace_back(shard_file_name(shard),
+                            nlohmann::json::parse(sweep_to_json(run_sweep(spec, shard), shard).dump()));
     }
     const SweepResult merged = merge_sweep_shards(shards);
     EXPECT_EQ(sweep_to_json(merged).dump(), nlohmann::json::parse(one).dump());
@@ -299,7 +316,8 @@ TEST(SweepRun, AKernelAxisRendersEachPointWithItsKernel) {
         }
         ++rendered;
         ASSERT_EQ(few.frames.size(), 1u);
-        const double slow = few.frames[0].values[column("simulated_seconds")].value(), fast = many.frames[0].values[column("simulated_seconds")].value();
+        const double slow = few.frames[0].values[column("simulated_seconds")].value(),
+                     fast = many.frames[0].values[column("simulated_seconds")].value();
         EXPECT_GT(slow, fast) << kernel << ": 4 GPs against 16";
         // The kernel's own first metric is in its rows.
         const Kernel* k_ = find_kernel(kernel);
@@ -316,7 +334,9 @@ TEST(SweepRun, AKernelAxisRendersEachPointWithItsKernel) {
     levoy_only.axes = {{"gp.count", {"4", "16"}}};
     const SweepResult alone = run_sweep(levoy_only, Shard{});
     for (std::size_t p = 0; p < 2; ++p)
-        for (std::size_t c = 0; c < alone.columns.size(); ++c) EXPECT_EQ(swept.points[p].frames[0].values[column(alone.columns[c].name)], alone.points[p].frames[0].values[c]);
+        for (std::size_t c = 0; c < alone.columns.size(); ++c)
+            EXPECT_EQ(swept.points[p].frames[0].values[column(alone.columns[c].name)],
+                      alone.points[p].frames[0].values[c]);
 
     spec.axes[0].values[1] = "yaun";
     try {

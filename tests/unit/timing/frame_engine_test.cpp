@@ -3,10 +3,10 @@
 // frame buffer counting what arrives, the machine's limits refused up front, the watchdog, broadcast
 // and PP phases, and the same work summed on one processor.
 
+#include "sim/timing/frame_engine.h"
 #include "sim/components/gp_cost_model.h"
 #include "sim/core/input_error.h"
 #include "sim/machine/machine.h"
-#include "sim/timing/frame_engine.h"
 #include "sim/timing/one_processor.h"
 
 #include <gtest/gtest.h>
@@ -24,8 +24,9 @@ std::vector<GpOpKind> kinds() { return {{"test.sample", {"gp_cost.cache_lookup_c
 // the renderer almost no occupancy, so only the GP's context switching can hide it.
 MachineConfig latency_machine(int contexts) {
     MachineConfig config(Machine::param_groups());
-    for (const std::string o : {"gp.count=1", "renderer.count=1", "renderer.pp_columns=16", "renderer.pp_rows=16",
-                                "ring.hop_latency_cycles=1000", "renderer.fetch_setup_cycles=0", "renderer.fetch_cycles_per_unit=0"})
+    for (const std::string o :
+         {"gp.count=1", "renderer.count=1", "renderer.pp_columns=16", "renderer.pp_rows=16",
+          "ring.hop_latency_cycles=1000", "renderer.fetch_setup_cycles=0", "renderer.fetch_cycles_per_unit=0"})
         config.apply_override(o);
     config.apply_override("gp.ray_contexts=" + std::to_string(contexts));
     return config;
@@ -89,7 +90,8 @@ FrameWork distinct_blocks(bool shared = false) {
     for (int r = 0; r < kItems; ++r) {
         HandItem h;
         h.samples = kSamplesPerFetch;
-        for (int t = 0; t < kFetchesPerItem; ++t) h.blocks.push_back(static_cast<std::uint32_t>(shared ? t : r * kFetchesPerItem + t));
+        for (int t = 0; t < kFetchesPerItem; ++t)
+            h.blocks.push_back(static_cast<std::uint32_t>(shared ? t : r * kFetchesPerItem + t));
         items.push_back(h);
     }
     return hand_frame({items});
@@ -195,7 +197,8 @@ TEST(FrameEngine, RepliesAreTakenInAtTheNextSwitch) {
 
 TEST(FrameEngine, TheFrameBufferCountsThePixelsThatArrive) {
     Machine machine(latency_machine(2));
-    const FrameTiming t = time_frame(machine, hand_frame({{HandItem{{0}}}, {HandItem{{1}}}, {HandItem{{}, 1, 3}}}, 100));
+    const FrameTiming t =
+        time_frame(machine, hand_frame({{HandItem{{0}}}, {HandItem{{1}}}, {HandItem{{}, 1, 3}}}, 100));
     EXPECT_EQ(t.phases.front().gp.pixels_sent, 300u);
     EXPECT_EQ(machine.frame_buffer().pixels_written.value(), 300u);
     const nlohmann::json stats = machine.statistics();
@@ -210,7 +213,8 @@ TEST(FrameEngine, FrameBufferBitsPerPixelSizeThePixelMessages) {
     config.apply_override("frame_buffer.bits_per_pixel=32");
     Machine machine(config);
     (void)time_frame(machine, hand_frame({{HandItem{{}, 1, 3}}}, 100));
-    EXPECT_EQ(machine.statistics()["ring"]["bytes"]["value"]["pixel_block"].get<std::uint64_t>(), machine.ring().message_words(3200) * 4);
+    EXPECT_EQ(machine.statistics()["ring"]["bytes"]["value"]["pixel_block"].get<std::uint64_t>(),
+              machine.ring().message_words(3200) * 4);
 }
 
 TEST(FrameEngine, APictureLargerThanTheFrameBufferIsRefusedNamingTheKey) {
@@ -280,7 +284,8 @@ TEST(FrameEngine, ABroadcastPhaseStreamsEveryMessageThenEveryGpComputes) {
     const PhaseTiming& p = t.phases.front();
     const Tick compute = 1000 * gp_op_costs(machine.config(), kinds()).front();
     const GpCostModel& c = machine.gps().front()->costs();
-    const Tick receive = 5 * (c.message_receive + static_cast<Tick>(machine.ring().message_words(256)) * c.receive_per_word);
+    const Tick receive =
+        5 * (c.message_receive + static_cast<Tick>(machine.ring().message_words(256)) * c.receive_per_word);
     EXPECT_GE(p.duration_ps(), compute + receive);
     EXPECT_EQ(machine.statistics()["ring"]["messages"]["value"]["broadcast"].get<std::uint64_t>(), 5u);
     for (const auto& gp : machine.gps()) {
@@ -329,8 +334,8 @@ TEST(FrameEngine, InconsistentRecordedWorkIsRefusedBeforeItRuns) {
 
 TEST(FrameEngine, ACacheLargerThanTheGpsMemoryIsRefusedNamingTheKey) {
     MachineConfig config = latency_machine(1);
-    config.apply_override("gp.cache_bits=1048576");   // 128 KiB
-    config.apply_override("gp.memory_bytes=65536");   // 64 KiB
+    config.apply_override("gp.cache_bits=1048576");  // 128 KiB
+    config.apply_override("gp.memory_bytes=65536");  // 64 KiB
     Machine machine(config);
     try {
         (void)time_frame(machine, hand_frame({{HandItem{{0}}}}));

@@ -39,7 +39,8 @@ protected:
 TEST_F(DenTest, RoundTripsInBothByteOrders) {
     const auto expected = values();
     for (const auto order : {std::endian::little, std::endian::big}) {
-        const auto path = write("small.den", den_bytes(kDenDims, sample_bytes(cast_all<std::uint8_t>(expected)), order));
+        const auto path =
+            write("small.den", den_bytes(kDenDims, sample_bytes(cast_all<std::uint8_t>(expected)), order));
         const Volume v = load_den(path);
         EXPECT_EQ(v.dims(), kDenDims);
         EXPECT_EQ(v.source_type(), ScalarType::UInt8);
@@ -77,9 +78,7 @@ TEST_F(DenTest, InconsistentMapLength) {
     EXPECT_THAT(e.reason(), HasSubstr("6x4x3"));
 }
 
-TEST_F(DenTest, ZeroDimension) {
-    EXPECT_EQ(error_for(den_bytes({6, 0, 3}, {})).field(), "header.map_len[1]");
-}
+TEST_F(DenTest, ZeroDimension) { EXPECT_EQ(error_for(den_bytes({6, 0, 3}, {})).field(), "header.map_len[1]"); }
 
 TEST_F(DenTest, TruncatedData) {
     const InputError e = error_for(den_bytes(kDenDims, Bytes(50)));

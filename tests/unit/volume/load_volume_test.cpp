@@ -74,7 +74,8 @@ TEST(LoadVolume, AHeaderDeclaringMoreThanTheHostHoldsIsRefusedBeforeReading) {
     // (A .den header's 32-bit voxel count cannot declare more than about 11 GB.)
     for (const char* name : {"bomb.nii.gz"}) {
         const InputError e = input_error_from([&] { load_volume(dir / name); });
-        EXPECT_THAT(e.reason(), HasSubstr("loading a 4096x4096x4096 volume of uint8 needs 343.6 GB")) << name << ": " << e.what();
+        EXPECT_THAT(e.reason(), HasSubstr("loading a 4096x4096x4096 volume of uint8 needs 343.6 GB"))
+            << name << ": " << e.what();
         EXPECT_THAT(e.reason(), HasSubstr("of this computer's memory")) << e.what();
         EXPECT_THAT(e.field(), HasSubstr("header.")) << e.what();
     }

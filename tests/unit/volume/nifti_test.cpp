@@ -71,7 +71,8 @@ TEST_F(NiftiTest, RoundTripsUInt8WithSpacingAndName) {
 }
 
 TEST_F(NiftiTest, RoundTripsGzippedInt16WithNegativeValues) {
-    const auto values = pattern(kNiftiDims, [](int x, int y, int z) { return static_cast<float>(x * 300 - y * 900 + z * 7); });
+    const auto values =
+        pattern(kNiftiDims, [](int x, int y, int z) { return static_cast<float>(x * 300 - y * 900 + z * 7); });
     const auto path = dir / "signed.nii.gz";
     write_gz(path, nifti_bytes(spec_for(4, 16), sample_bytes(cast_all<std::int16_t>(values))));
     const Volume v = load_nifti(path);

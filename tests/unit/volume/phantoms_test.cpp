@@ -37,7 +37,7 @@ TEST(SpherePhantom, VoxelsAboveHalfValueFillTheBall) {
 }
 
 TEST(SpherePhantom, HalfValueLiesExactlyAtTheDocumentedRadius) {
-    const int n = 41;  // centre (20, 20, 20)
+    const int n = 41;                                        // centre (20, 20, 20)
     const Volume v = make_sphere_phantom(n, 10.0f / 41.0f);  // radius 10 voxels
     EXPECT_NEAR(v.at(30, 20, 20), 100.0f, 1e-3f);
     EXPECT_NEAR(v.at(20, 10, 20), 100.0f, 1e-3f);
@@ -134,10 +134,10 @@ TEST(HeadPhantom, HasItsLayersFromOutsideIn) {
     const int mid = n / 2;
     // Along +x through the centre, at fractions of n/2 between the documented semi-axes.
     const auto along_x = [&](float f) { return v.at(static_cast<int>(std::lround(c + f * unit)), mid, mid); };
-    EXPECT_EQ(along_x(0.95f), 0.0f);      // outside
-    EXPECT_EQ(along_x(0.67f), 60.0f);     // skin: 0.64 .. 0.70
-    EXPECT_EQ(along_x(0.60f), 220.0f);    // skull: 0.56 .. 0.64
-    EXPECT_EQ(along_x(0.30f), 110.0f);    // brain
+    EXPECT_EQ(along_x(0.95f), 0.0f);    // outside
+    EXPECT_EQ(along_x(0.67f), 60.0f);   // skin: 0.64 .. 0.70
+    EXPECT_EQ(along_x(0.60f), 220.0f);  // skull: 0.56 .. 0.64
+    EXPECT_EQ(along_x(0.30f), 110.0f);  // brain
     // Along +y (front), where the semi-axes are longer.
     EXPECT_EQ(v.at(mid, static_cast<int>(std::lround(c + 0.85f * unit)), mid), 60.0f);
     EXPECT_EQ(v.at(mid, static_cast<int>(std::lround(c + 0.78f * unit)), mid), 220.0f);

@@ -71,7 +71,8 @@ TEST_F(RawTest, ByteOrderMatters) {
 }
 
 TEST_F(RawTest, RoundTripsFloat32WithHeaderBytesAndSpacing) {
-    const auto expected = pattern(kRawDims, [](int x, int y, int z) { return 0.25f * static_cast<float>(x) - 3.5f * static_cast<float>(y * z); });
+    const auto expected = pattern(
+        kRawDims, [](int x, int y, int z) { return 0.25f * static_cast<float>(x) - 3.5f * static_cast<float>(y * z); });
     for (const bool big : {false, true}) {
         Bytes bytes(17, std::byte{0x5a});
         const Bytes samples = sample_bytes(expected, big ? std::endian::big : std::endian::little);
@@ -113,31 +114,41 @@ TEST_F(RawTest, HeaderBytesBeyondTheFile) {
 }
 
 TEST_F(RawTest, BadDims) {
-    EXPECT_EQ(error_for(Bytes(105), RawLayout{{5, 0, 3}, ScalarType::UInt8, false, 0, glm::vec3(1.0f)}).field(), "dims.y");
-    EXPECT_EQ(error_for(Bytes(105), RawLayout{{5, 7, -3}, ScalarType::UInt8, false, 0, glm::vec3(1.0f)}).field(), "dims.z");
-    EXPECT_EQ(error_for(Bytes(105), RawLayout{{5000, 7, 3}, ScalarType::UInt8, false, 0, glm::vec3(1.0f)}).field(), "dims.x");
+    EXPECT_EQ(error_for(Bytes(105), RawLayout{{5, 0, 3}, ScalarType::UInt8, false, 0, glm::vec3(1.0f)}).field(),
+              "dims.y");
+    EXPECT_EQ(error_for(Bytes(105), RawLayout{{5, 7, -3}, ScalarType::UInt8, false, 0, glm::vec3(1.0f)}).field(),
+              "dims.z");
+    EXPECT_EQ(error_for(Bytes(105), RawLayout{{5000, 7, 3}, ScalarType::UInt8, false, 0, glm::vec3(1.0f)}).field(),
+              "dims.x");
 }
 
 TEST_F(RawTest, BadSpacing) {
-    EXPECT_EQ(error_for(Bytes(105), RawLayout{kRawDims, ScalarType::UInt8, false, 0, {1.0f, 1.0f, 0.0f}}).field(), "spacing.z");
-    EXPECT_EQ(error_for(Bytes(105), RawLayout{kRawDims, ScalarType::UInt8, false, 0, {-1.0f, 1.0f, 1.0f}}).field(), "spacing.x");
-    EXPECT_EQ(error_for(Bytes(105), RawLayout{kRawDims, ScalarType::UInt8, false, 0,
-                                              {1.0f, std::numeric_limits<float>::quiet_NaN(), 1.0f}})
-                  .field(),
-              "spacing.y");
+    EXPECT_EQ(error_for(Bytes(105), RawLayout{kRawDims, ScalarType::UInt8, false, 0, {1.0f, 1.0f, 0.0f}}).field(),
+              "spacing.z");
+    EXPECT_EQ(error_for(Bytes(105), RawLayout{kRawDims, ScalarType::UInt8, false, 0, {-1.0f, 1.0f, 1.0f}}).field(),
+              "spacing.x");
+    EXPECT_EQ(
+        error_for(
+            Bytes(105),
+            RawLayout{kRawDims, ScalarType::UInt8, false, 0, {1.0f, std::numeric_limits<float>::quiet_NaN(), 1.0f}})
+            .field(),
+        "spacing.y");
 }
 
 TEST_F(RawTest, NaNInFloatData) {
     auto v = pattern(kRawDims, [](int x, int, int) { return static_cast<float>(x); });
     v[2 + 5 * 3 + 35 * 1] = std::numeric_limits<float>::quiet_NaN();  // (2, 3, 1)
-    const InputError e = error_for(sample_bytes(v), RawLayout{kRawDims, ScalarType::Float32, false, 0, glm::vec3(1.0f)});
+    const InputError e =
+        error_for(sample_bytes(v), RawLayout{kRawDims, ScalarType::Float32, false, 0, glm::vec3(1.0f)});
     EXPECT_EQ(e.field(), "voxel data");
     EXPECT_THAT(e.reason(), HasSubstr("(2, 3, 1) is NaN"));
 }
 
 TEST_F(RawTest, MissingFile) {
     const auto path = dir / "nothing.raw";
-    const InputError e = input_error_from([&] { load_raw(path, RawLayout{kRawDims, ScalarType::UInt8, false, 0, glm::vec3(1.0f)}); });
+    const InputError e = input_error_from([&] {
+        load_raw(path, RawLayout{kRawDims, ScalarType::UInt8, false, 0, glm::vec3(1.0f)});
+    });
     EXPECT_EQ(e.file(), path.string());
     EXPECT_EQ(e.field(), "file");
 }

@@ -1,7 +1,7 @@
 // resample: trilinear, cell-centred, extent-preserving.
 
-#include "kernels/volume/phantoms.h"
 #include "kernels/volume/resample.h"
+#include "kernels/volume/phantoms.h"
 #include "tests/unit/volume/volume_test_files.h"
 
 #include <gtest/gtest.h>
@@ -21,9 +21,7 @@ Volume ramp_volume(glm::ivec3 dims, glm::vec3 spacing) {
 }
 
 // Where target index j reads on a source axis, before clamping (the documented mapping).
-double source_coordinate(int j, int source_n, int target_n) {
-    return (j + 0.5) * source_n / target_n - 0.5;
-}
+double source_coordinate(int j, int source_n, int target_n) { return (j + 0.5) * source_n / target_n - 0.5; }
 
 TEST(Resample, PreservesAConstantVolumeExactly) {
     const Volume source = make_constant_volume({10, 12, 7}, 37.25f);
@@ -44,8 +42,8 @@ TEST(Resample, ReproducesALinearRampInTheInterior) {
                 const double sx = source_coordinate(x, dims.x, target.x);
                 const double sy = source_coordinate(y, dims.y, target.y);
                 const double sz = source_coordinate(z, dims.z, target.z);
-                const bool interior = sx >= 0 && sx <= dims.x - 1 && sy >= 0 && sy <= dims.y - 1 && sz >= 0 &&
-                                      sz <= dims.z - 1;
+                const bool interior =
+                    sx >= 0 && sx <= dims.x - 1 && sy >= 0 && sy <= dims.y - 1 && sz >= 0 && sz <= dims.z - 1;
                 if (!interior) continue;
                 ++checked;
                 EXPECT_NEAR(out.at(x, y, z), 2 * sx + 3 * sy - sz + 5, 1e-4) << x << " " << y << " " << z;
@@ -82,7 +80,8 @@ TEST(Resample, SameDimsIsAnExactCopy) {
 
 TEST(Resample, HalvingAveragesEachTwoByTwoByTwoBlock) {
     const glm::ivec3 dims{6, 4, 8};
-    auto samples = pattern(dims, [](int x, int y, int z) { return static_cast<float>((x * 37 + y * 11 + z * 5) % 23); });
+    auto samples =
+        pattern(dims, [](int x, int y, int z) { return static_cast<float>((x * 37 + y * 11 + z * 5) % 23); });
     const Volume source(dims, glm::vec3(1.0f), ScalarType::UInt8, samples);
     const Volume out = resample(source, dims / 2);
     for (int z = 0; z < dims.z / 2; ++z) {

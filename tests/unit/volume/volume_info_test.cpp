@@ -1,7 +1,7 @@
 // describe_volume: the lines `pp5sim volume-info` prints.
 
-#include "kernels/volume/phantoms.h"
 #include "kernels/volume/volume_info.h"
+#include "kernels/volume/phantoms.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -32,9 +32,7 @@ TEST(DescribeVolume, StatisticsOfAKnownVolume) {
     EXPECT_THAT(text, HasSubstr("90% 200"));
 }
 
-TEST(DescribeVolume, EmptyVolume) {
-    EXPECT_THAT(describe_volume(Volume()), HasSubstr("empty volume"));
-}
+TEST(DescribeVolume, EmptyVolume) { EXPECT_THAT(describe_volume(Volume()), HasSubstr("empty volume")); }
 
 }  // namespace
 }  // namespace pp5

@@ -7,9 +7,9 @@
 #include "tests/support/temp_dir.h"
 #include "tests/support/volume_files.h"
 
-#include <glm/vec3.hpp>
 #include <gtest/gtest.h>
 #include <zlib.h>
+#include <glm/vec3.hpp>
 
 #include <algorithm>
 #include <array>

@@ -2,12 +2,12 @@
 // what a brute-force pass over the error grid counts, and the counts move with the threshold, the
 // error grid and the low-resolution factor as the paper reports (section 5).
 
-#include "kernels/volume/phantoms.h"
 #include "kernels/wilson/hybrid_volume.h"
+#include "kernels/volume/phantoms.h"
 
 #include <gtest/gtest.h>
-#include <glm/geometric.hpp>
 #include <tbb/global_control.h>
+#include <glm/geometric.hpp>
 
 #include <cmath>
 #include <tuple>
@@ -32,7 +32,10 @@ TEST(WilsonLowResolution, TheMinimumFilterNeverOverestimates) {
         for (int z = 0; z < v.dims().z; ++z)
             for (int y = 0; y < v.dims().y; ++y)
                 for (int x = 0; x < v.dims().x; ++x)
-                    over += reconstruct_low_resolution(h.low_resolution(), k, glm::vec3(x, y, z)) > v.at(x, y, z) + 1e-4f ? 1 : 0;
+                    over +=
+                        reconstruct_low_resolution(h.low_resolution(), k, glm::vec3(x, y, z)) > v.at(x, y, z) + 1e-4f
+                            ? 1
+                            : 0;
         EXPECT_EQ(over, 0) << "k = " << k;
     }
     // The cubic filter does overestimate somewhere (else the test above proves nothing).
@@ -43,7 +46,8 @@ TEST(WilsonLowResolution, TheMinimumFilterNeverOverestimates) {
 TEST(WilsonLowResolution, AFactorOfOneKeepsTheVolume) {
     const Volume v = make_head_phantom(24);
     const HybridVolume h = HybridVolume::build(v, settings(1, 1.0 / 64), false);
-    for (std::size_t i = 0; i < v.samples().size(); ++i) ASSERT_NEAR(h.low_resolution().samples()[i], v.samples()[i], 1e-3f);
+    for (std::size_t i = 0; i < v.samples().size(); ++i)
+        ASSERT_NEAR(h.low_resolution().samples()[i], v.samples()[i], 1e-3f);
     EXPECT_EQ(h.points().size(), 0u);
 }
 
@@ -56,7 +60,8 @@ TEST(WilsonPoints, SelectionCountsWhatABruteForcePassCounts) {
         for (int z = 0; z < v.dims().z; ++z)
             for (int y = 0; y < v.dims().y; ++y)
                 for (int x = 0; x < v.dims().x; ++x) {
-                    const double e = (v.at(x, y, z) - reconstruct_low_resolution(h.low_resolution(), 2, glm::vec3(x, y, z))) / range;
+                    const double e =
+                        (v.at(x, y, z) - reconstruct_low_resolution(h.low_resolution(), 2, glm::vec3(x, y, z))) / range;
                     expected += std::abs(e) > tau ? 1 : 0;
                 }
         EXPECT_EQ(h.points().size(), expected) << "threshold " << tau;
@@ -77,7 +82,9 @@ TEST(WilsonPoints, CountsFallWithTheThresholdAndTheResolutionAndRiseWithTheError
         EXPECT_LT(n, previous) << "threshold " << tau;
         previous = n;
     }
-    const auto count = [&](int k, int grid) { return HybridVolume::build(v, settings(k, 1.0 / 32, Downsample::Cubic, grid), false).points().size(); };
+    const auto count = [&](int k, int grid) {
+        return HybridVolume::build(v, settings(k, 1.0 / 32, Downsample::Cubic, grid), false).points().size();
+    };
     EXPECT_GT(count(4, 1), count(2, 1));
     EXPECT_GT(count(2, 2), count(2, 1));
 }
@@ -90,9 +97,11 @@ TEST(WilsonPoints, ABudgetKeepsTheLargestErrorsInStorageOrder) {
     const HybridVolume some = HybridVolume::build(v, s, false);
     ASSERT_EQ(some.points().size(), s.max_points);
     int smallest_kept = 127;
-    for (const HybridPoint& p : some.points()) smallest_kept = std::min(smallest_kept, std::abs(static_cast<int>(p.error)));
+    for (const HybridPoint& p : some.points())
+        smallest_kept = std::min(smallest_kept, std::abs(static_cast<int>(p.error)));
     std::uint64_t larger_left_out = 0;
-    for (const HybridPoint& p : all.points()) larger_left_out += std::abs(static_cast<int>(p.error)) > smallest_kept + 1 ? 1 : 0;
+    for (const HybridPoint& p : all.points())
+        larger_left_out += std::abs(static_cast<int>(p.error)) > smallest_kept + 1 ? 1 : 0;
     EXPECT_LE(larger_left_out, some.points().size());
     for (std::size_t i = 1; i < some.points().size(); ++i) {
         const HybridPoint& a = some.points()[i - 1];
@@ -120,8 +129,8 @@ TEST(WilsonPoints, TheSameRepresentationAtOneAndTwoThreads) {
     ASSERT_EQ(one.points().size(), two.points().size());
     for (std::size_t i = 0; i < one.points().size(); ++i) {
         const HybridPoint &a = one.points()[i], &b = two.points()[i];
-        ASSERT_TRUE(a.x == b.x && a.y == b.y && a.z == b.z && a.value == b.value && a.error == b.error && a.normal == b.normal &&
-                    a.gradient == b.gradient);
+        ASSERT_TRUE(a.x == b.x && a.y == b.y && a.z == b.z && a.value == b.value && a.error == b.error &&
+                    a.normal == b.normal && a.gradient == b.gradient);
     }
     EXPECT_EQ(std::vector<float>(one.low_resolution().samples().begin(), one.low_resolution().samples().end()),
               std::vector<float>(two.low_resolution().samples().begin(), two.low_resolution().samples().end()));
@@ -133,7 +142,8 @@ TEST(WilsonNormals, TheTableCoversTheSphereEvenly) {
     double worst = 1.0;
     for (int i = 0; i < 2000; ++i) {
         const double z = 1.0 - (2.0 * i + 1.0) / 2000.0, r = std::sqrt(1 - z * z), phi = 2.399963 * i * 1.37;
-        const glm::vec3 n(static_cast<float>(r * std::cos(phi)), static_cast<float>(r * std::sin(phi)), static_cast<float>(z));
+        const glm::vec3 n(static_cast<float>(r * std::cos(phi)), static_cast<float>(r * std::sin(phi)),
+                          static_cast<float>(z));
         worst = std::min(worst, static_cast<double>(glm::dot(n, t.direction(t.nearest(n)))));
     }
     EXPECT_GT(worst, std::cos(12.7 * 3.14159265 / 180.0));

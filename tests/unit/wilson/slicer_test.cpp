@@ -15,9 +15,9 @@
 #include "sim/timing/frame_engine.h"
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -68,10 +68,11 @@ std::vector<FrameResult> render(const Scenario& scenario, const std::vector<std:
     return out;
 }
 
-std::string wilson_scene(const std::string& dataset, const std::string& classification, const std::string& camera, int size) {
+std::string wilson_scene(const std::string& dataset, const std::string& classification, const std::string& camera,
+                         int size) {
     return "[scenario]\nkernel = \"wilson\"\n[dataset]\n" + dataset + "\n[classification]\n" + classification +
-           "\n[shading]\nambient = 0.3\ndiffuse = 0.7\nspecular = 0.0\nlight_direction = [0.3, 0.5, -1]\n[camera]\n" + camera +
-           "\n[image]\nwidth = " + std::to_string(size) + "\nheight = " + std::to_string(size) + "\n";
+           "\n[shading]\nambient = 0.3\ndiffuse = 0.7\nspecular = 0.0\nlight_direction = [0.3, 0.5, -1]\n[camera]\n" +
+           camera + "\n[image]\nwidth = " + std::to_string(size) + "\nheight = " + std::to_string(size) + "\n";
 }
 
 TEST(WilsonSlices, AlongAnAxisTheyCompositeTheTexelsBilinearSamples) {
@@ -118,12 +119,14 @@ TEST(WilsonSlices, AlongAnAxisTheyCompositeTheTexelsBilinearSamples) {
             double alpha = 0;
             for (int z = dims.z - 1; z >= 0; --z) {
                 const auto at = [&](int a, int b) { return glm::dvec4(texels.value(volume.index(a, b, z))); };
-                const glm::dvec4 s = (1 - u) * (1 - v) * at(i, j) + u * (1 - v) * at(i + 1, j) + (1 - u) * v * at(i, j + 1) + u * v * at(i + 1, j + 1);
+                const glm::dvec4 s = (1 - u) * (1 - v) * at(i, j) + u * (1 - v) * at(i + 1, j) +
+                                     (1 - u) * v * at(i, j + 1) + u * v * at(i + 1, j + 1);
                 color = s.a * glm::dvec3(s) + (1 - s.a) * color;
                 alpha = s.a + (1 - s.a) * alpha;
             }
             const glm::dvec3 expected = color + (1 - alpha) * glm::dvec3(background);
-            for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(frame.image.at(x, y)[c] - static_cast<float>(expected[c])));
+            for (int c = 0; c < 3; ++c)
+                worst = std::max(worst, std::abs(frame.image.at(x, y)[c] - static_cast<float>(expected[c])));
             ++compared;
         }
     EXPECT_GT(compared, size * size / 2);
@@ -133,7 +136,9 @@ TEST(WilsonSlices, AlongAnAxisTheyCompositeTheTexelsBilinearSamples) {
 }
 
 const std::string kHeadCamera = "projection = \"parallel\"\nview_from = [0.3, -1.0, 0.4]\nup = [0.0, 0.0, 1.0]";
-const std::string kSkin = "kind = \"isovalue-contours\"\ncontours = [{ value = 60.0, opacity = 0.5, thickness = 1.5 }, { value = 160.0, opacity = 0.9, thickness = 1.5 }]";
+const std::string kSkin =
+    "kind = \"isovalue-contours\"\ncontours = [{ value = 60.0, opacity = 0.5, thickness = 1.5 }, { value = 160.0, "
+    "opacity = 0.9, thickness = 1.5 }]";
 
 TEST(WilsonPictures, CloseToTheReferenceAndPointsNeverMakeThemWorse) {
     const Scenario head = scenario_from("head", wilson_scene("phantom = \"head\"\nsize = 64", kSkin, kHeadCamera, 128));
@@ -158,9 +163,11 @@ TEST(WilsonPictures, OnTheShadedMrHeadPointsAddDetailTheLowResolutionVolumeLost)
     // further, or unshaded so that only the silhouette counts, points can lower PSNR: their squares grow
     // the silhouette ("small details tend to get larger", Wilson et al. section 5.1); see the closing
     // note of the Wilson issue for the figures.
-    const Scenario head = scenario_from("mr", wilson_scene("packaged = \"ch2\"",
-                                                           "kind = \"isovalue-contours\"\ncontours = [{ value = 40.0, opacity = 0.95, thickness = 1.5 }]",
-                                                           "projection = \"parallel\"\nview_from = [0.0, 1.0, 0.0]\nup = [0.0, 0.0, 1.0]\nazimuth = 30.0", 320));
+    const Scenario head = scenario_from(
+        "mr", wilson_scene(
+                  "packaged = \"ch2\"",
+                  "kind = \"isovalue-contours\"\ncontours = [{ value = 40.0, opacity = 0.95, thickness = 1.5 }]",
+                  "projection = \"parallel\"\nview_from = [0.0, 1.0, 0.0]\nup = [0.0, 0.0, 1.0]\nazimuth = 30.0", 320));
     const auto frames = render(head, {"wilson.error_threshold=0.015625"});
     const double low = compare_images(frames[0].low_resolution, frames[0].reference).psnr_db;
     const double hybrid = compare_images(frames[0].image, frames[0].reference).psnr_db;
@@ -169,8 +176,9 @@ TEST(WilsonPictures, OnTheShadedMrHeadPointsAddDetailTheLowResolutionVolumeLost)
 }
 
 TEST(WilsonDeterminism, SamePictureAndCountsAtAnyThreadOrGpCount) {
-    const Scenario head = scenario_from("det", wilson_scene("phantom = \"head\"\nsize = 48", kSkin,
-                                                            "projection = \"perspective\"\nview_from = [0.6, -1.0, 0.3]\nup = [0.0, 0.0, 1.0]", 96));
+    const Scenario head = scenario_from(
+        "det", wilson_scene("phantom = \"head\"\nsize = 48", kSkin,
+                            "projection = \"perspective\"\nview_from = [0.6, -1.0, 0.3]\nup = [0.0, 0.0, 1.0]", 96));
     const auto run = [&](int threads, const char* gps) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
         return render(head, {std::string("gp.count=") + gps});

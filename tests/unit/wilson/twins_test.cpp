@@ -18,11 +18,15 @@ namespace {
 constexpr int kSize = 48;  // a small region: 48 x 48 PPs
 constexpr int kMemory = 208;
 
-void expect_same_state(const PpArray& array, const PpProgram& program, const SliceRegion& twin, const std::string& after) {
+void expect_same_state(const PpArray& array, const PpProgram& program, const SliceRegion& twin,
+                       const std::string& after) {
     // The region state is the first nine fields of every program: C (3), A, S (4), K.
     for (int f = 0; f < 9; ++f) {
         const auto values = array.field_values(program.fields[static_cast<std::size_t>(f)]);
-        const std::vector<std::int32_t>& expected = f < 3 ? twin.color[f] : f == 3 ? twin.alpha : f < 8 ? twin.slice[f - 4] : twin.key;
+        const std::vector<std::int32_t>& expected = f < 3    ? twin.color[f]
+                                                    : f == 3 ? twin.alpha
+                                                    : f < 8  ? twin.slice[f - 4]
+                                                             : twin.key;
         int differing = 0;
         for (std::size_t p = 0; p < expected.size(); ++p) differing += values[p] != expected[p] ? 1 : 0;
         ASSERT_EQ(differing, 0) << program.field_names[static_cast<std::size_t>(f)] << " after " << after;
@@ -41,13 +45,15 @@ Camera camera(bool perspective) {
 }
 
 // Writes `block`'s pixels into the slice buffer as the controller does before a block-over run.
-PpProgram stage_block(const SliceFormat& f, int x0, int y0, int x1, int y1, const std::vector<std::array<std::int32_t, 4>>& block) {
+PpProgram stage_block(const SliceFormat& f, int x0, int y0, int x1, int y1,
+                      const std::vector<std::array<std::int32_t, 4>>& block) {
     // A table indexed by the pixel's number carries each PP's staged value (a test's stand-in for the
     // controller's writes).
     PpProgramBuilder b("stage block", kMemory);
     PpField state[9];
     const char* names[9] = {"C_red", "C_green", "C_blue", "A", "S_red", "S_green", "S_blue", "S_opacity", "K"};
-    for (int i = 0; i < 9; ++i) state[i] = b.alloc(names[i], i == 8 ? SliceFormat::kKeyBits : f.accumulator_bits, false);
+    for (int i = 0; i < 9; ++i)
+        state[i] = b.alloc(names[i], i == 8 ? SliceFormat::kKeyBits : f.accumulator_bits, false);
     b.enable_all();
     const PpField pixel = b.qee("pixel", 0, 12, false, 0);
     for (int c = 0; c < 4; ++c) {
@@ -55,7 +61,8 @@ PpProgram stage_block(const SliceFormat& f, int x0, int y0, int x1, int y1, cons
         for (int y = y0; y <= y1; ++y)
             for (int x = x0; x <= x1; ++x)
                 table.entries[static_cast<std::size_t>(y * kSize + x)] =
-                    block[static_cast<std::size_t>(y - y0) * static_cast<std::size_t>(x1 - x0 + 1) + static_cast<std::size_t>(x - x0)][static_cast<std::size_t>(c)];
+                    block[static_cast<std::size_t>(y - y0) * static_cast<std::size_t>(x1 - x0 + 1) +
+                          static_cast<std::size_t>(x - x0)][static_cast<std::size_t>(c)];
         const PpField v = b.lookup("v", pixel, table, f.accumulator_bits, false);
         b.assign(state[4 + c], v);
         b.release(v);
@@ -106,10 +113,12 @@ TEST_P(SliceTwins, TwinsMatchTheProgramsOnAPpArray) {
                         for (double& v : row) v = unit(random);
                 QuadDraw draw;
                 draw.key = key;
-                const glm::dvec2 centre = projection.to_screen(projection.to_eye(glm::vec3(plane.world(i + 0.5, j + 0.5))));
+                const glm::dvec2 centre =
+                    projection.to_screen(projection.to_eye(glm::vec3(plane.world(i + 0.5, j + 0.5))));
                 for (int c = 0; c < 4; ++c) {
                     const Quadratic q = cell_quadratic(plane, i, j, f[c], centre).shifted(ox, oy);
-                    draw.channels[static_cast<std::size_t>(c)] = to_qee(q.a, q.b, q.c, q.d, q.e, q.f, static_cast<double>(format.one()));
+                    draw.channels[static_cast<std::size_t>(c)] =
+                        to_qee(q.a, q.b, q.c, q.d, q.e, q.f, static_cast<double>(format.one()));
                 }
                 draw.x0 = x0;
                 draw.y0 = y0;
@@ -136,7 +145,9 @@ TEST_P(SliceTwins, TwinsMatchTheProgramsOnAPpArray) {
             p.y1 = p.y0 + side - 1;
             const double a = unit(random);
             p.premultiplied[3] = std::llround(a * static_cast<double>(format.top()));
-            for (int c = 0; c < 3; ++c) p.premultiplied[static_cast<std::size_t>(c)] = std::llround(a * unit(random) * static_cast<double>(format.top()));
+            for (int c = 0; c < 3; ++c)
+                p.premultiplied[static_cast<std::size_t>(c)] =
+                    std::llround(a * unit(random) * static_cast<double>(format.top()));
             slab.push_back(p);
             array.run(point_program, PpSlotContext{0, SlicePrograms::expressions(p)});
             draw_point_square(twin, p, format);
@@ -144,7 +155,8 @@ TEST_P(SliceTwins, TwinsMatchTheProgramsOnAPpArray) {
         }
         expect_same_state(array, point_program, twin, "points of slab " + std::to_string(layer));
         const int bx0 = 3 + layer, by0 = 5, bx1 = 30 + layer, by1 = 40;
-        std::vector<std::array<std::int32_t, 4>> block(static_cast<std::size_t>(bx1 - bx0 + 1) * static_cast<std::size_t>(by1 - by0 + 1), {0, 0, 0, 0});
+        std::vector<std::array<std::int32_t, 4>> block(
+            static_cast<std::size_t>(bx1 - bx0 + 1) * static_cast<std::size_t>(by1 - by0 + 1), {0, 0, 0, 0});
         for (const PointSquare& p : slab) composite_point_into(block, bx0, by0, bx1, by1, p, format);
         const PpProgram stage = stage_block(format, bx0, by0, bx1, by1, block);
         const std::vector<QeeCoefficients> pixel_number = {QeeCoefficients{0, 0, 0, 1, kSize, 0}};
@@ -161,12 +173,14 @@ TEST_P(SliceTwins, TwinsMatchTheProgramsOnAPpArray) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Cameras, SliceTwins, ::testing::Values(false, true),
-                         [](const ::testing::TestParamInfo<bool>& param_info) { return param_info.param ? "perspective" : "parallel"; });
+                         [](const ::testing::TestParamInfo<bool>& param_info) {
+                             return param_info.param ? "perspective" : "parallel";
+                         });
 
 TEST(SlicePrograms, FitTheRenderersLocalMemory) {
     const SlicePrograms programs(SliceFormat{12}, 208);
-    for (const PpProgram& p : {programs.setup(false), programs.setup(true), programs.quad(), programs.composite(), programs.point(),
-                               programs.block_over(), programs.readout()})
+    for (const PpProgram& p : {programs.setup(false), programs.setup(true), programs.quad(), programs.composite(),
+                               programs.point(), programs.block_over(), programs.readout()})
         EXPECT_LE(p.local_memory_bits_used, 208) << p.name;
     const SlicePrograms small(SliceFormat{12}, 160);
     try {

@@ -13,11 +13,11 @@
 #include "sim/timing/frame_engine.h"
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
+#include <nlohmann/json.hpp>
 
-#include <glm/geometric.hpp>
 #include <unistd.h>
+#include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -49,7 +49,8 @@ struct FrameResult {
 };
 
 // Renders every frame on Pixel-planes 5 (with `overrides`), timed, with the reference's picture beside.
-std::vector<FrameResult> render(const Scenario& scenario, const std::vector<std::string>& overrides = {}, bool with_reference = true) {
+std::vector<FrameResult> render(const Scenario& scenario, const std::vector<std::string>& overrides = {},
+                                bool with_reference = true) {
     const MachineConfig config = load_run_config("pxpl5", overrides);
     Machine machine(config);
     const Volume volume = load_dataset(scenario);
@@ -72,11 +73,11 @@ std::vector<FrameResult> render(const Scenario& scenario, const std::vector<std:
     return out;
 }
 
-std::string yuan_scene(const std::string& dataset, const std::string& classification, const std::string& camera, int size,
-                       const std::string& extra = "") {
+std::string yuan_scene(const std::string& dataset, const std::string& classification, const std::string& camera,
+                       int size, const std::string& extra = "") {
     return "[scenario]\nkernel = \"yuan\"\n[dataset]\n" + dataset + "\n[classification]\n" + classification +
-           "\n[shading]\nambient = 1.0\ndiffuse = 0.0\nspecular = 0.0\nlight_direction = [0, 0, 1]\n[camera]\n" + camera +
-           "\n[image]\nwidth = " + std::to_string(size) + "\nheight = " + std::to_string(size) + "\n" + extra;
+           "\n[shading]\nambient = 1.0\ndiffuse = 0.0\nspecular = 0.0\nlight_direction = [0, 0, 1]\n[camera]\n" +
+           camera + "\n[image]\nwidth = " + std::to_string(size) + "\nheight = " + std::to_string(size) + "\n" + extra;
 }
 
 double centre_alpha(const Image& image) { return image.at(image.width / 2, image.height / 2).a; }
@@ -86,11 +87,13 @@ TEST(YuanSlab, LayersCompositeToTheTransmittanceTheirRulePredicts) {
     const auto raw = temp_file("slab.raw");
     std::ofstream(raw, std::ios::binary) << std::string(25 * 25 * 8, static_cast<char>(100));
     const auto scene = [&](double zoom, const std::string& name) {
-        return scenario_from(name, yuan_scene("raw = { dims = [25, 25, 8], type = \"uint8\" }\nfile = \"" + raw.string() + "\"",
-                                              "kind = \"piecewise-linear\"\npoints = [{ value = 0.0, opacity = 0.2 }, { value = 255.0, opacity = 0.2 }]",
-                                              "projection = \"parallel\"\nview_from = [0.0, 0.0, -1.0]\nup = [0.0, 1.0, 0.0]\nzoom = " +
-                                                  std::to_string(zoom),
-                                              65));
+        return scenario_from(
+            name, yuan_scene("raw = { dims = [25, 25, 8], type = \"uint8\" }\nfile = \"" + raw.string() + "\"",
+                             "kind = \"piecewise-linear\"\npoints = [{ value = 0.0, opacity = 0.2 }, { value = 255.0, "
+                             "opacity = 0.2 }]",
+                             "projection = \"parallel\"\nview_from = [0.0, 0.0, -1.0]\nup = [0.0, 1.0, 0.0]\nzoom = " +
+                                 std::to_string(zoom),
+                             65));
     };
     const double alpha = 51.0 / 255.0;
     const double ideal = 1 - std::pow(1 - alpha, 8);
@@ -124,9 +127,11 @@ TEST(YuanFootprint, OneVoxelCoversItsProjectedArea) {
         std::ofstream(raw, std::ios::binary) << bytes;
     }
     const auto scene = [&](double zoom, const std::string& name) {
-        return scenario_from(name, yuan_scene("raw = { dims = [17, 17, 17], type = \"uint8\" }\nfile = \"" + raw.string() + "\"",
-                                              "kind = \"piecewise-linear\"\npoints = [{ value = 0.0, opacity = 0.0 }, { value = 100.0, opacity = 0.5 }]",
-                                              "projection = \"parallel\"\nzoom = " + std::to_string(zoom), 64));
+        return scenario_from(
+            name, yuan_scene("raw = { dims = [17, 17, 17], type = \"uint8\" }\nfile = \"" + raw.string() + "\"",
+                             "kind = \"piecewise-linear\"\npoints = [{ value = 0.0, opacity = 0.0 }, { value = 100.0, "
+                             "opacity = 0.5 }]",
+                             "projection = \"parallel\"\nzoom = " + std::to_string(zoom), 64));
     };
     const auto coverage = [](const Image& image) {
         double sum = 0;
@@ -151,11 +156,13 @@ TEST(YuanFootprint, OneVoxelCoversItsProjectedArea) {
 }
 
 TEST(YuanSplit, SplatFractionIsTheShareOfVoxelsNearerThanTheSwitchPlane) {
-    const Scenario scenario = scenario_from(
-        "split", yuan_scene("phantom = \"checker-box\"\nsize = 40",
-                            "kind = \"piecewise-linear\"\npoints = [{ value = 50.0, opacity = 0.0 }, { value = 100.0, opacity = 0.05 }]",
-                            "projection = \"perspective\"\nview_from = [0.3, -1.0, 0.4]\nup = [0.0, 0.0, 1.0]\ndistance = 8.6\nfov_degrees = 30.0",
-                            160));
+    const Scenario scenario =
+        scenario_from("split", yuan_scene("phantom = \"checker-box\"\nsize = 40",
+                                          "kind = \"piecewise-linear\"\npoints = [{ value = 50.0, opacity = 0.0 }, { "
+                                          "value = 100.0, opacity = 0.05 }]",
+                                          "projection = \"perspective\"\nview_from = [0.3, -1.0, 0.4]\nup = [0.0, 0.0, "
+                                          "1.0]\ndistance = 8.6\nfov_degrees = 30.0",
+                                          160));
     const auto frames = render(scenario, {}, false);
     // The closed form: voxel centres whose depth z gives f h / z > 1 pixel.
     const Volume volume = load_dataset(scenario);
@@ -173,13 +180,16 @@ TEST(YuanSplit, SplatFractionIsTheShareOfVoxelsNearerThanTheSwitchPlane) {
 }
 
 TEST(YuanPictures, CloseToTheReferenceRenderer) {
-    const std::string ramp = "kind = \"piecewise-linear\"\npoints = [{ value = 50.0, opacity = 0.0 }, { value = 150.0, opacity = 0.8 }]";
+    const std::string ramp =
+        "kind = \"piecewise-linear\"\npoints = [{ value = 50.0, opacity = 0.0 }, { value = 150.0, opacity = 0.8 }]";
     struct Case {
         std::string name, dataset, camera;
         double floor_db;
     };
-    for (const Case& c : {Case{"sphere", "phantom = \"sphere\"\nsize = 48", "projection = \"parallel\"", 25.0},
-                          Case{"head", "phantom = \"head\"\nsize = 64", "projection = \"perspective\"\nview_from = [0.0, -1.0, 0.2]\nup = [0.0, 0.0, 1.0]", 33.0}}) {
+    for (const Case& c :
+         {Case{"sphere", "phantom = \"sphere\"\nsize = 48", "projection = \"parallel\"", 25.0},
+          Case{"head", "phantom = \"head\"\nsize = 64",
+               "projection = \"perspective\"\nview_from = [0.0, -1.0, 0.2]\nup = [0.0, 0.0, 1.0]", 33.0}}) {
         const auto frames = render(scenario_from(c.name, yuan_scene(c.dataset, ramp, c.camera, 128)));
         const ImageDifference d = compare_images(frames[0].image, frames[0].reference);
         EXPECT_GT(d.psnr_db, c.floor_db) << c.name;
@@ -188,10 +198,12 @@ TEST(YuanPictures, CloseToTheReferenceRenderer) {
 }
 
 TEST(YuanDeterminism, SamePictureAtAnyThreadCountGpCountOrAssignment) {
-    const std::string text = yuan_scene("phantom = \"head\"\nsize = 48",
-                                        "kind = \"piecewise-linear\"\npoints = [{ value = 30.0, opacity = 0.0 }, { value = 150.0, opacity = 0.5 }]",
-                                        "projection = \"perspective\"\nview_from = [0.2, -1.0, 0.3]\nup = [0.0, 0.0, 1.0]\ndistance = 6.5\nfov_degrees = 30.0",
-                                        144);
+    const std::string text = yuan_scene(
+        "phantom = \"head\"\nsize = 48",
+        "kind = \"piecewise-linear\"\npoints = [{ value = 30.0, opacity = 0.0 }, { value = 150.0, opacity = 0.5 }]",
+        "projection = \"perspective\"\nview_from = [0.2, -1.0, 0.3]\nup = [0.0, 0.0, 1.0]\ndistance = 6.5\nfov_degrees "
+        "= 30.0",
+        144);
     const Scenario scenario = scenario_from("determinism", text);
     std::vector<FrameResult> one, two;
     {
@@ -217,10 +229,12 @@ TEST(YuanDeterminism, SamePictureAtAnyThreadCountGpCountOrAssignment) {
 double rms(const Image& a, const Image& b) { return compare_images(a, b).rms_error; }
 
 TEST(YuanContinuity, NoPoppingAcross45Degrees) {
-    std::string text = yuan_scene("phantom = \"head\"\nsize = 48",
-                                  "kind = \"piecewise-linear\"\npoints = [{ value = 30.0, opacity = 0.0 }, { value = 150.0, opacity = 0.4 }]",
-                                  "projection = \"perspective\"\nview_from = [0.0, -1.0, 0.0]\nup = [0.0, 0.0, 1.0]\ndistance = 4.0\nazimuth = 40.0",
-                                  96);
+    std::string text = yuan_scene(
+        "phantom = \"head\"\nsize = 48",
+        "kind = \"piecewise-linear\"\npoints = [{ value = 30.0, opacity = 0.0 }, { value = 150.0, opacity = 0.4 }]",
+        "projection = \"perspective\"\nview_from = [0.0, -1.0, 0.0]\nup = [0.0, 0.0, 1.0]\ndistance = 4.0\nazimuth = "
+        "40.0",
+        96);
     for (int a = 41; a <= 50; ++a) text += "[[frames]]\ncamera = { azimuth = " + std::to_string(a) + ".0 }\n";
     text = text.insert(text.find("[[frames]]"), "[[frames]]\nlabel = \"40\"\n");
     const auto frames = render(scenario_from("orbit", text), {}, false);
@@ -254,7 +268,8 @@ double interior_spread(const Image& image) {
     int x0 = image.width, y0 = image.height, x1 = -1, y1 = -1;
     for (int y = 0; y < image.height; ++y)
         for (int x = 0; x < image.width; ++x)
-            if (image.at(x, y).a > 0.3f) x0 = std::min(x0, x), y0 = std::min(y0, y), x1 = std::max(x1, x), y1 = std::max(y1, y);
+            if (image.at(x, y).a > 0.3f)
+                x0 = std::min(x0, x), y0 = std::min(y0, y), x1 = std::max(x1, x), y1 = std::max(y1, y);
     double sum = 0, sum2 = 0;
     int n = 0;
     for (int y = y0 + 6; y <= y1 - 6; ++y)
@@ -283,17 +298,23 @@ TEST(YuanAntialiasing, MinifiedCheckerAliasesLessWithPoints) {
         std::ofstream(raw, std::ios::binary) << bytes;
     }
     const std::string classification =
-        "kind = \"piecewise-linear\"\npoints = [{ value = 50.0, opacity = 0.0 }, { value = 100.0, opacity = 0.5 }, { value = 200.0, opacity = 0.5 }]\n"
+        "kind = \"piecewise-linear\"\npoints = [{ value = 50.0, opacity = 0.0 }, { value = 100.0, opacity = 0.5 }, { "
+        "value = 200.0, opacity = 0.5 }]\n"
         "colors = [{ value = 100.0, color = [0.1, 0.1, 0.9] }, { value = 200.0, color = [1.0, 1.0, 0.2] }]";
     const std::string dataset = "raw = { dims = [96, 96, 2], type = \"uint8\" }\nfile = \"" + raw.string() + "\"";
     // Face on and parallel, so that only the pattern varies over the square: 0.34 pixels a voxel.
-    const std::string camera = "projection = \"parallel\"\nview_from = [0.0, 0.0, -1.0]\nup = [0.0, 1.0, 0.0]\nzoom = 0.18";
+    const std::string camera =
+        "projection = \"parallel\"\nview_from = [0.0, 0.0, -1.0]\nup = [0.0, 1.0, 0.0]\nzoom = 0.18";
     Scenario fine = scenario_from("aa_fine", yuan_scene(dataset, classification, camera, 1024));
     fine.kernel = "reference";
     const MachineConfig config = load_run_config("pxpl5", {});
     Machine machine(config);
     const Volume volume = load_dataset(fine);
-    const Image oracle = downsample(find_kernel("reference")->start(machine, config, fine, volume)->record_frame(fine.frames[0])->pass_images.back(), 4);
+    const Image oracle = downsample(find_kernel("reference")
+                                        ->start(machine, config, fine, volume)
+                                        ->record_frame(fine.frames[0])
+                                        ->pass_images.back(),
+                                    4);
     const Scenario coarse = scenario_from("aa", yuan_scene(dataset, classification, camera, 256));
     const auto splats = render(coarse, {"yuan.primitives=splats"}, false);
     const auto hybrid = render(coarse, {}, false);
@@ -303,7 +324,8 @@ TEST(YuanAntialiasing, MinifiedCheckerAliasesLessWithPoints) {
     // uniform error, from the kernels' different treatment of the slab's faces, is not aliasing).
     const auto error = [&](const Image& image) {
         Image e = image;
-        for (std::size_t p = 0; p < e.pixels.size(); ++p) e.pixels[p] = glm::vec4(glm::vec3(image.pixels[p] - oracle.pixels[p]), image.pixels[p].a);
+        for (std::size_t p = 0; p < e.pixels.size(); ++p)
+            e.pixels[p] = glm::vec4(glm::vec3(image.pixels[p] - oracle.pixels[p]), image.pixels[p].a);
         return e;
     };
     const double a_splats = interior_spread(error(splats[0].image)), a_points = interior_spread(error(hybrid[0].image));

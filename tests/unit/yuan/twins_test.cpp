@@ -26,7 +26,8 @@ Camera perspective_camera() {
     return c;
 }
 
-void expect_same_state(const PpArray& array, const PpProgram& program, const RegionPixels& twin, const std::string& after) {
+void expect_same_state(const PpArray& array, const PpProgram& program, const RegionPixels& twin,
+                       const std::string& after) {
     // The region state is the first eight fields of every region program.
     for (int f = 0; f < 8; ++f) {
         const auto values = array.field_values(program.fields[static_cast<std::size_t>(f)]);
@@ -60,8 +61,8 @@ TEST_P(RegionTwins, TwinsMatchTheProgramsOnAPpArray) {
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     int splats = 0, points = 0;
     for (int k = 0; k < 60; ++k) {
-        const glm::vec4 rgba(static_cast<float>(unit(random)), static_cast<float>(unit(random)), static_cast<float>(unit(random)),
-                             static_cast<float>(0.05 + 0.9 * unit(random)));
+        const glm::vec4 rgba(static_cast<float>(unit(random)), static_cast<float>(unit(random)),
+                             static_cast<float>(unit(random)), static_cast<float>(0.05 + 0.9 * unit(random)));
         const double depth = 20 + 60 * unit(random);
         // Somewhere over the region in screen terms, a little beyond its edges.
         const double sx = ox - 8 + (kSize + 16) * unit(random), sy = oy - 8 + (kSize + 16) * unit(random);
@@ -69,7 +70,8 @@ TEST_P(RegionTwins, TwinsMatchTheProgramsOnAPpArray) {
         const double f = projection.focal_pixels();
         const glm::dvec3 eye{(sx - pp.x) * depth / f, (pp.y - sy) * depth / f, depth};
         if (k % 3 != 2) {
-            const auto splat = splat_primitive(projection, eye, 1.0 + 2.0 * unit(random), rgba, tables, exact, format, 160, 160);
+            const auto splat =
+                splat_primitive(projection, eye, 1.0 + 2.0 * unit(random), rgba, tables, exact, format, 160, 160);
             ASSERT_TRUE(splat.has_value());
             if (!splat->visible()) continue;
             const SplatDraw draw = splat_draw(*splat, ox, oy, exact);
@@ -80,7 +82,8 @@ TEST_P(RegionTwins, TwinsMatchTheProgramsOnAPpArray) {
             expect_same_state(array, program, twin, "splat " + std::to_string(k));
             ++splats;
         } else {
-            const ScreenPrimitive point = point_primitive(projection, eye, 0.2 + 0.8 * unit(random), rgba, 1.2 + unit(random), format, 160, 160);
+            const ScreenPrimitive point =
+                point_primitive(projection, eye, 0.2 + 0.8 * unit(random), rgba, 1.2 + unit(random), format, 160, 160);
             const PointDraw draw = point_draw(point, ox, oy);
             const PpProgram program = programs.point();
             array.run(program, PpSlotContext{0, draw.expressions});
@@ -104,8 +107,10 @@ TEST_P(RegionTwins, TwinsMatchTheProgramsOnAPpArray) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Modes, RegionTwins,
-                         ::testing::Values(Case{SplatIndexMode::Affine, SplatBlend::Over}, Case{SplatIndexMode::Affine, SplatBlend::Sheet},
-                                           Case{SplatIndexMode::Exact, SplatBlend::Over}, Case{SplatIndexMode::Exact, SplatBlend::Sheet}));
+                         ::testing::Values(Case{SplatIndexMode::Affine, SplatBlend::Over},
+                                           Case{SplatIndexMode::Affine, SplatBlend::Sheet},
+                                           Case{SplatIndexMode::Exact, SplatBlend::Over},
+                                           Case{SplatIndexMode::Exact, SplatBlend::Sheet}));
 
 TEST(RegionPrograms, FitTheRenderersLocalMemory) {
     const RegionFormat format{12, 6};
