@@ -8,8 +8,10 @@
 # same bytes, and ccache (with CCACHE_BASEDIR, Pp5Ccache.cmake) finds the first clone's objects.
 #
 # pp5_unity_batches(<directory>) batches every target defined under <directory>, after they all exist.
-# Sources excluded from batching: generated ones (they may not exist at configure time), and any with
-# SKIP_UNITY_BUILD_INCLUSION. A target whose sources would make one batch of one file is left alone.
+# Sources excluded from batching: generated ones (they may not exist at configure time), ones with
+# compile flags of their own, and any with SKIP_UNITY_BUILD_INCLUSION. A target of one source gets a batch of one too: a source two targets of
+# a folder share (tests/fuzz/replay_main.cpp) is marked for the folder, not the target, so every
+# target that lists it must compile it through a batch.
 set(PP5_UNITY_BATCH_SIZE 8 CACHE STRING "Sources per unity batch")
 
 # Written only when the text changes, so a reconfiguration rebuilds no batch.
@@ -42,13 +44,25 @@ function(pp5_batch_target target)
     get_source_file_property(generated ${source} TARGET_DIRECTORY ${target} GENERATED)
     get_source_file_property(skip ${source} TARGET_DIRECTORY ${target} SKIP_UNITY_BUILD_INCLUSION)
     get_source_file_property(header_only ${source} TARGET_DIRECTORY ${target} HEADER_FILE_ONLY)
-    if(generated OR skip OR header_only)
+    get_source_file_property(batched ${source} TARGET_DIRECTORY ${target} PP5_IN_UNITY_BATCH)
+    if(generated OR skip OR (header_only AND NOT batched))
+      continue()
+    endif()
+    # A source with flags of its own (a data folder's path defined for it alone) compiles by itself.
+    set(own_flags FALSE)
+    foreach(property COMPILE_DEFINITIONS COMPILE_OPTIONS COMPILE_FLAGS INCLUDE_DIRECTORIES)
+      get_source_file_property(value ${source} TARGET_DIRECTORY ${target} ${property})
+      if(value)
+        set(own_flags TRUE)
+      endif()
+    endforeach()
+    if(own_flags)
       continue()
     endif()
     list(APPEND batchable ${source})
   endforeach()
   list(LENGTH batchable count)
-  if(count LESS 2)
+  if(count EQUAL 0)
     return()
   endif()
 
@@ -71,7 +85,8 @@ function(pp5_batch_target target)
 
   # The sources stay in the target (IDEs list them, edits to them rebuild their batch through the
   # compiler's dependency file) but are compiled only through their batch.
-  set_source_files_properties(${batchable} TARGET_DIRECTORY ${target} PROPERTIES HEADER_FILE_ONLY ON)
+  set_source_files_properties(${batchable} TARGET_DIRECTORY ${target} PROPERTIES HEADER_FILE_ONLY ON
+                                                                               PP5_IN_UNITY_BATCH ON)
   target_sources(${target} PRIVATE ${batches})
 endfunction()
 

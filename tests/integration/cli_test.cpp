@@ -41,7 +41,11 @@ RunResult run_command(const std::string& command_line, const fs::path& log_dir) 
 }
 
 RunResult run(const std::string& args, const fs::path& log_dir) {
-    return run_command(std::string(PP5SIM_BINARY) + " " + args, log_dir);
+    // Appended, not a chain of operator+ (GCC 12 warns falsely of a bounds error on the temporaries).
+    std::string command = PP5SIM_BINARY;
+    command += ' ';
+    command += args;
+    return run_command(command, log_dir);
 }
 
 // The same with PATH set to `path` alone (pp5sim itself is named by its full path).
