@@ -1,5 +1,5 @@
 #pragma once
-// The model checked against a real machine, this one. pp5sim's reference renderer (kernels/reference)
+// The model checked against a real machine, this one. pp5sim's reference renderer (scene/reference)
 // is timed on a set of cases (volumes, image sizes, transfer functions), one thread, best of a few
 // runs. The cost model that times the GPs (on the `host` preset's rates) prices each case's counted
 // work: a ray's setup per ray; a sample's step, interpolation and compositing per sample (flops,

@@ -3,7 +3,7 @@
 #include "calibration/timing_model.h"
 #include "kernels/registry/registry.h"
 #include "kernels/registry/run_config.h"
-#include "kernels/scenario/scenario.h"
+#include "scene/scenario/scenario.h"
 #include "sim/core/config.h"
 #include "sim/core/input_error.h"
 #include "sim/core/named_file.h"

@@ -7,8 +7,8 @@
 // render on that machine would (tests/unit/calibration), in a fraction of the time.
 
 #include "calibration/targets.h"
-#include "kernels/interface/kernel.h"
-#include "kernels/scenario/scenario.h"
+#include "kernels/api/kernel.h"
+#include "scene/scenario/scenario.h"
 #include "sim/core/calibration.h"
 #include "sim/core/config.h"
 

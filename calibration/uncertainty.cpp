@@ -1,7 +1,7 @@
 #include "calibration/uncertainty.h"
 
 #include "calibration/timing_model.h"
-#include "kernels/interface/kernel.h"
+#include "kernels/api/kernel.h"
 #include "kernels/registry/registry.h"
 #include "sim/core/input_error.h"
 #include "sim/core/parallel.h"

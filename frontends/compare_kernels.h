@@ -8,8 +8,8 @@
 // the others shade voxels and interpolate) renders with image.resampling set to its own order, and the
 // report says so: the order is the algorithm, not a setting of the view.
 
-#include "kernels/render/image.h"
-#include "kernels/scenario/scenario.h"
+#include "scene/render/image.h"
+#include "scene/scenario/scenario.h"
 #include "sim/core/config.h"
 
 #include <nlohmann/json.hpp>

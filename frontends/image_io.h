@@ -2,7 +2,7 @@
 // Writing images through OpenImageIO: 8-bit PNG for people, 32-bit float EXR for analysis. OpenImageIO
 // is loaded the first time it is needed (frontends/image_codec/image_codec.h says why).
 
-#include "kernels/render/image.h"
+#include "scene/render/image.h"
 
 #include <filesystem>
 #include <string>

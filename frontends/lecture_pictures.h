@@ -5,7 +5,7 @@
 // busy spans the trace recorder keeps.
 
 #include "frontends/plot.h"
-#include "kernels/render/image.h"
+#include "scene/render/image.h"
 #include "sim/core/trace_recorder.h"
 #include "sim/timing/frame_timing.h"
 #include "sim/timing/recorded_work.h"

@@ -6,7 +6,7 @@
 
 #include "frontends/image_io.h"
 #include "frontends/staged_output.h"
-#include "kernels/scenario/scenario.h"
+#include "scene/scenario/scenario.h"
 #include "sim/core/config.h"
 #include "sim/core/trace_recorder.h"
 

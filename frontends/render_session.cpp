@@ -2,7 +2,7 @@
 
 #include "calibration/timing_model.h"
 #include "kernels/registry/registry.h"
-#include "kernels/scenario/scenario_inputs.h"
+#include "scene/scenario/scenario_inputs.h"
 #include "sim/core/calibration.h"
 #include "sim/core/host_memory.h"
 #include "sim/timing/frame_engine.h"

@@ -6,9 +6,9 @@
 // accumulate as one run's.
 
 #include "frontends/image_io.h"
-#include "kernels/interface/kernel.h"
-#include "kernels/reference/reference_renderer.h"
-#include "kernels/scenario/scenario.h"
+#include "kernels/api/kernel.h"
+#include "scene/reference/reference_renderer.h"
+#include "scene/scenario/scenario.h"
 #include "sim/core/config.h"
 #include "sim/core/trace_recorder.h"
 #include "sim/machine/machine.h"

@@ -9,7 +9,7 @@
 #include "frontends/image_io.h"
 #include "frontends/staged_output.h"
 #include "kernels/registry/run_config.h"
-#include "kernels/scenario/scenario.h"
+#include "scene/scenario/scenario.h"
 #include "sim/core/input_error.h"
 
 #include <fmt/core.h>

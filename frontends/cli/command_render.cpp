@@ -14,7 +14,7 @@
 #include "frontends/render_scenario.h"
 #include "frontends/staged_output.h"
 #include "kernels/registry/run_config.h"
-#include "kernels/scenario/scenario.h"
+#include "scene/scenario/scenario.h"
 #include "sim/core/config.h"
 #include "sim/core/input_error.h"
 #include "sim/machine/machine.h"

@@ -4,8 +4,8 @@
 
 #include "frontends/cli/commands.h"
 #include "frontends/sweep/sweep_spec.h"
-#include "kernels/scenario/scenario.h"
-#include "kernels/volume/datasets.h"
+#include "scene/scenario/scenario.h"
+#include "scene/volume/datasets.h"
 #include "sim/core/input_error.h"
 
 #include <fmt/core.h>

@@ -8,7 +8,7 @@
 #include "frontends/serve/interactive_view.h"
 #include "frontends/serve/view_server.h"
 #include "kernels/registry/run_config.h"
-#include "kernels/scenario/scenario.h"
+#include "scene/scenario/scenario.h"
 #include "sim/core/input_error.h"
 
 #include <fmt/core.h>

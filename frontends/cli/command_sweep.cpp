@@ -13,7 +13,7 @@
 #include "frontends/staged_plot.h"
 #include "frontends/sweep/sweep_run.h"
 #include "frontends/sweep/sweep_tables.h"
-#include "kernels/scenario/scenario.h"
+#include "scene/scenario/scenario.h"
 #include "sim/core/input_error.h"
 #include "sim/core/json_input.h"
 

@@ -1,9 +1,9 @@
 // `pp5sim volume-info FILE`: what a volume file holds, or why it cannot be read.
 
 #include "frontends/cli/commands.h"
-#include "kernels/volume/datasets.h"
-#include "kernels/volume/volume_info.h"
-#include "kernels/volume/volume_io.h"
+#include "scene/volume/datasets.h"
+#include "scene/volume/volume_info.h"
+#include "scene/volume/volume_io.h"
 #include "sim/core/input_error.h"
 
 #include <fmt/core.h>

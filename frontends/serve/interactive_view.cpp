@@ -4,7 +4,7 @@
 #include "frontends/compare_kernels.h"
 #include "frontends/lecture_pictures.h"
 #include "kernels/registry/registry.h"
-#include "kernels/scenario/scenario_inputs.h"
+#include "scene/scenario/scenario_inputs.h"
 #include "sim/core/input_error.h"
 
 #include <fmt/core.h>

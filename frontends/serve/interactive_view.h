@@ -6,7 +6,7 @@
 // before anything is rendered; a bad one is an InputError naming the field, and leaves the view as it was.
 
 #include "frontends/render_session.h"
-#include "kernels/scenario/scenario.h"
+#include "scene/scenario/scenario.h"
 #include "sim/core/config.h"
 
 #include <nlohmann/json.hpp>

@@ -4,7 +4,7 @@
 #include "calibration/uncertainty.h"
 #include "kernels/registry/registry.h"
 #include "kernels/registry/run_config.h"
-#include "kernels/scenario/scenario.h"
+#include "scene/scenario/scenario.h"
 #include "sim/core/input_error.h"
 #include "sim/core/parallel.h"
 

@@ -2,7 +2,7 @@
 
 #include "kernels/registry/registry.h"
 #include "kernels/registry/run_config.h"
-#include "kernels/scenario/scenario.h"
+#include "scene/scenario/scenario.h"
 #include "sim/core/input_error.h"
 #include "sim/core/named_file.h"
 #include "sim/core/toml_file.h"

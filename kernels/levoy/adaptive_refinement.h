@@ -10,7 +10,7 @@
 // fills every other pixel bilinearly from the corners of the square holding it. A negative threshold
 // splits every square: the last pass then leaves no pixel uncast.
 
-#include "kernels/render/image.h"
+#include "scene/render/image.h"
 
 #include <glm/vec4.hpp>
 

@@ -7,7 +7,7 @@
 // A sample whose level-0 cell is empty interpolates eight zero opacities, so it is exactly transparent:
 // skipping it changes nothing in the image, only the work.
 
-#include "kernels/pp_volume/shaded_codes.h"
+#include "kernels/shared/pp_volume/shaded_codes.h"
 
 #include <glm/vec3.hpp>
 

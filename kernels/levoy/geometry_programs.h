@@ -9,12 +9,12 @@
 //   a_p = coverage x polygon opacity,  a = a_p + a_v (1 - a_p),  c = (c_p a_p + c_v a_v (1 - a_p)) / a.
 // Full coverage of an opaque polygon gives the polygon's colour and opacity; no coverage changes nothing.
 
-#include "kernels/pp_volume/shading_programs.h"
-#include "kernels/pp_volume/voxel_placement.h"
-#include "kernels/render/polygon.h"
-#include "kernels/render/region_of_interest.h"
-#include "sim/renderer/pp_array.h"
-#include "sim/renderer/pp_program.h"
+#include "kernels/shared/pp_volume/shading_programs.h"
+#include "kernels/shared/pp_volume/voxel_placement.h"
+#include "scene/render/polygon.h"
+#include "scene/render/region_of_interest.h"
+#include "sim/pixel_processors/pp_array.h"
+#include "sim/pixel_processors/pp_program.h"
 
 #include <vector>
 

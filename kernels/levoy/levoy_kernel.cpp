@@ -1,8 +1,8 @@
 #include "kernels/levoy/levoy_kernel.h"
 
 #include "kernels/levoy/levoy_costs.h"
-#include "kernels/pp_volume/pp_shading.h"
-#include "kernels/scenario/scenario_inputs.h"
+#include "kernels/shared/pp_volume/pp_shading.h"
+#include "scene/scenario/scenario_inputs.h"
 #include "sim/core/input_error.h"
 
 #include <fmt/format.h>

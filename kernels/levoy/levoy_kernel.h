@@ -1,8 +1,8 @@
 #pragma once
-// Levoy's volume rendering workstation as a kernel (kernels/interface/kernel.h): the scenario's frames
+// Levoy's volume rendering workstation as a kernel (kernels/api/kernel.h): the scenario's frames
 // become LevoyRenderer's inputs, and its reports become stats.json's account of each frame.
 
-#include "kernels/interface/kernel.h"
+#include "kernels/api/kernel.h"
 #include "kernels/levoy/levoy_renderer.h"
 
 namespace pp5 {

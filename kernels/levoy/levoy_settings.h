@@ -1,10 +1,10 @@
 #pragma once
 // Levoy's kernel's own parameters ("levoy.*"): how the GPs cast rays over the voxels the pixel
-// processors hold ("voxel_store.*", kernels/pp_volume/pp_shading.h), and how polygons are scan-converted.
+// processors hold ("voxel_store.*", kernels/shared/pp_volume/pp_shading.h), and how polygons are scan-converted.
 
 #include "kernels/levoy/adaptive_refinement.h"
-#include "kernels/pp_volume/pp_shading.h"
-#include "kernels/scenario/scenario.h"
+#include "kernels/shared/pp_volume/pp_shading.h"
+#include "scene/scenario/scenario.h"
 #include "sim/core/config.h"
 #include "sim/core/param.h"
 #include "sim/timing/recorded_work.h"

@@ -1,8 +1,8 @@
 #include "kernels/levoy/ray_caster.h"
 
-#include "kernels/reference/ray_march.h"
-#include "kernels/reference/trilinear.h"
-#include "kernels/render/front_to_back.h"
+#include "scene/reference/ray_march.h"
+#include "scene/reference/trilinear.h"
+#include "scene/render/front_to_back.h"
 #include "sim/core/parallel.h"
 
 #include <tbb/blocked_range.h>

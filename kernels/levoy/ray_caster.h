@@ -4,7 +4,7 @@
 // opaque rays early; and record, for the timing layer, what each ray did in the machine's terms (the
 // blocks of voxels it needed, in order, and the work between them).
 //
-// The samples are the reference compositor's (kernels/reference/composite.h): the same positions, the
+// The samples are the reference compositor's (scene/reference/composite.h): the same positions, the
 // same trilinear interpolation and the same front-to-back rule, so a ray that skips nothing gives the
 // reference's pixel exactly. Pyramid skipping is exact: it passes over samples whose level-0 cell is
 // empty (kernels/levoy/binary_pyramid.h), and tests every sample it does not pass over.
@@ -15,8 +15,8 @@
 
 #include "kernels/levoy/binary_pyramid.h"
 #include "kernels/levoy/voxel_blocks.h"
-#include "kernels/pp_volume/shaded_codes.h"
-#include "kernels/render/camera.h"
+#include "kernels/shared/pp_volume/shaded_codes.h"
+#include "scene/render/camera.h"
 
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>

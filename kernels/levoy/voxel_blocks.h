@@ -4,7 +4,7 @@
 // block). A block's voxels may lie on several renderers (always with the slices placement, at brick
 // faces with bricks): the GP asks each of them for its part and has the block when every part is in.
 
-#include "kernels/pp_volume/voxel_placement.h"
+#include "kernels/shared/pp_volume/voxel_placement.h"
 #include "sim/timing/recorded_work.h"
 
 #include <glm/vec3.hpp>

@@ -4,8 +4,8 @@
 #include "kernels/perm/perm_ray_caster.h"
 #include "kernels/perm/perm_record_shading.h"
 #include "kernels/perm/perm_structure.h"
-#include "kernels/pp_volume/pp_shading.h"
-#include "kernels/scenario/scenario_inputs.h"
+#include "kernels/shared/pp_volume/pp_shading.h"
+#include "scene/scenario/scenario_inputs.h"
 #include "sim/core/host_memory.h"
 #include "sim/core/input_error.h"
 

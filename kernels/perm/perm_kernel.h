@@ -4,7 +4,7 @@
 // fetching each cell's record through their caches, and classify, shade and composite each sample
 // from the looked-up values. See perm_structure.h and perm_ray_caster.h.
 
-#include "kernels/interface/kernel.h"
+#include "kernels/api/kernel.h"
 
 namespace pp5 {
 

@@ -1,10 +1,10 @@
 #include "kernels/perm/perm_ray_caster.h"
 
 #include "kernels/perm/perm_costs.h"
-#include "kernels/reference/ray_march.h"
-#include "kernels/reference/sample_shader.h"
-#include "kernels/reference/shading_view.h"
-#include "kernels/render/front_to_back.h"
+#include "scene/reference/ray_march.h"
+#include "scene/reference/sample_shader.h"
+#include "scene/reference/shading_view.h"
+#include "scene/render/front_to_back.h"
 #include "sim/core/parallel.h"
 
 #include <glm/geometric.hpp>

@@ -1,6 +1,6 @@
 #pragma once
 // Ray casting through a PERM, and the work it asks of Pixel-planes 5. Rays and samples are the
-// reference renderer's (kernels/reference/ray_march.h): front to back, exact empty-space leaping over
+// reference renderer's (scene/reference/ray_march.h): front to back, exact empty-space leaping over
 // 4^3 blocks without a candidate cell, early termination. At a sample the GP takes the cell's record
 // (fetched once through its cache when the ray enters the cell), looks the nearest quantized density
 // and gradient up, classifies, shades and composites there, as the paper's renderer does.
@@ -14,11 +14,11 @@
 #include "kernels/perm/perm_record_shading.h"
 #include "kernels/perm/perm_settings.h"
 #include "kernels/perm/perm_structure.h"
-#include "kernels/reference/occupancy_grid.h"
-#include "kernels/render/camera.h"
-#include "kernels/render/classification.h"
-#include "kernels/render/image.h"
-#include "kernels/render/shading.h"
+#include "scene/reference/occupancy_grid.h"
+#include "scene/render/camera.h"
+#include "scene/render/classification.h"
+#include "scene/render/image.h"
+#include "scene/render/shading.h"
 #include "sim/timing/recorded_work.h"
 
 #include <cstdint>

@@ -1,6 +1,6 @@
 #include "kernels/perm/perm_record_shading.h"
 
-#include "kernels/reference/shading_view.h"
+#include "scene/reference/shading_view.h"
 #include "sim/core/input_error.h"
 #include "sim/core/parallel.h"
 

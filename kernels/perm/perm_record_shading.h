@@ -12,10 +12,10 @@
 // sub-cube holds it (the same position when D = G).
 
 #include "kernels/perm/perm_structure.h"
-#include "kernels/pp_volume/shading_programs.h"
-#include "kernels/pp_volume/voxel_record.h"
-#include "kernels/render/classification.h"
-#include "kernels/render/shading.h"
+#include "kernels/shared/pp_volume/shading_programs.h"
+#include "kernels/shared/pp_volume/voxel_record.h"
+#include "scene/render/classification.h"
+#include "scene/render/shading.h"
 #include "sim/machine/machine.h"
 #include "sim/timing/recorded_work.h"
 

@@ -1,6 +1,6 @@
 #include "kernels/perm/perm_structure.h"
 
-#include "kernels/reference/gradient_field.h"
+#include "scene/reference/gradient_field.h"
 #include "sim/core/input_error.h"
 #include "sim/core/parallel.h"
 

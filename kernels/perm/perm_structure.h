@@ -11,8 +11,8 @@
 // per z slice when b_iv = 2) and N_cc (D^3 b_db + G^3 (3 b_gb + b_sb)) for the records, MB = 10^6 B.
 
 #include "kernels/perm/perm_settings.h"
-#include "kernels/render/classification.h"
-#include "kernels/volume/volume.h"
+#include "scene/render/classification.h"
+#include "scene/volume/volume.h"
 
 #include <glm/vec3.hpp>
 

@@ -1,8 +1,8 @@
 #include "kernels/reference_kernel/reference_kernel.h"
 
-#include "kernels/reference/reference_costs.h"
-#include "kernels/reference/reference_renderer.h"
-#include "kernels/scenario/scenario_inputs.h"
+#include "scene/reference/reference_costs.h"
+#include "scene/reference/reference_renderer.h"
+#include "scene/scenario/scenario_inputs.h"
 
 #include <nlohmann/json.hpp>
 

@@ -3,7 +3,7 @@
 // asks nothing of the simulated machine (simulated time 0). The oracle the machine's kernels are
 // compared with, runnable like them.
 
-#include "kernels/interface/kernel.h"
+#include "kernels/api/kernel.h"
 
 namespace pp5 {
 

@@ -2,7 +2,7 @@
 // The kernels pp5sim knows, one line each in registry.cpp (an explicit list: self-registering statics
 // in static libraries are dropped by the linker). Frontends and calibration reach kernels only here.
 
-#include "kernels/interface/kernel.h"
+#include "kernels/api/kernel.h"
 
 #include <string>
 #include <vector>

@@ -1,6 +1,6 @@
 #include "kernels/wilson/hybrid_slicer.h"
 
-#include "kernels/screen_regions/screen_projection.h"
+#include "kernels/shared/screen_regions/screen_projection.h"
 #include "kernels/wilson/slice_geometry.h"
 #include "kernels/wilson/wilson_costs.h"
 #include "sim/core/parallel.h"

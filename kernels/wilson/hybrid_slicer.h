@@ -17,16 +17,16 @@
 // region on the host's threads, so it depends on neither the GP count nor any timing parameter. The
 // frame also renders the low-resolution volume alone (no points), the paper's comparison.
 
-#include "kernels/pp_volume/shaded_codes.h"
-#include "kernels/reference/shading_view.h"
-#include "kernels/render/camera.h"
-#include "kernels/render/classification.h"
-#include "kernels/render/image.h"
-#include "kernels/render/shading.h"
-#include "kernels/screen_regions/region_machine.h"
+#include "kernels/shared/pp_volume/shaded_codes.h"
+#include "kernels/shared/screen_regions/region_machine.h"
 #include "kernels/wilson/hybrid_volume.h"
 #include "kernels/wilson/slice_programs.h"
 #include "kernels/wilson/wilson_settings.h"
+#include "scene/reference/shading_view.h"
+#include "scene/render/camera.h"
+#include "scene/render/classification.h"
+#include "scene/render/image.h"
+#include "scene/render/shading.h"
 #include "sim/timing/recorded_work.h"
 
 #include <cstdint>

@@ -13,8 +13,8 @@
 // 8 bits (the paper's data are bytes), and a byte of gradient magnitude is kept when the scenario's
 // classification weights opacity by it (Levoy's functions do; the paper's palettes do not).
 
-#include "kernels/volume/volume.h"
 #include "kernels/wilson/wilson_settings.h"
+#include "scene/volume/volume.h"
 
 #include <glm/vec3.hpp>
 

@@ -9,7 +9,7 @@
 // quadratic of the pixel position; under perspective the quadratic is its second-order expansion about
 // the cell centre's pixel (the error is third order in the cell's screen size over its depth).
 
-#include "kernels/screen_regions/screen_projection.h"
+#include "kernels/shared/screen_regions/screen_projection.h"
 #include "kernels/wilson/slice_programs.h"
 
 #include <glm/vec2.hpp>

@@ -18,8 +18,8 @@
 // The region state every program allocates first, in the same order: C (red, green, blue), A, the slice
 // buffer S (red, green, blue, opacity; colour not premultiplied) and the cell key K.
 
-#include "kernels/screen_regions/qee_fixed_point.h"
-#include "sim/renderer/pp_program.h"
+#include "kernels/shared/screen_regions/qee_fixed_point.h"
+#include "sim/pixel_processors/pp_program.h"
 
 #include <array>
 #include <cstdint>

@@ -5,7 +5,7 @@
 // the renderers draw its axis-aligned slices back to front with the points between them. See
 // hybrid_volume.h and hybrid_slicer.h.
 
-#include "kernels/interface/kernel.h"
+#include "kernels/api/kernel.h"
 
 namespace pp5 {
 

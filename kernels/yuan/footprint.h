@@ -9,7 +9,7 @@
 // Yuan's affine index to the true distance of the pixel's ray from the kernel's centre
 // (corrected_index_squared), so the correction costs the renderers nothing per pixel.
 
-#include "sim/renderer/pp_program.h"
+#include "sim/pixel_processors/pp_program.h"
 
 #include <map>
 #include <mutex>

@@ -14,13 +14,13 @@
 // region in the same order on the host's threads; it depends on neither the GP count nor the brick
 // assignment nor any timing parameter, and the recorded work can be re-timed on any machine.
 
-#include "kernels/pp_volume/shaded_codes.h"
-#include "kernels/render/camera.h"
-#include "kernels/render/image.h"
-#include "kernels/screen_regions/region_machine.h"
+#include "kernels/shared/pp_volume/shaded_codes.h"
+#include "kernels/shared/screen_regions/region_machine.h"
 #include "kernels/yuan/footprint.h"
 #include "kernels/yuan/region_programs.h"
 #include "kernels/yuan/yuan_settings.h"
+#include "scene/render/camera.h"
+#include "scene/render/image.h"
 #include "sim/timing/recorded_work.h"
 
 #include <glm/vec3.hpp>

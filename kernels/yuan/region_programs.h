@@ -13,9 +13,9 @@
 // accumulators C, A (accumulator_bits of fraction) and the band sheet S (two more fraction bits, values
 // below 4). Every program allocates them first and in the same order, so they sit in the same fields.
 
-#include "kernels/screen_regions/qee_fixed_point.h"
-#include "sim/renderer/pp_array.h"
-#include "sim/renderer/pp_program.h"
+#include "kernels/shared/screen_regions/qee_fixed_point.h"
+#include "sim/pixel_processors/pp_array.h"
+#include "sim/pixel_processors/pp_program.h"
 
 #include <array>
 #include <cstdint>

@@ -10,7 +10,7 @@
 // scan-lines; the axes (Yuan et al., Appendix A) only bound the splat for binning, and check the conic.
 // Under a parallel camera the splat is a circle about the projected centre.
 
-#include "kernels/screen_regions/screen_projection.h"
+#include "kernels/shared/screen_regions/screen_projection.h"
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>

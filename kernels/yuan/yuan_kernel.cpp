@@ -1,11 +1,11 @@
 #include "kernels/yuan/yuan_kernel.h"
 
-#include "kernels/pp_volume/pp_shading.h"
-#include "kernels/reference/shading_view.h"
-#include "kernels/scenario/scenario_inputs.h"
-#include "kernels/screen_regions/region_machine.h"
+#include "kernels/shared/pp_volume/pp_shading.h"
+#include "kernels/shared/screen_regions/region_machine.h"
 #include "kernels/yuan/hybrid_splatter.h"
 #include "kernels/yuan/yuan_costs.h"
+#include "scene/reference/shading_view.h"
+#include "scene/scenario/scenario_inputs.h"
 #include "sim/core/input_error.h"
 
 #include <fmt/format.h>

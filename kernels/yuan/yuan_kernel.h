@@ -4,7 +4,7 @@
 // turn their bricks' non-transparent voxels into splats and points, and the renderers draw them over
 // their screen regions. See hybrid_splatter.h.
 
-#include "kernels/interface/kernel.h"
+#include "kernels/api/kernel.h"
 
 namespace pp5 {
 

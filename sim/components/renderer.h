@@ -4,17 +4,17 @@
 // programs to run over the data its PPs hold (in Levoy's design, the voxels: classified and shaded in
 // parallel) and blocks of that data for the GPs to fetch.
 //
-// Function and time are kept apart: the PP array (sim/renderer/pp_array.h) computes real values, and
+// Function and time are kept apart: the PP array (sim/pixel_processors/pp_array.h) computes real values, and
 // this component spends simulated time on the program runs it is given, at the cost the PP cost model
-// puts on them (sim/renderer/pp_cost_model.h); an event marks the end of each pass.
+// puts on them (sim/pixel_processors/pp_cost_model.h); an event marks the end of each pass.
 
 #include "sim/core/clock_domain.h"
 #include "sim/core/component.h"
 #include "sim/core/config.h"
 #include "sim/core/event_queue.h"
 #include "sim/core/trace_recorder.h"
-#include "sim/renderer/pp_array.h"
-#include "sim/renderer/pp_cost_model.h"
+#include "sim/pixel_processors/pp_array.h"
+#include "sim/pixel_processors/pp_cost_model.h"
 
 #include <memory>
 #include <string>

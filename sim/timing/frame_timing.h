@@ -4,7 +4,7 @@
 // (crude and refined times, a phase's rate) whether the frame ran on Pixel-planes 5 or on one processor.
 
 #include "sim/core/time.h"
-#include "sim/renderer/pp_cost_model.h"
+#include "sim/pixel_processors/pp_cost_model.h"
 
 #include <cstdint>
 #include <string>

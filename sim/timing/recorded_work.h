@@ -22,8 +22,8 @@
 // messages, cache look-ups and context switches.
 
 #include "sim/core/time.h"
-#include "sim/renderer/pp_array.h"
-#include "sim/renderer/pp_program.h"
+#include "sim/pixel_processors/pp_array.h"
+#include "sim/pixel_processors/pp_program.h"
 
 #include <cstdint>
 #include <limits>

@@ -7,9 +7,9 @@
 // perspective. BM_Build times the structure's construction (the paper's preprocessing).
 
 #include "kernels/perm/perm_ray_caster.h"
-#include "kernels/reference/gradient_field.h"
-#include "kernels/reference/post_classified.h"
-#include "kernels/scenario/scenario_inputs.h"
+#include "scene/reference/gradient_field.h"
+#include "scene/reference/post_classified.h"
+#include "scene/scenario/scenario_inputs.h"
 
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>

@@ -9,9 +9,9 @@
 // stationary), on a 192^3 phantom (256^3 fills the backing store at 64 bits a voxel, leaving no room
 // for the kept sum). Argument: levoy.stationary_light_bits (0: every light recomputed at each reshade).
 
-#include "kernels/pp_volume/pp_shading.h"
 #include "kernels/registry/run_config.h"
-#include "kernels/volume/phantoms.h"
+#include "kernels/shared/pp_volume/pp_shading.h"
+#include "scene/volume/phantoms.h"
 #include "sim/machine/machine.h"
 
 #include <benchmark/benchmark.h>

@@ -9,9 +9,9 @@
 // Argument: host threads.
 
 #include "kernels/levoy/levoy_renderer.h"
-#include "kernels/reference/composite.h"
 #include "kernels/registry/run_config.h"
-#include "kernels/volume/phantoms.h"
+#include "scene/reference/composite.h"
+#include "scene/volume/phantoms.h"
 #include "sim/machine/machine.h"
 
 #include <benchmark/benchmark.h>

@@ -6,8 +6,8 @@
 //
 // Arguments: threads (tbb::global_control), and for the ramp, the resampling order.
 
-#include "kernels/reference/reference_renderer.h"
-#include "kernels/volume/datasets.h"
+#include "scene/reference/reference_renderer.h"
+#include "scene/volume/datasets.h"
 
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>

@@ -7,7 +7,7 @@
 
 #include "frontends/serve/interactive_view.h"
 #include "kernels/registry/run_config.h"
-#include "kernels/scenario/scenario.h"
+#include "scene/scenario/scenario.h"
 
 #include <benchmark/benchmark.h>
 

@@ -7,8 +7,8 @@
 
 #include "calibration/timing_model.h"
 #include "kernels/registry/run_config.h"
-#include "kernels/scenario/scenario_inputs.h"
 #include "kernels/wilson/hybrid_volume.h"
+#include "scene/scenario/scenario_inputs.h"
 
 #include <benchmark/benchmark.h>
 

@@ -1,6 +1,6 @@
 // UNC .den (VolPack's density files, gzipped or not): the 62-byte header in either byte order and the
 // samples it declares.
-#include "kernels/volume/volume_io.h"
+#include "scene/volume/volume_io.h"
 #include "tests/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -1,5 +1,5 @@
 // InVesalius .inv3 projects: the gzip stream, the tar headers, main.plist's XML and the matrix it names.
-#include "kernels/volume/inv3_io.h"
+#include "scene/volume/inv3_io.h"
 #include "tests/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -1,6 +1,6 @@
 // OBJ meshes placed by a scenario's [[meshes]]: the mesh reader's vertices, faces and indices (huge,
 // negative, past the end, non-finite coordinates) as the scenario loader checks them.
-#include "kernels/scenario/scenario.h"
+#include "scene/scenario/scenario.h"
 #include "tests/fuzz/fuzz_input.h"
 
 namespace {

@@ -1,7 +1,7 @@
 // Headerless raw volumes: the layout a user gives on the command line (dimensions, sample type, byte
 // order, header bytes, spacing) against the file's real size and contents. The input's first 16 bytes
 // choose the layout; the rest is the file.
-#include "kernels/volume/volume_io.h"
+#include "scene/volume/volume_io.h"
 #include "tests/fuzz/fuzz_input.h"
 
 #include <cmath>

@@ -1,6 +1,6 @@
 // Scenario files: TOML syntax, nesting and every field's type, range and combination, as `render`
 // reads them (the dataset a scenario names is not loaded: the volume harnesses cover the loaders).
-#include "kernels/scenario/scenario.h"
+#include "scene/scenario/scenario.h"
 #include "tests/fuzz/fuzz_input.h"
 
 #include <string>

@@ -1,6 +1,6 @@
 // The scenario files under traces/ and the scenario format's rules.
 
-#include "kernels/scenario/scenario.h"
+#include "scene/scenario/scenario.h"
 #include "sim/core/input_error.h"
 #include "tests/support/source_dir.h"
 

@@ -1,6 +1,7 @@
-// Layers only point down: every project include in sim/, ring/, kernels/, calibration/ and frontends/
+// Layers only point down: every project include in sim/, ring/, scene/, kernels/, calibration/ and frontends/
 // names a file of its own folder or of a lower layer. Kernels do not include one another, the ring
-// depends on the event core alone, and the machine (sim/, ring/) includes no kernel.
+// depends on the event core alone, the machine (sim/, ring/) includes no kernel, and the machine and
+// the scene (scene/) include nothing of each other but the event core.
 
 #include "tests/support/source_dir.h"
 
@@ -25,17 +26,17 @@ struct Layer {
 constexpr Layer kLayers[] = {
     {"sim/core", 0},
     {"ring", 1},
-    {"sim/renderer", 1},
-    {"kernels/volume", 1},
-    {"kernels/render", 1},
+    {"sim/pixel_processors", 1},
+    {"scene/volume", 1},
+    {"scene/render", 1},
     {"sim/components", 2},
-    {"kernels/reference", 2},
+    {"scene/reference", 2},
     {"sim/machine", 3},
-    {"kernels/scenario", 3},
+    {"scene/scenario", 3},
     {"sim/timing", 4},
-    {"kernels/interface", 5},
-    {"kernels/pp_volume", 5},
-    {"kernels/screen_regions", 5},
+    {"kernels/api", 5},
+    {"kernels/shared/pp_volume", 5},
+    {"kernels/shared/screen_regions", 5},
     {"kernels/registry", 7},
     {"calibration", 8},
     {"frontends", 9},
@@ -65,6 +66,11 @@ struct Include {
     std::string included;  // as written
 };
 
+// The two sides of the lower layers: the machine (sim/, ring/) and what it renders (scene/). Neither
+// includes the other, but for the event core under both.
+bool is_machine(const std::string& folder) { return folder.rfind("sim/", 0) == 0 || folder == "ring"; }
+bool is_scene(const std::string& folder) { return folder.rfind("scene/", 0) == 0; }
+
 // Every violation as "file includes header: why".
 std::vector<std::string> violations(const std::vector<Include>& includes) {
     std::vector<std::string> out;
@@ -74,6 +80,10 @@ std::vector<std::string> violations(const std::vector<Include>& includes) {
         if (from.rank < 0 || to.rank < 0 || from.folder == to.folder) continue;
         if (to.rank >= from.rank)
             out.push_back(inc.file + " includes " + inc.included + ": " + to.folder + " is not below " + from.folder);
+        else if (is_machine(from.folder) && is_scene(to.folder))
+            out.push_back(inc.file + " includes " + inc.included + ": the machine knows no scene");
+        else if (is_scene(from.folder) && is_machine(to.folder) && to.folder != "sim/core")
+            out.push_back(inc.file + " includes " + inc.included + ": the scene rests on sim/core alone");
     }
     return out;
 }
@@ -94,7 +104,7 @@ std::string quoted_include(const std::string& line) {
 std::vector<Include> project_includes() {
     const fs::path root = pp5::test::source_dir();
     std::vector<Include> all;
-    for (const char* top : {"sim", "ring", "kernels", "calibration", "frontends"}) {
+    for (const char* top : {"sim", "ring", "scene", "kernels", "calibration", "frontends"}) {
         for (const auto& entry : fs::recursive_directory_iterator(root / top)) {
             const std::string ext = entry.path().extension().string();
             if (!entry.is_regular_file() || (ext != ".h" && ext != ".cpp")) continue;
@@ -119,15 +129,18 @@ TEST(Layering, EveryIncludePointsDown) {
 
 TEST(Layering, TheCheckCatchesWhatItForbids) {
     const std::vector<std::string> found = violations({
-        {"sim/components/renderer.cpp", "kernels/pp_volume/pp_shading.h"},  // the machine naming a kernel
-        {"ring/ring_network.cpp", "sim/components/renderer.h"},             // the ring above the event core
-        {"kernels/levoy/ray_caster.cpp", "kernels/yuan/splat.h"},           // a kernel including another
-        {"calibration/fit.cpp", "frontends/plot.h"},                        // calibration above the frontends
-        {"frontends/cli/main.cpp", "calibration/fit.h"},                    // fine
-        {"kernels/levoy/ray_caster.cpp", "kernels/reference/trilinear.h"},  // fine: shared maths
-        {"sim/timing/frame_engine.cpp", "sim/timing/frame_engine.h"},       // fine: its own folder
+        {"sim/components/renderer.cpp", "kernels/shared/pp_volume/pp_shading.h"},  // the machine naming a kernel
+        {"ring/ring_network.cpp", "sim/components/renderer.h"},                    // the ring above the event core
+        {"kernels/levoy/ray_caster.cpp", "kernels/yuan/splat.h"},                  // a kernel including another
+        {"calibration/fit.cpp", "frontends/plot.h"},                               // calibration above the frontends
+        {"frontends/cli/main.cpp", "calibration/fit.h"},                           // fine
+        {"kernels/levoy/ray_caster.cpp", "scene/reference/trilinear.h"},           // fine: shared maths
+        {"sim/timing/frame_engine.cpp", "sim/timing/frame_engine.h"},              // fine: its own folder
+        {"sim/timing/frame_engine.cpp", "scene/volume/volume.h"},                  // the machine naming the scene
+        {"scene/reference/composite.cpp", "sim/pixel_processors/pp_array.h"},      // the scene naming the machine
+        {"scene/volume/volume.cpp", "sim/core/input_error.h"},                     // fine: the event core
     });
-    EXPECT_EQ(found.size(), 4u);
+    EXPECT_EQ(found.size(), 6u) << ::testing::PrintToString(found);
 }
 
 }  // namespace

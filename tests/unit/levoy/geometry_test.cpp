@@ -4,8 +4,8 @@
 
 #include "kernels/levoy/geometry_programs.h"
 #include "kernels/levoy/levoy_renderer.h"
-#include "kernels/render/polygon.h"
-#include "kernels/volume/phantoms.h"
+#include "scene/render/polygon.h"
+#include "scene/volume/phantoms.h"
 #include "sim/core/input_error.h"
 #include "sim/core/work_progress.h"
 #include "sim/machine/machine.h"

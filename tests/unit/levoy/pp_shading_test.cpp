@@ -2,12 +2,12 @@
 // floating-point reference, the passes that each kind of change reruns, the simulated time against
 // the cost model, determinism across thread counts, and the errors for a machine too small.
 
-#include "kernels/pp_volume/pp_shading.h"
+#include "kernels/shared/pp_volume/pp_shading.h"
 #include "frontends/image_io.h"
-#include "kernels/reference/composite.h"
-#include "kernels/reference/reference_renderer.h"
-#include "kernels/reference/voxel_opacity.h"
-#include "kernels/volume/phantoms.h"
+#include "scene/reference/composite.h"
+#include "scene/reference/reference_renderer.h"
+#include "scene/reference/voxel_opacity.h"
+#include "scene/volume/phantoms.h"
 #include "sim/core/input_error.h"
 #include "sim/machine/machine.h"
 #include "tests/unit/levoy/levoy_test_support.h"

@@ -1,7 +1,7 @@
 // Voxel placement: every voxel has exactly one home, the homes agree with the slot frames the
 // programs run over, and a volume that does not fit is told what it would need.
 
-#include "kernels/pp_volume/voxel_placement.h"
+#include "kernels/shared/pp_volume/voxel_placement.h"
 
 #include <gtest/gtest.h>
 

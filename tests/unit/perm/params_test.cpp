@@ -7,7 +7,7 @@
 #include "kernels/perm/perm_settings.h"
 #include "kernels/registry/registry.h"
 #include "kernels/registry/run_config.h"
-#include "kernels/scenario/scenario_inputs.h"
+#include "scene/scenario/scenario_inputs.h"
 #include "sim/timing/frame_engine.h"
 
 #include <gtest/gtest.h>

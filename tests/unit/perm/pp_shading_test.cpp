@@ -6,7 +6,7 @@
 #include "frontends/image_io.h"
 #include "kernels/registry/registry.h"
 #include "kernels/registry/run_config.h"
-#include "kernels/scenario/scenario_inputs.h"
+#include "scene/scenario/scenario_inputs.h"
 #include "sim/core/input_error.h"
 #include "sim/timing/frame_engine.h"
 

@@ -4,7 +4,7 @@
 
 #include "kernels/perm/perm_structure.h"
 #include "kernels/registry/registry.h"
-#include "kernels/volume/phantoms.h"
+#include "scene/volume/phantoms.h"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>

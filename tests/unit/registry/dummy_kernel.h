@@ -4,7 +4,7 @@
 // broadcast from the renderers, then a GP task per row whose items shade a pixel after fetching a
 // block), declaring its own parameters, operation costs and metric.
 
-#include "kernels/interface/kernel.h"
+#include "kernels/api/kernel.h"
 
 namespace pp5::test {
 

@@ -1,4 +1,4 @@
-#include "kernels/render/camera.h"
+#include "scene/render/camera.h"
 #include "sim/core/input_error.h"
 #include "tests/support/vector_expectations.h"
 

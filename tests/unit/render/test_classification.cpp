@@ -1,4 +1,4 @@
-#include "kernels/render/classification.h"
+#include "scene/render/classification.h"
 #include "sim/core/input_error.h"
 
 #include <gtest/gtest.h>

@@ -1,11 +1,11 @@
 // Accelerations and parallelism must not change the picture: empty-space skipping, early termination
 // at 1, on-demand shading and the thread count leave every byte of the image the same.
 
-#include "kernels/reference/composite.h"
-#include "kernels/reference/post_classified.h"
-#include "kernels/reference/reference_renderer.h"
-#include "kernels/reference/shaded_volume.h"
-#include "kernels/reference/voxel_opacity.h"
+#include "scene/reference/composite.h"
+#include "scene/reference/post_classified.h"
+#include "scene/reference/reference_renderer.h"
+#include "scene/reference/shaded_volume.h"
+#include "scene/reference/voxel_opacity.h"
 #include "test_scenes.h"
 
 #include <gtest/gtest.h>

@@ -1,9 +1,9 @@
 // Analytic oracles for the compositor: scenes whose pixels have closed forms.
 
-#include "kernels/reference/composite.h"
-#include "kernels/reference/post_classified.h"
-#include "kernels/reference/shaded_volume.h"
-#include "kernels/reference/voxel_opacity.h"
+#include "scene/reference/composite.h"
+#include "scene/reference/post_classified.h"
+#include "scene/reference/shaded_volume.h"
+#include "scene/reference/voxel_opacity.h"
 #include "sim/core/input_error.h"
 #include "test_scenes.h"
 

@@ -1,4 +1,4 @@
-#include "kernels/reference/occupancy_grid.h"
+#include "scene/reference/occupancy_grid.h"
 #include "test_scenes.h"
 
 #include <gtest/gtest.h>

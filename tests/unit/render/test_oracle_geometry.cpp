@@ -3,9 +3,9 @@
 // air, and polygons are scan-converted and matted over the shaded voxels; each checked against what the
 // definitions give in closed form.
 
-#include "kernels/reference/polygon_matte.h"
-#include "kernels/reference/reference_renderer.h"
-#include "kernels/reference/voxel_opacity.h"
+#include "scene/reference/polygon_matte.h"
+#include "scene/reference/reference_renderer.h"
+#include "scene/reference/voxel_opacity.h"
 #include "test_scenes.h"
 
 #include <gtest/gtest.h>

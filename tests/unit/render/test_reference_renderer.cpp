@@ -1,8 +1,8 @@
 // The stage cache: each stage is recomputed exactly when its inputs change (Levoy, "Optimization for
 // animation sequences"), and the cached result is the one the stage functions give.
 
-#include "kernels/reference/post_classified.h"
-#include "kernels/reference/reference_renderer.h"
+#include "scene/reference/post_classified.h"
+#include "scene/reference/reference_renderer.h"
 #include "sim/core/input_error.h"
 #include "test_scenes.h"
 

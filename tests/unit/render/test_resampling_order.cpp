@@ -2,7 +2,7 @@
 // (interpolate value and gradient, classify and shade the sample): close on smooth data, different
 // where a feature is thinner than a voxel.
 
-#include "kernels/reference/reference_renderer.h"
+#include "scene/reference/reference_renderer.h"
 #include "test_scenes.h"
 
 #include <gtest/gtest.h>

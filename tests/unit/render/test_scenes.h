@@ -2,11 +2,11 @@
 // Small volumes and settings shared by the render tests: built here from closed forms, so the tests
 // depend on nothing but the code under test.
 
-#include "kernels/render/camera.h"
-#include "kernels/render/classification.h"
-#include "kernels/render/image.h"
-#include "kernels/render/shading.h"
-#include "kernels/volume/volume.h"
+#include "scene/render/camera.h"
+#include "scene/render/classification.h"
+#include "scene/render/image.h"
+#include "scene/render/shading.h"
+#include "scene/volume/volume.h"
 
 #include <glm/geometric.hpp>
 

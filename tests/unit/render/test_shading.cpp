@@ -1,4 +1,4 @@
-#include "kernels/render/shading.h"
+#include "scene/render/shading.h"
 #include "sim/core/input_error.h"
 #include "tests/support/vector_expectations.h"
 

@@ -3,8 +3,8 @@
 // gives each PP its own value across the array's blocks, counts are exact, and a program the array
 // cannot run is refused before anything changes. Also the backing store against a bit-by-bit model.
 
-#include "sim/renderer/pp_array.h"
-#include "sim/renderer/pp_program.h"
+#include "sim/pixel_processors/pp_array.h"
+#include "sim/pixel_processors/pp_program.h"
 
 #include <gtest/gtest.h>
 

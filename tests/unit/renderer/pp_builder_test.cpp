@@ -3,8 +3,8 @@
 // local memory allocated first-fit with a clear error when a program does not fit.
 
 #include "sim/core/input_error.h"
-#include "sim/renderer/pp_array.h"
-#include "sim/renderer/pp_program.h"
+#include "sim/pixel_processors/pp_array.h"
+#include "sim/pixel_processors/pp_program.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

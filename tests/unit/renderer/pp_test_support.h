@@ -5,9 +5,9 @@
 #include "sim/components/renderer.h"
 #include "sim/core/calibration.h"
 #include "sim/core/config.h"
-#include "sim/renderer/pp_array.h"
-#include "sim/renderer/pp_cost_model.h"
-#include "sim/renderer/pp_program.h"
+#include "sim/pixel_processors/pp_array.h"
+#include "sim/pixel_processors/pp_cost_model.h"
+#include "sim/pixel_processors/pp_program.h"
 
 #include <functional>
 #include <vector>

@@ -1,6 +1,6 @@
 // load_den: the UNC density format of VolPack's examples.
 
-#include "kernels/volume/volume_io.h"
+#include "scene/volume/volume_io.h"
 #include "tests/unit/volume/volume_test_files.h"
 
 #include <gmock/gmock.h>

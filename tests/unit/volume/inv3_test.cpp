@@ -2,9 +2,9 @@
 // from the tar (POSIX ustar) and plist definitions, read back exactly; broken archives, plists and
 // matrices are refused with the field at fault. The real CT head is checked when it is installed.
 
-#include "kernels/volume/datasets.h"
-#include "kernels/volume/inv3_io.h"
-#include "kernels/volume/volume_io.h"
+#include "scene/volume/datasets.h"
+#include "scene/volume/inv3_io.h"
+#include "scene/volume/volume_io.h"
 #include "tests/unit/volume/volume_test_files.h"
 
 #include <gtest/gtest.h>

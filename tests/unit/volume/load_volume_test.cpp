@@ -1,7 +1,7 @@
 // load_volume's choice of loader, and the Debian-packaged datasets.
 
-#include "kernels/volume/datasets.h"
-#include "kernels/volume/volume_io.h"
+#include "scene/volume/datasets.h"
+#include "scene/volume/volume_io.h"
 #include "tests/unit/volume/volume_test_files.h"
 
 #include <gmock/gmock.h>

@@ -1,6 +1,6 @@
 // load_nifti: round trips through files written here byte by byte, and every refusal.
 
-#include "kernels/volume/volume_io.h"
+#include "scene/volume/volume_io.h"
 #include "tests/unit/volume/volume_test_files.h"
 
 #include <gmock/gmock.h>

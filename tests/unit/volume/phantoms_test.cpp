@@ -1,6 +1,6 @@
 // Phantoms: the geometry their header promises, which other modules' tests rely on.
 
-#include "kernels/volume/phantoms.h"
+#include "scene/volume/phantoms.h"
 #include "sim/core/input_error.h"
 
 #include <gmock/gmock.h>

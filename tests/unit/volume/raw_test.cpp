@@ -1,6 +1,6 @@
 // load_raw: the caller's layout against the file's bytes.
 
-#include "kernels/volume/volume_io.h"
+#include "scene/volume/volume_io.h"
 #include "tests/unit/volume/volume_test_files.h"
 
 #include <gmock/gmock.h>

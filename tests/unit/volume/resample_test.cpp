@@ -1,7 +1,7 @@
 // resample: trilinear, cell-centred, extent-preserving.
 
-#include "kernels/volume/resample.h"
-#include "kernels/volume/phantoms.h"
+#include "scene/volume/resample.h"
+#include "scene/volume/phantoms.h"
 #include "tests/unit/volume/volume_test_files.h"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 // describe_volume: the lines `pp5sim volume-info` prints.
 
-#include "kernels/volume/volume_info.h"
-#include "kernels/volume/phantoms.h"
+#include "scene/volume/volume_info.h"
+#include "scene/volume/phantoms.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 // The Volume type and scalar type helpers.
 
-#include "kernels/volume/volume.h"
+#include "scene/volume/volume.h"
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 // What the loader tests share: a directory of each test's own, writing the formats' bytes
 // (tests/support/volume_files.h) to files plain or gzipped, sample patterns, and the InputError a load throws.
 
-#include "kernels/volume/volume.h"
+#include "scene/volume/volume.h"
 #include "sim/core/input_error.h"
 #include "tests/support/temp_dir.h"
 #include "tests/support/volume_files.h"

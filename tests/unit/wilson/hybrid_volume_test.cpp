@@ -3,7 +3,7 @@
 // error grid and the low-resolution factor as the paper reports (section 5).
 
 #include "kernels/wilson/hybrid_volume.h"
-#include "kernels/volume/phantoms.h"
+#include "scene/volume/phantoms.h"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>

@@ -7,10 +7,10 @@
 #include "frontends/image_io.h"
 #include "kernels/registry/registry.h"
 #include "kernels/registry/run_config.h"
-#include "kernels/scenario/scenario_inputs.h"
-#include "kernels/screen_regions/screen_projection.h"
-#include "kernels/volume/phantoms.h"
+#include "kernels/shared/screen_regions/screen_projection.h"
 #include "kernels/wilson/hybrid_slicer.h"
+#include "scene/scenario/scenario_inputs.h"
+#include "scene/volume/phantoms.h"
 #include "sim/core/input_error.h"
 #include "sim/timing/frame_engine.h"
 

@@ -7,9 +7,9 @@
 #include "frontends/image_io.h"
 #include "kernels/registry/registry.h"
 #include "kernels/registry/run_config.h"
-#include "kernels/scenario/scenario_inputs.h"
 #include "kernels/yuan/footprint.h"
 #include "kernels/yuan/splat_geometry.h"
+#include "scene/scenario/scenario_inputs.h"
 #include "sim/timing/frame_engine.h"
 
 #include <gtest/gtest.h>

@@ -1,0 +1,447 @@
+#include "sim/pixel_processors/pp_array.h"
+
+#include "sim/pixel_processors/pp_integer.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <new>
+#include <stdexcept>
+
+namespace pp5 {
+
+namespace {
+
+// What bit-serial hardware leaves in a field of `bits` bits: the value modulo 2^bits, read as two's
+// complement when the field is signed. ((v & mask) ^ sign) - sign sign-extends with operations every
+// x86-64 vector unit has for 64-bit lanes (no arithmetic shift needed); sign = 0 for unsigned.
+struct Wrap {
+    std::uint64_t mask;
+    std::uint64_t sign;
+
+    explicit Wrap(const PpField& f)
+        : mask(f.bits >= 64 ? ~0ull : (1ull << f.bits) - 1), sign(f.is_signed ? 1ull << (f.bits - 1) : 0) {}
+    std::int64_t operator()(std::int64_t v) const {
+        return static_cast<std::int64_t>(((static_cast<std::uint64_t>(v) & mask) ^ sign) - sign);
+    }
+};
+
+// For values known to fit their field already.
+struct NoWrap {
+    std::int64_t operator()(std::int64_t v) const { return v; }
+};
+
+// floor(a / b) for a >= 0, b > 0: a double estimate, corrected (exact for the fields' widths).
+std::int64_t exact_quotient(std::int64_t a, std::int64_t b) {
+    if (a >= (std::int64_t{1} << 52)) return a / b;
+    auto q = static_cast<std::int64_t>(static_cast<double>(a) / static_cast<double>(b));
+    if (q * b > a) --q;
+    else if ((q + 1) * b <= a) ++q;
+    return q;
+}
+
+// Arithmetic in uint64, where overflow is defined: a PP that is disabled may hold a stale value from
+// an earlier program, and its (discarded) result must not be undefined behaviour.
+std::int64_t add64(std::int64_t a, std::int64_t b) {
+    return static_cast<std::int64_t>(static_cast<std::uint64_t>(a) + static_cast<std::uint64_t>(b));
+}
+std::int64_t sub64(std::int64_t a, std::int64_t b) {
+    return static_cast<std::int64_t>(static_cast<std::uint64_t>(a) - static_cast<std::uint64_t>(b));
+}
+std::int64_t mul64(std::int64_t a, std::int64_t b) {
+    return static_cast<std::int64_t>(static_cast<std::uint64_t>(a) * static_cast<std::uint64_t>(b));
+}
+
+// dst[p] = wrap(value(p)) on every enabled PP; a disabled PP keeps its value. Both loops are plain
+// loops over contiguous arrays that GCC vectorises.
+template <class WrapTo, class Value>
+[[gnu::always_inline]] inline void for_enabled(std::size_t n, const std::uint8_t* enabled, bool all, std::int64_t* dst,
+                                               WrapTo wrap, Value&& value) {
+    if (all) {
+        for (std::size_t p = 0; p < n; ++p) dst[p] = wrap(value(p));
+    } else {
+        // A branch-free blend.
+        for (std::size_t p = 0; p < n; ++p) {
+            const std::int64_t keep = static_cast<std::int64_t>(enabled[p]) - 1;  // 0 where enabled, all ones where not
+            dst[p] = (wrap(value(p)) & ~keep) | (dst[p] & keep);
+        }
+    }
+}
+
+// enable[p] &= cmp(a[p], imm); returns how many PPs stay enabled.
+template <class Compare>
+[[gnu::always_inline]] inline std::uint64_t enable_where(std::size_t n, std::uint8_t* enabled, const std::int64_t* a,
+                                                         std::int64_t imm, Compare cmp) {
+    std::uint64_t count = 0;
+    for (std::size_t p = 0; p < n; ++p) {
+        const auto e = static_cast<std::uint8_t>(enabled[p] & static_cast<std::uint8_t>(cmp(a[p], imm)));
+        enabled[p] = e;
+        count += e;
+    }
+    return count;
+}
+
+// Inlined into run(), so that it is compiled for each of run()'s target clones.
+[[gnu::always_inline]] inline std::uint64_t enable_where(std::size_t n, std::uint8_t* enabled, const std::int64_t* a,
+                                                         PpCompare c, std::int64_t imm) {
+    switch (c) {
+        case PpCompare::Less: return enable_where(n, enabled, a, imm, std::less<>());
+        case PpCompare::LessEqual: return enable_where(n, enabled, a, imm, std::less_equal<>());
+        case PpCompare::Equal: return enable_where(n, enabled, a, imm, std::equal_to<>());
+        case PpCompare::NotEqual: return enable_where(n, enabled, a, imm, std::not_equal_to<>());
+        case PpCompare::GreaterEqual: return enable_where(n, enabled, a, imm, std::greater_equal<>());
+        case PpCompare::Greater: return enable_where(n, enabled, a, imm, std::greater<>());
+    }
+    return 0;
+}
+
+// dst[p] = table[a[p] & last] on enabled PPs. Kept out of run()'s AVX2 clone on purpose: there it
+// becomes a vector gather, slower than scalar loads on some x86-64 hosts (AMD Zen).
+template <class WrapTo>
+[[gnu::noinline]] void lookup_loop(std::size_t n, const std::uint8_t* enabled, bool all, std::int64_t* dst, WrapTo wrap,
+                                   const std::int64_t* a, const std::int64_t* table, std::uint64_t last) {
+    for_enabled(n, enabled, all, dst, wrap,
+                [&](std::size_t p) { return table[static_cast<std::uint64_t>(a[p]) & last]; });
+}
+
+struct Operands {
+    bool dst, a, b;
+};
+
+// Which field operands each instruction reads or writes.
+Operands operands_of(PpOp op) {
+    switch (op) {
+        case PpOp::SetConst:
+        case PpOp::Qee:
+        case PpOp::Load: return {true, false, false};
+        case PpOp::Move:
+        case PpOp::AddConst:
+        case PpOp::AbsDiffConst:
+        case PpOp::MinConst:
+        case PpOp::MaxConst:
+        case PpOp::MulConst:
+        case PpOp::Sqrt:
+        case PpOp::Lookup: return {true, true, false};
+        case PpOp::Add:
+        case PpOp::Sub:
+        case PpOp::Mul:
+        case PpOp::Div: return {true, true, true};
+        case PpOp::EnableAll: return {false, false, false};
+        case PpOp::EnableIf:
+        case PpOp::Store: return {false, true, false};
+    }
+    return {false, false, false};
+}
+
+}  // namespace
+
+PpRunCounts& PpRunCounts::operator+=(const PpRunCounts& other) {
+    instructions += other.instructions;
+    pp_operations += other.pp_operations;
+    enabled_pp_operations += other.enabled_pp_operations;
+    return *this;
+}
+
+PpArray::PpArray(int columns, int rows, int local_memory_bits, int backing_store_bits)
+    : columns_(columns), rows_(rows), local_memory_bits_(local_memory_bits), backing_store_bits_(backing_store_bits) {
+    if (columns < 1 || rows < 1 || local_memory_bits < 1 || backing_store_bits < 0) {
+        throw std::invalid_argument(
+            fmt::format("PpArray: {} x {} PPs, {} bits of local memory, {} of backing store: "
+                        "sizes must be positive",
+                        columns, rows, local_memory_bits, backing_store_bits));
+    }
+    if (static_cast<std::int64_t>(columns) * rows > (std::int64_t{1} << 30)) {
+        throw std::invalid_argument(fmt::format("PpArray: {} x {} PPs is too many", columns, rows));
+    }
+    backing_words_ = (backing_store_bits + 63) / 64;
+    const std::size_t words =
+        std::max<std::size_t>(1, static_cast<std::size_t>(size()) * static_cast<std::size_t>(backing_words_));
+    backing_.reset(static_cast<std::uint64_t*>(std::calloc(words, sizeof(std::uint64_t))));
+    if (!backing_) throw std::bad_alloc();
+    enabled_.assign(static_cast<std::size_t>(size()), 1);
+}
+
+void PpArray::write_backing(int pp, int bit_offset, int bits, std::uint64_t value) {
+    backing_writer(bit_offset, bits).write(pp, value);
+}
+
+std::uint64_t PpArray::read_backing(int pp, int bit_offset, int bits) const {
+    return backing_reader(bit_offset, bits).read(pp);
+}
+
+PpBackingReader PpArray::backing_reader(int bit_offset, int bits) const {
+    check_backing_range(bit_offset, bits);
+    return {backing_.get(), static_cast<std::size_t>(size()), bit_offset, bits};
+}
+
+PpBackingWriter PpArray::backing_writer(int bit_offset, int bits) {
+    check_backing_range(bit_offset, bits);
+    return {backing_.get(), static_cast<std::size_t>(size()), bit_offset, bits};
+}
+
+void PpArray::check_backing_range(int bit_offset, int bits) const {
+    if (bits < 1 || bits > 64 || bit_offset < 0 || bit_offset > backing_store_bits_ - bits) {
+        throw std::out_of_range(
+            fmt::format("PP backing store: {} bits at {} (store of {} bits)", bits, bit_offset, backing_store_bits_));
+    }
+}
+
+std::span<const std::int64_t> PpArray::field_values(const PpField& field) const {
+    if (field.storage < 0 || field.storage >= static_cast<int>(fields_.size())) {
+        throw std::out_of_range(
+            fmt::format("PpArray: no field with id {} (storage {}) in the last run", field.id, field.storage));
+    }
+    return fields_[static_cast<std::size_t>(field.storage)];
+}
+
+namespace {
+
+// Everything run() relies on, checked before any PP changes, so a bad program leaves the array as it was.
+void validate(const PpProgram& program, const PpSlotContext& context, int local_memory_bits, int backing_store_bits) {
+    const auto fail = [&](const std::string& why) {
+        throw std::invalid_argument(fmt::format("PP program {}: {}", program.name, why));
+    };
+    if (program.local_memory_bits_used > local_memory_bits) {
+        fail(fmt::format("needs {} bits of local memory; the PPs have {}", program.local_memory_bits_used,
+                         local_memory_bits));
+    }
+    if (static_cast<int>(context.expressions.size()) < program.expressions) {
+        fail(fmt::format("evaluates {} QEE expressions; the slot gives {}", program.expressions,
+                         context.expressions.size()));
+    }
+    const int field_count = static_cast<int>(program.fields.size());
+    for (const PpField& f : program.fields) {
+        if (f.storage < 0 || f.storage >= program.storage_slots) {
+            fail(fmt::format("field id {}: storage slot {} of {}", f.id, f.storage, program.storage_slots));
+        }
+    }
+    for (std::size_t k = 0; k < program.instructions.size(); ++k) {
+        const PpInstruction& in = program.instructions[k];
+        const Operands uses = operands_of(in.op);
+        const auto check_field = [&](bool used, int id, const char* role) {
+            if (used && (id < 0 || id >= field_count)) {
+                fail(fmt::format("instruction {} ({}): {} field id {} of {}", k, to_string(in.op), role, id,
+                                 field_count));
+            }
+        };
+        check_field(uses.dst, in.dst, "destination");
+        check_field(uses.a, in.a, "operand a");
+        check_field(uses.b, in.b, "operand b");
+        const int max_shift = in.op == PpOp::Div ? 62 : 63;
+        if (in.shift < 0 || in.shift > max_shift) {
+            fail(fmt::format("instruction {} ({}): shift {} (0 to {} allowed)", k, to_string(in.op), in.shift,
+                             max_shift));
+        }
+        if (in.op == PpOp::Lookup) {
+            if (in.table < 0 || in.table >= static_cast<int>(program.tables.size())) {
+                fail(fmt::format("instruction {}: table {} of {}", k, in.table, program.tables.size()));
+            }
+            const std::size_t entries = program.tables[static_cast<std::size_t>(in.table)].entries.size();
+            if (entries == 0 || (entries & (entries - 1)) != 0) {
+                fail(fmt::format("instruction {}: table {} has {} entries, not a power of two", k, in.table, entries));
+            }
+        }
+        if (in.op == PpOp::Qee &&
+            (in.expression < 0 || in.expression >= static_cast<int>(context.expressions.size()))) {
+            fail(fmt::format("instruction {}: QEE expression {} of {}", k, in.expression, context.expressions.size()));
+        }
+        if (in.op == PpOp::Load || in.op == PpOp::Store) {
+            const int bits = program.fields[static_cast<std::size_t>(in.op == PpOp::Load ? in.dst : in.a)].bits;
+            const std::int64_t offset = std::int64_t{context.record_base_bit} + in.record_offset;
+            if (offset < 0 || offset + bits > backing_store_bits) {
+                fail(fmt::format(
+                    "{} of {} bits at backing-store bit {} (record {} + {}) is past the {}-bit backing store",
+                    to_string(in.op), bits, offset, context.record_base_bit, in.record_offset, backing_store_bits));
+            }
+        }
+    }
+}
+
+}  // namespace
+
+// Compiled twice, for AVX2 and for any x86-64, and chosen at load time: the integer results are the
+// same either way, only faster where the host has wider vectors. Only with GCC and without
+// ThreadSanitizer: clang cannot link callers of a cloned member function, and the clones' load-time
+// resolver runs before the TSan runtime is up.
+#if defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_THREAD__) && defined(__x86_64__)
+#define PP5_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define PP5_VECTOR_CLONES
+#endif
+PP5_VECTOR_CLONES
+PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context) {
+    validate(program, context, local_memory_bits_, backing_store_bits_);
+    const auto total = static_cast<std::size_t>(size());
+    const auto slots = static_cast<std::size_t>(program.storage_slots);
+    if (fields_.size() < slots) fields_.resize(slots);
+    for (std::size_t slot = 0; slot < slots; ++slot) fields_[slot].resize(total, 0);  // kept across runs
+
+    const auto columns = static_cast<std::size_t>(columns_);
+    std::uint64_t* const store = backing_.get();
+    // Lookups whose every entry fits the destination (always, from the builder) need no wrap.
+    std::vector<std::uint8_t> lookup_fits(program.instructions.size(), 0);
+    for (std::size_t k = 0; k < program.instructions.size(); ++k) {
+        const PpInstruction& in = program.instructions[k];
+        if (in.op != PpOp::Lookup) continue;
+        const PpField& d = program.fields[static_cast<std::size_t>(in.dst)];
+        const auto& entries = program.tables[static_cast<std::size_t>(in.table)].entries;
+        lookup_fits[k] = std::all_of(entries.begin(), entries.end(),
+                                     [&](std::int64_t e) { return e >= d.min_value() && e <= d.max_value(); });
+    }
+
+    // PPs never exchange values, so the whole program can run over one block of PPs after another:
+    // the same results, with each block's fields small enough to stay in the host's cache.
+    constexpr std::size_t kBlock = 1024;
+    PpRunCounts counts;
+    counts.instructions = program.instructions.size();
+    for (std::size_t first = 0; first < total; first += kBlock) {
+        const std::size_t n = std::min(kBlock, total - first);
+        auto field = [&](int id) {
+            return fields_[static_cast<std::size_t>(program.fields[static_cast<std::size_t>(id)].storage)].data() +
+                   first;
+        };
+        std::uint8_t* en = enabled_.data() + first;
+        std::fill(en, en + n, std::uint8_t{1});
+        std::uint64_t enabled_count = n;
+
+        for (std::size_t k = 0; k < program.instructions.size(); ++k) {
+            const PpInstruction& in = program.instructions[k];
+            counts.pp_operations += n;
+            counts.enabled_pp_operations += enabled_count;
+            std::int64_t* dst = in.dst >= 0 ? field(in.dst) : nullptr;
+            const std::int64_t* a = in.a >= 0 ? field(in.a) : nullptr;
+            const std::int64_t* b = in.b >= 0 ? field(in.b) : nullptr;
+            const std::int64_t imm = in.imm;
+            const int shift = in.shift;
+            const PpField* dst_field = in.dst >= 0 ? &program.fields[static_cast<std::size_t>(in.dst)] : nullptr;
+            const Wrap wrap = dst_field != nullptr ? Wrap(*dst_field) : Wrap(PpField{0, 0, 1, false});
+            const bool all = enabled_count == n;
+            // Each case is one plain loop over the PPs; a disabled PP keeps its value. Every result is
+            // wrapped to its field's width (a no-op for the widths the builder infers).
+            switch (in.op) {
+                case PpOp::SetConst: for_enabled(n, en, all, dst, wrap, [&](std::size_t) { return imm; }); break;
+                case PpOp::Move:
+                    for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return a[p] >> shift; });
+                    break;
+                case PpOp::Add:
+                    for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return add64(a[p], b[p]); });
+                    break;
+                case PpOp::Sub:
+                    for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return sub64(a[p], b[p]); });
+                    break;
+                case PpOp::AddConst:
+                    for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return add64(a[p], imm); });
+                    break;
+                case PpOp::AbsDiffConst:
+                    for_enabled(n, en, all, dst, wrap, [&](std::size_t p) {
+                        const std::int64_t d = sub64(a[p], imm);
+                        return d < 0 ? sub64(0, d) : d;
+                    });
+                    break;
+                case PpOp::MinConst:
+                    for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return std::min(a[p], imm); });
+                    break;
+                case PpOp::MaxConst:
+                    for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return std::max(a[p], imm); });
+                    break;
+                case PpOp::Mul:
+                    for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return mul64(a[p], b[p]) >> shift; });
+                    break;
+                case PpOp::MulConst:
+                    for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return mul64(a[p], imm) >> shift; });
+                    break;
+                case PpOp::Div: {
+                    // A restoring divide saturates: b = 0, or a quotient past the field, gives its maximum.
+                    // (The builder keeps a << shift within 63 bits; a stale a past that also saturates.)
+                    const std::int64_t top = dst_field->max_value();
+                    const std::int64_t largest_a = std::numeric_limits<std::int64_t>::max() >> shift;
+                    for (std::size_t p = 0; p < n; ++p) {
+                        if (!en[p]) continue;
+                        const std::int64_t divisor = b[p];
+                        const bool defined = divisor > 0 && a[p] >= 0 && a[p] <= largest_a;
+                        dst[p] = defined ? std::min(exact_quotient(a[p] << shift, divisor), top) : top;
+                    }
+                    break;
+                }
+                case PpOp::Sqrt:
+                    // Stored values fit 48 bits, so pp_isqrt's checks cannot overflow.
+                    for (std::size_t p = 0; p < n; ++p)
+                        if (en[p]) dst[p] = wrap(pp_isqrt(a[p]));
+                    break;
+                case PpOp::Lookup: {
+                    const auto& entries = program.tables[static_cast<std::size_t>(in.table)].entries;
+                    const std::int64_t* table = entries.data();
+                    const auto last = static_cast<std::uint64_t>(entries.size() - 1);  // a power of two, minus one
+                    if (lookup_fits[k]) lookup_loop(n, en, all, dst, NoWrap(), a, table, last);
+                    else lookup_loop(n, en, all, dst, wrap, a, table, last);
+                    break;
+                }
+                case PpOp::Qee: {
+                    // Row by row: A x^2 + (B y + D) x + (C y^2 + E y + F), in uint64 so that large
+                    // coefficients wrap rather than overflow; exact whenever the value fits 64 bits.
+                    const QeeCoefficients& q = context.expressions[static_cast<std::size_t>(in.expression)];
+                    const auto u = [](std::int64_t v) { return static_cast<std::uint64_t>(v); };
+                    std::size_t p = 0;
+                    while (p < n) {
+                        const std::size_t index = first + p;
+                        const std::size_t y = index / columns;
+                        const std::size_t x0 = index % columns;
+                        const std::size_t count = std::min(columns - x0, n - p);
+                        const std::uint64_t uy = y;
+                        const std::uint64_t linear = u(q.b) * uy + u(q.d);
+                        const std::uint64_t constant = u(q.c) * uy * uy + u(q.e) * uy + u(q.f);
+                        for (std::size_t i = 0; i < count; ++i) {
+                            const std::uint64_t x = x0 + i;
+                            const auto v = static_cast<std::int64_t>(u(q.a) * x * x + linear * x + constant) >> shift;
+                            dst[p + i] = en[p + i] ? wrap(v) : dst[p + i];
+                        }
+                        p += count;
+                    }
+                    break;
+                }
+                case PpOp::EnableAll:
+                    std::fill(en, en + n, std::uint8_t{1});
+                    enabled_count = n;
+                    break;
+                case PpOp::EnableIf: enabled_count = enable_where(n, en, a, in.compare, imm); break;
+                case PpOp::Load: {
+                    // dst.bits bits at record_base_bit + record_offset; sign-extended by the wrap when signed.
+                    const PpBitWindow window(context.record_base_bit + in.record_offset, dst_field->bits);
+                    for_enabled(n, en, all, dst, wrap, [&](std::size_t p) {
+                        return static_cast<std::int64_t>(window.read(store, total, first + p));
+                    });
+                    break;
+                }
+                case PpOp::Store: {
+                    // The low a.bits bits of a; a disabled PP's backing store is left as it was.
+                    const PpBitWindow window(context.record_base_bit + in.record_offset,
+                                             program.fields[static_cast<std::size_t>(in.a)].bits);
+                    std::uint64_t* low = store + static_cast<std::size_t>(window.word) * total + first;
+                    const std::uint64_t low_mask = window.mask << window.shift;
+                    for (std::size_t p = 0; p < n; ++p) {
+                        const std::uint64_t value = static_cast<std::uint64_t>(a[p]) & window.mask;
+                        const std::uint64_t merged = (low[p] & ~low_mask) | (value << window.shift);
+                        low[p] = en[p] ? merged : low[p];
+                    }
+                    if (window.straddles()) {
+                        std::uint64_t* high = low + total;
+                        const std::uint64_t high_mask = window.high_mask();
+                        const int down = 64 - window.shift;
+                        for (std::size_t p = 0; p < n; ++p) {
+                            const std::uint64_t value = static_cast<std::uint64_t>(a[p]) & window.mask;
+                            const std::uint64_t merged = (high[p] & ~high_mask) | (value >> down);
+                            high[p] = en[p] ? merged : high[p];
+                        }
+                    }
+                    break;
+                }
+            }
+        }
+    }
+    return counts;
+}
+
+}  // namespace pp5
