@@ -9,6 +9,17 @@
 #
 # The sources still include what they use: configure with -DCMAKE_DISABLE_PRECOMPILE_HEADERS=ON to
 # compile without them (.ci/tsan does, so a missing include still fails CI).
+#
+# Not with clang through ccache: clang writes the build tree's absolute path into the compiled header,
+# and ccache hashes the header's bytes into the key of every file that uses it, so a checkout in
+# another folder would compile every such file again (a second clone's sanitizer build took 330 s
+# against 352 s for the first). There the unity batches alone share the headers, and every object is
+# found in the cache. GCC's compiled headers do not name the tree and stay.
+set(PP5_PCH_CACHEABLE ON)
+if(CMAKE_CXX_COMPILER_ID MATCHES "Clang" AND CMAKE_CXX_COMPILER_LAUNCHER MATCHES "ccache")
+  set(PP5_PCH_CACHEABLE OFF)
+  message(STATUS "pp5sim: no precompiled headers (clang's name the build tree, which keeps ccache from sharing objects between checkouts)")
+endif()
 set(PP5_PCH_STANDARD
   <algorithm> <array> <chrono> <cmath> <cstddef> <cstdint> <filesystem> <functional> <limits> <map>
   <memory> <optional> <set> <span> <sstream> <stdexcept> <string> <string_view> <utility> <vector>)
@@ -58,7 +69,7 @@ function(pp5_precompiled_headers target set)
   if(NOT set IN_LIST PP5_PCH_SETS)
     message(FATAL_ERROR "pp5_precompiled_headers: no set '${set}' (one of ${PP5_PCH_SETS})")
   endif()
-  if(CMAKE_DISABLE_PRECOMPILE_HEADERS)
+  if(CMAKE_DISABLE_PRECOMPILE_HEADERS OR NOT PP5_PCH_CACHEABLE)
     return()
   endif()
   _pp5_pch_host(${set} host)
