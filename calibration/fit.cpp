@@ -1,5 +1,7 @@
 #include "calibration/fit.h"
 
+#include "calibration/fit_detail.h"
+
 #include "sim/core/input_error.h"
 #include "sim/core/parallel.h"
 
@@ -10,29 +12,20 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <mutex>
 #include <set>
-#include <sstream>
 
 namespace pp5 {
 
 namespace {
 
-struct ScaleSpec {
-    const char* name;  // as in the machine file's [calibration]
-    double CalibrationScales::*member;
-};
-// Each scale's bounds are its machine's (calibration.<name>_min and _max): what that hardware could
-// physically do, with the source in <name>_bounds_why.
-constexpr ScaleSpec kScales[] = {
-    {"gp_flops_scale", &CalibrationScales::gp_flops},
-    {"gp_cycles_scale", &CalibrationScales::gp_cycles},
-    {"pp_cycles_scale", &CalibrationScales::pp_cycles},
-};
+using fit_detail::kScales;
+using fit_detail::number;
+using fit_detail::percent;
+using fit_detail::ScaleSpec;
+
 constexpr int kScaleCount = static_cast<int>(std::size(kScales));
 std::string key_of(const ScaleSpec& spec) { return std::string("calibration.") + spec.name; }
 constexpr double kIdentifiableElasticity = 0.2;  // a 10% change of the scale moves some target by 2%
@@ -215,13 +208,6 @@ double pearson(const std::vector<double>& a, const std::vector<double>& b) {
         sbb += (b[i] - mb) * (b[i] - mb);
     }
     return saa > 0 && sbb > 0 ? sab / std::sqrt(saa * sbb) : std::numeric_limits<double>::quiet_NaN();
-}
-
-std::string percent(double relative) { return fmt::format("{:+.1f}%", 100.0 * relative); }
-
-std::string number(double v) {
-    if (!std::isfinite(v)) return "n/a";
-    return fmt::format("{:.4g}", v);
 }
 
 // A machine's three scales at `start`, before any fit.
@@ -737,334 +723,6 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
         report.results[i].uncalibrated = given.results[i].simulated;
     report.host_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     return report;
-}
-
-nlohmann::json FitReport::to_json() const {
-    const auto nan_to_null = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
-    nlohmann::json params = nlohmann::json::array();
-    for (const FittedParameter& p : parameters) {
-        params.push_back({{"machine", p.machine},
-                          {"key", p.key},
-                          {"value", p.value},
-                          {"standard_error", nan_to_null(p.standard_error)},
-                          {"lower", p.lower},
-                          {"upper", p.upper},
-                          {"free", p.free},
-                          {"at_bound", p.at_bound},
-                          {"provenance", p.provenance},
-                          {"note", p.note}});
-    }
-    nlohmann::json rows = nlohmann::json::array();
-    for (const TargetResult& r : results) {
-        nlohmann::json row{
-            {"id", r.target.id},
-            {"source", r.target.source},
-            {"quote", r.target.quote},
-            {"scenario", r.target.scenario},
-            {"frame", r.target.frame},
-            {"machine", r.target.machine},
-            {"metric", r.target.metric},
-            {"divided_by_frame",
-             r.target.divided_by_frame >= 0 ? nlohmann::json(r.target.divided_by_frame) : nlohmann::json(nullptr)},
-            {"unit", r.target.unit},
-            {"reported", r.target.reported},
-            {"exactness", std::string(to_string(r.target.exactness))},
-            {"simulated", r.simulated},
-            {"relative_error", r.relative_error},
-            {"use", std::string(to_string(r.target.use))},
-            {"group", std::string(to_string(group_of(r.target)))},
-            {"used_by_workload_step", used_by_workload(r.target)}};
-        if (r.target.is_formula()) {
-            row["kernel"] = r.target.kernel;
-            row["formula"] = r.target.formula;
-            row["inputs"] = r.target.inputs;
-            for (const char* unused : {"scenario", "frame", "machine", "metric", "divided_by_frame"}) row.erase(unused);
-        }
-        row["uncalibrated"] = r.uncalibrated ? nlohmann::json(*r.uncalibrated) : nlohmann::json(nullptr);
-        row["uncalibrated_low"] = r.plausible_low ? nlohmann::json(*r.plausible_low) : nlohmann::json(nullptr);
-        row["uncalibrated_high"] = r.plausible_high ? nlohmann::json(*r.plausible_high) : nlohmann::json(nullptr);
-        row["simulated_low"] = r.low ? nlohmann::json(*r.low) : nlohmann::json(nullptr);
-        row["simulated_high"] = r.high ? nlohmann::json(*r.high) : nlohmann::json(nullptr);
-        row["leave_one_out"] = r.leave_one_out ? nlohmann::json(*r.leave_one_out) : nlohmann::json(nullptr);
-        row["leave_one_out_error"] =
-            r.leave_one_out_error ? nlohmann::json(*r.leave_one_out_error) : nlohmann::json(nullptr);
-        if (!r.leave_one_out_note.empty()) row["leave_one_out_note"] = r.leave_one_out_note;
-        rows.push_back(row);
-    }
-    const auto summary_json = [&](const ErrorSummary& s) {
-        return nlohmann::json{{"count", s.count},
-                              {"mean_absolute_relative_error", s.mean_absolute_error},
-                              {"max_absolute_relative_error", s.max_absolute_error},
-                              {"within_10_percent", s.within_10},
-                              {"within_25_percent", s.within_25},
-                              {"log_correlation", nan_to_null(s.log_correlation)}};
-    };
-    nlohmann::json identified = nlohmann::json::array();
-    for (const IdentifiedWorkload& w : workload) {
-        identified.push_back({{"parameter", w.spec.key},
-                              {"value", w.value},
-                              {"machine_file_value", format_param_value(w.machine_value)},
-                              {"bounds", {w.spec.lower, w.spec.upper}},
-                              {"ratio_of", {w.spec.numerator, w.spec.denominator}},
-                              {"reported_ratio", w.reported_ratio},
-                              {"simulated_ratio", w.simulated_ratio},
-                              {"trials", w.trials},
-                              {"at_bound", w.at_bound},
-                              {"why", w.spec.why},
-                              {"note", w.note}});
-    }
-    return {{"targets", targets_name},
-            {"workload", identified},
-            {"parameters", params},
-            {"rows", rows},
-            {"summary",
-             [&] {
-                 // Each group apart: only "predicted" holds predictions (see RowGroup).
-                 nlohmann::json groups = nlohmann::json::object();
-                 for (const RowGroup g : kRowGroups) groups[std::string(to_string(g))] = summary_json(summary(g));
-                 nlohmann::json units = nlohmann::json::object();
-                 for (const auto& [unit, s] : by_unit()) units[unit] = summary_json(s);
-                 groups["by_unit"] = units;
-                 return groups;
-             }()},
-            {"degrees_of_freedom",
-             [&] {
-                 nlohmann::json machines = nlohmann::json::array();
-                 for (const MachineFreedom& f : freedom)
-                     machines.push_back({{"machine", f.machine},
-                                         {"fitted_rows", f.rows},
-                                         {"free_scales", f.free_scales},
-                                         {"workload_parameters", f.workload_parameters},
-                                         {"degrees_of_freedom", f.degrees_of_freedom()},
-                                         {"reduced_chi_square", nan_to_null(f.reduced_chi_square)}});
-                 return machines;
-             }()},
-            {"notes", notes},
-            {"host_seconds", host_seconds}};
-}
-
-std::string FitReport::to_markdown() const {
-    std::ostringstream md;
-    md << "# Calibration against " << targets_name << "\n\n";
-    if (!workload.empty()) {
-        md << "## Workload step\n\nParameters the paper does not give, identified before the fit from the ratio of two "
-              "measured rows on "
-              "one machine (its speed cancels). The fit and every row below use these values.\n\n"
-           << "| parameter | identified | machine file | from the ratio | reported | simulated | trials | why "
-              "|\n|---|---|---|---|---|---|---|---|\n";
-        for (const IdentifiedWorkload& w : workload) {
-            md << fmt::format("| `{}` | {:.4g}{} | {} | {} / {} | {:.4g} | {:.4g} | {} | {}{} |\n", w.spec.key, w.value,
-                              w.at_bound ? " (at bound)" : "", format_param_value(w.machine_value), w.spec.numerator,
-                              w.spec.denominator, w.reported_ratio, w.simulated_ratio, w.trials, w.spec.why,
-                              w.note.empty() ? "" : " *" + w.note + "*");
-        }
-        md << "\n";
-    }
-    md << "## Parameters\n\n"
-       << "| machine | parameter | value | standard error | bounds | status |\n|---|---|---|---|---|---|\n";
-    for (const FittedParameter& p : parameters) {
-        md << fmt::format("| {} | `{}` | {:.4g} | {} | [{:g}, {:g}] | {} |\n", p.machine, p.key, p.value,
-                          number(p.standard_error), p.lower, p.upper,
-                          p.free ? (p.note.empty() ? "fitted" : "fitted; " + p.note) : p.note);
-    }
-    md << "\nWhere each fitted scale's bounds come from (the machine file's `<scale>_bounds_why`):\n\n";
-    for (const FittedParameter& p : parameters)
-        if (p.free) md << fmt::format("- {} `{}` [{:g}, {:g}]: {}\n", p.machine, p.key, p.lower, p.upper, p.provenance);
-    const bool any_uncalibrated =
-        std::any_of(results.begin(), results.end(), [](const TargetResult& r) { return r.uncalibrated.has_value(); });
-    md << "\n## Targets\n\n";
-    if (std::any_of(results.begin(), results.end(), [](const TargetResult& r) { return r.low.has_value(); }))
-        md << "Intervals on simulated values cover the fitted scales' uncertainty (their covariance, linearised by "
-              "re-timing).";
-    if (std::any_of(results.begin(), results.end(), [](const TargetResult& r) { return r.plausible_low.has_value(); }))
-        md << " Intervals on uncalibrated values cover the documented guesses' plausible ranges (`pp5sim params`), "
-              "each spread "
-              "evenly over its range, at the processor rates the machine file states (the rates are what the fit's "
-              "scales measure).";
-    md << "\n\n";
-    md << "| id | machine | metric | reported | " << (any_uncalibrated ? "uncalibrated | " : "")
-       << "simulated [95% interval from the fit] | error | use | leave-one-out prediction |\n"
-       << (any_uncalibrated ? "|---|---|---|---|---|---|---|---|---|\n" : "|---|---|---|---|---|---|---|---|\n");
-    for (const TargetResult& r : results) {
-        std::string loo =
-            r.leave_one_out ? fmt::format("{} ({})", number(*r.leave_one_out), percent(*r.leave_one_out_error)) : "";
-        if (!r.leave_one_out_note.empty()) loo += (loo.empty() ? "" : "; ") + r.leave_one_out_note;
-        const std::string unit = r.target.divided_by_frame >= 0
-                                     ? fmt::format("frame {} / frame {}", r.target.frame, r.target.divided_by_frame)
-                                     : r.target.unit;
-        const bool formula = r.target.is_formula();
-        const std::string uncalibrated =
-            !any_uncalibrated ? ""
-            : r.uncalibrated
-                ? fmt::format("{}{} ({}) | ", number(*r.uncalibrated),
-                              r.plausible_low && r.plausible_high
-                                  ? fmt::format(" [{}, {}]", number(*r.plausible_low), number(*r.plausible_high))
-                                  : std::string(),
-                              percent((*r.uncalibrated - r.target.reported) / r.target.reported))
-                : " | ";
-        md << fmt::format("| {} | {} | {} ({}) | {} | {}{} | {} | {} | {} |\n", r.target.id,
-                          formula ? "(formula: " + r.target.kernel + ")" : r.target.machine,
-                          formula ? r.target.formula : r.target.metric, unit, number(r.target.reported), uncalibrated,
-                          r.low && r.high
-                              ? fmt::format("{} [{}, {}]", number(r.simulated), number(*r.low), number(*r.high))
-                              : number(r.simulated),
-                          percent(r.relative_error), describe(group_of(r.target)), loo);
-    }
-    std::size_t banded = 0, inside = 0;
-    for (const TargetResult& r : results)
-        if (r.plausible_low && r.plausible_high) {
-            ++banded;
-            inside += r.target.reported >= *r.plausible_low && r.target.reported <= *r.plausible_high;
-        }
-    if (banded > 0)
-        md << fmt::format(
-            "\nThe reported figure lies within the uncalibrated interval for {} of {} simulated rows. Where it does "
-            "not, the "
-            "documented guesses alone cannot account for the difference: the processors' rates (the fit's to find) or "
-            "work the model leaves out must.\n",
-            inside, banded);
-    md << "\n## Fit quality\n\nEach kind of row apart: only the predicted rows test the model on figures it never saw. "
-          "Rows the "
-          "workload step matched have spent their freedom on its parameters; arithmetic checks, rows matched by "
-          "construction and "
-          "comparisons with another machine test something else.\n\n"
-       << "| rows | count | mean abs. error | max abs. error | within 10% | within 25% | r (log) |\n"
-       << "|---|---|---|---|---|---|---|\n";
-    for (const RowGroup group : kRowGroups) {
-        const ErrorSummary s = summary(group);
-        if (s.count == 0) continue;
-        md << fmt::format("| {} | {} | {:.1f}% | {:.1f}% | {} | {} | {} |\n", describe(group), s.count,
-                          100.0 * s.mean_absolute_error, 100.0 * s.max_absolute_error, s.within_10, s.within_25,
-                          number(s.log_correlation));
-    }
-    if (!freedom.empty()) {
-        md << "\n| machine | fitted rows | free scales | workload parameters | degrees of freedom | reduced chi-square "
-              "|\n|---|---|---|---|---|---|\n";
-        for (const MachineFreedom& f : freedom)
-            md << fmt::format("| {} | {} | {} | {} | {} | {} |\n", f.machine, f.rows, f.free_scales,
-                              f.workload_parameters, f.degrees_of_freedom(), number(f.reduced_chi_square));
-    }
-    const auto units = by_unit();
-    if (units.size() > 1) {
-        md << "\nBy the metric's unit (fitted, workload and predicted rows together):\n\n| unit | count | mean abs. "
-              "error | max abs. error | within 10% | within 25% |\n"
-           << "|---|---|---|---|---|---|\n";
-        for (const auto& [unit, s] : units)
-            md << fmt::format("| {} | {} | {:.1f}% | {:.1f}% | {} | {} |\n", unit, s.count,
-                              100.0 * s.mean_absolute_error, 100.0 * s.max_absolute_error, s.within_10, s.within_25);
-    }
-    md << "\n## Outliers (more than 25% off)\n\n";
-    bool any = false;
-    for (const TargetResult& r : results) {
-        if (std::abs(r.relative_error) <= 0.25) continue;
-        any = true;
-        md << fmt::format("- `{}` ({}): reported {} {}, simulated {} ({})\n", r.target.id, describe(group_of(r.target)),
-                          number(r.target.reported), r.target.unit, number(r.simulated), percent(r.relative_error));
-    }
-    if (!any) md << "None.\n";
-    if (!notes.empty()) {
-        md << "\n## Solver\n\n";
-        for (const std::string& n : notes) md << "- " << n << "\n";
-    }
-    return md.str();
-}
-
-std::string fitted_machine_file(const CalibrationModel& model, const FitReport& report, const std::string& machine) {
-    std::ifstream in(resolve_machine_file(machine));
-    std::stringstream text;
-    text << in.rdbuf();
-    // Drop the file's own [calibration] table and rename the machine.
-    const auto trim = [](const std::string& t) {
-        const auto b = t.find_first_not_of(" \t");
-        const auto e = t.find_last_not_of(" \t\r");
-        return b == std::string::npos ? std::string() : t.substr(b, e - b + 1);
-    };
-    std::ostringstream out;
-    // Its own header first: what this file is and how well it fits, before the preset's description.
-    const std::string stem = std::filesystem::path(machine).stem().string();
-    out << fmt::format(
-        "# {}-fitted: the {} machine with its calibration.* scales fitted by `pp5sim fit` to the targets of {}\n", stem,
-        stem, model.targets().file.string());
-    const ErrorSummary fitted = report.summary(RowGroup::Fitted);
-    const ErrorSummary workload_rows = report.summary(RowGroup::Workload);
-    const ErrorSummary predicted = report.summary(RowGroup::Predicted);
-    out << fmt::format(
-        "# ({}). Targets within 10%: {} of {} fitted, {} of {} workload rows, {} of {} predicted; mean error {:.1f}% "
-        "fitted, "
-        "{:.1f}% predicted.\n",
-        model.targets().name, fitted.within_10, fitted.count, workload_rows.within_10, workload_rows.count,
-        predicted.within_10, predicted.count, 100.0 * fitted.mean_absolute_error,
-        100.0 * predicted.mean_absolute_error);
-    out << "# The fit's report (fit.md, fit.json) is beside this file; below are the preset as it was and the fitted\n"
-           "# [calibration] table. Use it with: pp5sim render --machine <this file>\n\n";
-    // The workload step's values go into their tables ("levoy.refinement_threshold": [levoy]), replacing
-    // the preset's own line; tables the preset lacks are added at the end.
-    std::map<std::string, std::vector<std::pair<std::string, std::string>>> workload_lines;  // table -> (name, line)
-    for (const IdentifiedWorkload& w : report.workload) {
-        const auto dot = w.spec.key.rfind('.');
-        const std::string name = w.spec.key.substr(dot + 1);
-        workload_lines[w.spec.key.substr(0, dot)].emplace_back(
-            name,
-            fmt::format("{} = {}    # identified by the workload step from {} / {} (the file had {})", name,
-                        w.spec.integer ? fmt::format("{}", std::llround(w.value)) : fmt::format("{:.6g}", w.value),
-                        w.spec.numerator, w.spec.denominator, format_param_value(w.machine_value)));
-    }
-    std::string line;
-    bool skipping = false;
-    bool in_machine = false;
-    std::string table;
-    std::set<std::string> workload_tables_written;
-    std::vector<std::string> kept_calibration_lines;
-    while (std::getline(text, line)) {
-        const std::string bare = trim(line.substr(0, line.find('#')));
-        if (bare.size() > 2 && bare.front() == '[' && bare.back() == ']' && bare[1] != '[') {
-            table = trim(bare.substr(1, bare.size() - 2));
-            skipping = table == "calibration";
-            in_machine = table == "machine";
-            if (skipping) continue;  // one [calibration] table, written below with the fitted values first
-            if (const auto it = workload_lines.find(table); it != workload_lines.end()) {
-                out << line << "\n";
-                for (const auto& [name, setting] : it->second) out << setting << "\n";
-                workload_tables_written.insert(table);
-                continue;
-            }
-        }
-        if (skipping) {
-            // The fitted values replace the scales; the rest (their bounds and sources) carries over.
-            const std::string key = trim(bare.substr(0, bare.find('=')));
-            const bool scale = std::any_of(std::begin(kScales), std::end(kScales),
-                                           [&](const ScaleSpec& spec) { return key == spec.name; });
-            if (!bare.empty() && !scale) kept_calibration_lines.push_back(line);
-            continue;
-        }
-        if (const auto it = workload_lines.find(table); it != workload_lines.end()) {
-            const std::string key = trim(bare.substr(0, bare.find('=')));
-            if (std::any_of(it->second.begin(), it->second.end(),
-                            [&](const auto& entry) { return entry.first == key; }))
-                continue;
-        }
-        if (in_machine && bare.rfind("name", 0) == 0 && trim(bare.substr(4)).rfind("=", 0) == 0) {
-            const auto close = line.find('"', line.find('"') + 1);
-            if (close != std::string::npos) line.insert(close, "-fitted");
-        }
-        out << line << "\n";
-    }
-    for (const auto& [name, lines] : workload_lines) {
-        if (workload_tables_written.count(name)) continue;  // written under the preset's own header
-        out << "\n[" << name << "]\n";
-        for (const auto& [key, setting] : lines) out << setting << "\n";
-    }
-    out << "\n[calibration]                 # fitted by `pp5sim fit` to " << model.targets().name
-        << "; standard errors in comments\n";
-    for (const FittedParameter& p : report.parameters) {
-        if (p.machine != machine) continue;
-        const std::string key = p.key.substr(std::string("calibration.").size());
-        std::string comment = p.free ? fmt::format("+/- {}", number(p.standard_error)) : "held: " + p.note;
-        if (p.at_bound) comment += " (at its bound)";
-        out << fmt::format("{} = {:.6g}    # {}\n", key, p.value, comment);
-    }
-    for (const std::string& kept : kept_calibration_lines) out << kept << "\n";
-    return out.str();
 }
 
 }  // namespace pp5
