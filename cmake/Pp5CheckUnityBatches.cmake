@@ -1,0 +1,21 @@
+# A test (Build.UnityBatchesNameTheirSourcesRelatively, tests/CMakeLists.txt): every unity batch under
+# BUILD_DIR names its sources by relative paths, and at least one batch exists, so a second checkout's
+# objects keep coming from ccache (cmake/Pp5UnityBuild.cmake says why). Run with cmake -P.
+file(GLOB_RECURSE batches ${BUILD_DIR}/*.cpp)
+list(FILTER batches INCLUDE REGEX "/unity_batches/[^/]+\\.cpp$")
+list(LENGTH batches count)
+if(count EQUAL 0)
+  message(FATAL_ERROR "no unity batches under ${BUILD_DIR}")
+endif()
+set(absolute)
+foreach(batch IN LISTS batches)
+  file(STRINGS ${batch} includes REGEX "^#include \"/")
+  if(includes)
+    list(APPEND absolute "${batch}: ${includes}")
+  endif()
+endforeach()
+if(absolute)
+  list(JOIN absolute "\n" report)
+  message(FATAL_ERROR "unity batches naming a source by its absolute path:\n${report}")
+endif()
+message(STATUS "${count} unity batches, every source named relative to its batch")
