@@ -1,6 +1,7 @@
 #pragma once
-// What fit.cpp and the files that write a fit's report and fitted machine share: the scales a fit can
-// move, and how its numbers are written. Internal to calibration/.
+// What fit.cpp and the files that write a fit's report, its fitted machine and the account of each row
+// that misses (residuals.cpp) share: the scales a fit can move, and how its numbers are written.
+// Internal to calibration/.
 
 #include "calibration/timing_model.h"
 

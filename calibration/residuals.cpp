@@ -1,5 +1,6 @@
 #include "calibration/residuals.h"
 
+#include "calibration/fit_detail.h"
 #include "sim/core/time.h"
 #include "sim/timing/frame_timing.h"
 #include "sim/timing/recorded_work.h"
@@ -93,7 +94,7 @@ std::string amount(double v) {
 
 constexpr double kReconciledWithin = 0.02;
 
-std::string signed_percent(double relative) { return fmt::format("{:+.1f}%", 100.0 * relative); }
+using fit_detail::percent;
 
 }  // namespace
 
@@ -173,7 +174,7 @@ std::string residuals_markdown(const std::vector<ResidualAccount>& accounts) {
     if (accounts.empty()) return md + "\nNo row is more than 10% off.\n";
     for (const ResidualAccount& a : accounts) {
         md += fmt::format("\n### `{}`: {} off; the figure needs {:.3g}x the simulated value\n\n", a.id,
-                          signed_percent(a.relative_error), a.needed_factor);
+                          percent(a.relative_error), a.needed_factor);
         if (!a.assumption.empty()) md += fmt::format("- The paper assumes: {}\n", a.assumption);
         if (!a.phases.empty()) {
             double total = 0.0;
@@ -202,14 +203,14 @@ std::string residuals_markdown(const std::vector<ResidualAccount>& accounts) {
             const double left = (w.reached - a.reported) / a.reported;
             md += fmt::format(
                 "- What-if: `{}` from {:.4g} to {:.4g}{} gives {:.4g} ({}{}). The other rows then:", w.key, w.from,
-                w.to, w.within_range ? "" : " (the edge of its declared range)", w.reached, signed_percent(left),
+                w.to, w.within_range ? "" : " (the edge of its declared range)", w.reached, percent(left),
                 std::abs(left) <= kReconciledWithin
                     ? ", reconciled"
                     : ": the nearest one change gets, so no single documented parameter accounts for it");
             for (std::size_t k = 0; k < a.other_rows.size() && k < w.others.size(); ++k)
                 if (a.other_rows[k] != a.id)
                     md += fmt::format(" `{}` {}{};", a.other_rows[k],
-                                      signed_percent((w.others[k] - a.other_reported[k]) / a.other_reported[k]),
+                                      percent((w.others[k] - a.other_reported[k]) / a.other_reported[k]),
                                       std::abs(w.others[k] / a.before[k] - 1.0) < 0.005 ? " (unchanged)" : "");
             md.back() = '\n';
         } else {
