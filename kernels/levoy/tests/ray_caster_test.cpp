@@ -6,12 +6,12 @@
 #include "kernels/levoy/adaptive_refinement.h"
 #include "kernels/levoy/binary_pyramid.h"
 #include "kernels/levoy/levoy_renderer.h"
+#include "kernels/levoy/tests/levoy_test_support.h"
 #include "scene/reference/composite.h"
 #include "scene/reference/trilinear.h"
 #include "scene/volume/phantoms.h"
 #include "sim/core/input_error.h"
 #include "sim/machine/machine.h"
-#include "tests/unit/levoy/levoy_test_support.h"
 #include "tests/unit/render/test_scenes.h"
 
 #include <gtest/gtest.h>

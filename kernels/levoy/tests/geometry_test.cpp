@@ -4,12 +4,12 @@
 
 #include "kernels/levoy/geometry_programs.h"
 #include "kernels/levoy/levoy_renderer.h"
+#include "kernels/levoy/tests/levoy_test_support.h"
 #include "scene/render/polygon.h"
 #include "scene/volume/phantoms.h"
 #include "sim/core/input_error.h"
 #include "sim/core/work_progress.h"
 #include "sim/machine/machine.h"
-#include "tests/unit/levoy/levoy_test_support.h"
 
 #include "sim/timing/one_processor.h"
 

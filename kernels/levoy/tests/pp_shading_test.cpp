@@ -4,13 +4,13 @@
 
 #include "kernels/shared/pp_volume/pp_shading.h"
 #include "frontends/image_io.h"
+#include "kernels/levoy/tests/levoy_test_support.h"
 #include "scene/reference/composite.h"
 #include "scene/reference/reference_renderer.h"
 #include "scene/reference/voxel_opacity.h"
 #include "scene/volume/phantoms.h"
 #include "sim/core/input_error.h"
 #include "sim/machine/machine.h"
-#include "tests/unit/levoy/levoy_test_support.h"
 #include "tests/unit/render/test_scenes.h"
 
 #include <gtest/gtest.h>
