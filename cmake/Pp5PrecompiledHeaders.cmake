@@ -7,9 +7,8 @@
 # sanitizer builds) and programs (-fPIE) get a host each, and a user links the same third-party targets
 # as its host (fmt::fmt defines FMT_SHARED, which the compiled header was made with).
 #
-# The sources still include what they use: under PP5_INCLUDE_CHECK (the sanitizer tree) pp5sim's own
-# code compiles without them and without unity batches, so a missing include still fails CI
-# (Pp5Targets.cmake); -DCMAKE_DISABLE_PRECOMPILE_HEADERS=ON turns them off everywhere.
+# The sources still include what they use: configure with -DCMAKE_DISABLE_PRECOMPILE_HEADERS=ON to
+# compile without them (.ci/tsan does, so a missing include still fails CI).
 #
 # Not with clang through ccache: clang writes the build tree's absolute path into the compiled header,
 # and ccache hashes the header's bytes into the key of every file that uses it, so a checkout in
