@@ -1,6 +1,7 @@
 #include "calibration/fit.h"
 
 #include "calibration/fit_detail.h"
+#include "calibration/identifiability.h"
 
 #include "sim/core/input_error.h"
 #include "sim/core/parallel.h"
@@ -21,15 +22,13 @@ namespace pp5 {
 
 namespace {
 
+using fit_detail::key_of;
+using fit_detail::kScaleCount;
 using fit_detail::kScales;
 using fit_detail::number;
 using fit_detail::percent;
 using fit_detail::ScaleSpec;
 
-constexpr int kScaleCount = static_cast<int>(std::size(kScales));
-std::string key_of(const ScaleSpec& spec) { return std::string("calibration.") + spec.name; }
-constexpr double kIdentifiableElasticity = 0.2;  // a 10% change of the scale moves some target by 2%
-constexpr double kCollinearCosine = 0.98;
 // Residuals are in units of their source's uncertainty; beyond about two of those the Cauchy loss
 // discounts a target (an estimate 65% off, a measurement 22% off).
 constexpr double kLossScale = 2.0;
@@ -491,9 +490,115 @@ FitReport evaluate_targets(const CalibrationModel& model, const std::map<std::st
     return report;
 }
 
+namespace {
+
+// Fits the free scales of one machine to its targets: the solution, each scale's standard error from
+// Ceres' covariance at it (widened when the residuals spread more than their sources' stated
+// uncertainty), and the notes on how the solve went. Returns the fit for the leave-one-out refits.
+std::unique_ptr<MachineFit> fit_machine(const CalibrationModel& model, const std::string& machine,
+                                        const std::vector<const Target*>& targets, const CalibrationScales& start,
+                                        const std::vector<int>& free, const std::vector<ScaleBounds>& bounds,
+                                        const FitOptions& options, std::vector<FittedParameter>& params,
+                                        FitReport& report, const std::function<void(const std::string&)>& say) {
+    auto owned = std::make_unique<MachineFit>(model, machine, targets, start, free, bounds);
+    const MachineFit& fit = *owned;
+    std::vector<double> x = fit.log_start();
+    say(fmt::format("{}: fitting {} scales to {} targets", machine, free.size(), targets.size()));
+    const ceres::Solver::Summary summary = fit.solve(x, options.max_iterations);
+    const std::unique_ptr<ceres::Problem> plain = fit.problem(x, false);
+    report.notes.push_back(
+        fmt::format("{}: {} iterations, {} residual evaluations, final cost {:.4g} (from {:.4g}); {}", machine,
+                    summary.iterations.size(), summary.num_residual_evaluations, summary.final_cost,
+                    summary.initial_cost, summary.message));
+
+    // Standard errors: Ceres' covariance at the solution, widened when the residuals spread more than
+    // their sources' stated uncertainty (reduced chi-square above 1). The rows the workload step
+    // matched have spent degrees of freedom on its parameters as well as on the scales.
+    const std::vector<double> r = fit.residuals(fit.scales(x.data()));
+    double chi2 = 0;
+    for (double v : r) chi2 += v * v;
+    MachineFreedom freedom{machine,
+                           static_cast<int>(targets.size()),
+                           static_cast<int>(free.size()),
+                           workload_parameters_from(model, machine),
+                           std::numeric_limits<double>::quiet_NaN(),
+                           {},
+                           {}};
+    if (freedom.degrees_of_freedom() > 0) freedom.reduced_chi_square = chi2 / freedom.degrees_of_freedom();
+    const double spread = std::isfinite(freedom.reduced_chi_square) ? freedom.reduced_chi_square : 1.0;
+    ceres::Covariance::Options cov_options;
+    cov_options.algorithm_type = ceres::DENSE_SVD;
+    cov_options.null_space_rank = -1;
+    ceres::Covariance covariance(cov_options);
+    std::vector<double> cov(x.size() * x.size(), std::numeric_limits<double>::quiet_NaN());
+    const std::vector<std::pair<const double*, const double*>> blocks{{x.data(), x.data()}};
+    const bool have_cov =
+        covariance.Compute(blocks, plain.get()) && covariance.GetCovarianceBlock(x.data(), x.data(), cov.data());
+    if (have_cov) {
+        for (const int j : free) freedom.free_keys.push_back(key_of(kScales[j]));
+        for (const double c : cov) freedom.log_covariance.push_back(c * std::max(1.0, spread));
+    }
+    report.freedom.push_back(freedom);
+    for (std::size_t i = 0; i < free.size(); ++i) {
+        FittedParameter& p = params[static_cast<std::size_t>(free[i])];
+        // The covariance is of the logarithm; to first order the scale's error is the value times it.
+        p.value = std::exp(x[i]);
+        p.standard_error = have_cov ? p.value * std::sqrt(cov[i * x.size() + i] * std::max(1.0, spread))
+                                    : std::numeric_limits<double>::quiet_NaN();
+        p.at_bound = std::abs(p.value - p.lower) < 1e-6 * p.lower || std::abs(p.value - p.upper) < 1e-6 * p.upper;
+        // A scale held by its physical range is a finding about the model, not a fitted value: the
+        // targets want a machine the hardware could not be.
+        if (p.at_bound)
+            p.note = fmt::format(
+                "at its {} bound, a finding: the targets ask for a machine {} than this range allows ({}); its "
+                "standard error means little",
+                p.value <= p.lower * (1 + 1e-6) ? "lower" : "upper",
+                p.value <= p.lower * (1 + 1e-6) ? "faster" : "slower", p.provenance);
+        else if (std::isfinite(p.standard_error) && p.standard_error > 0.5 * p.value)
+            p.note = fmt::format("poorly determined: the standard error is {:.0f}% of the value",
+                                 100.0 * p.standard_error / p.value);
+        if (!have_cov)
+            p.note += (p.note.empty() ? "" : "; ") + std::string("covariance not computable (rank-deficient Jacobian)");
+    }
+    report.notes.push_back(
+        freedom.degrees_of_freedom() > 0
+            ? fmt::format("{}: residual spread (reduced chi-square) {:.3g} on {} degrees of freedom ({} rows, {} "
+                          "free scales, {} workload "
+                          "parameters)",
+                          machine, freedom.reduced_chi_square, freedom.degrees_of_freedom(), freedom.rows,
+                          freedom.free_scales, freedom.workload_parameters)
+            : fmt::format(
+                  "{}: no degrees of freedom ({} rows, {} free scales, {} workload parameters): the rows determine "
+                  "the "
+                  "parameters exactly, so they test nothing, and the standard errors come from the rows' stated "
+                  "uncertainties alone",
+                  machine, freedom.rows, freedom.free_scales, freedom.workload_parameters));
+
+    return owned;
+}
+
+// Leave one out: refit without each fitted target, from the same start as the full fit (not from its
+// answer, which has seen the target), and predict it. The refits are independent: they run side by
+// side, each deterministic, so the results do not depend on the thread count.
+void leave_each_out(const CalibrationModel& model, const MachineFit& fit, const std::vector<const Target*>& targets,
+                    const FitOptions& options, const std::function<void(const std::string&)>& say,
+                    std::map<std::string, TargetResult>& loo) {
+    std::vector<TargetResult> left_out(targets.size());
+    std::mutex progress;
+    const auto say_locked = [&](const std::string& line) {
+        const std::lock_guard<std::mutex> lock(progress);
+        say(line);
+    };
+    pp5::parallel_for(std::size_t{0}, targets.size(),
+                      [&](std::size_t k) { left_out[k] = predict_left_out(model, fit, k, options, say_locked); });
+    for (std::size_t k = 0; k < targets.size(); ++k) loo.emplace(targets[k]->id, std::move(left_out[k]));
+}
+
+}  // namespace
+
 FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) {
     const auto started = std::chrono::steady_clock::now();
-    const auto say = [&](const std::string& line) {
+    const std::function<void(const std::string&)> say = [&](const std::string& line) {
         if (options.progress) options.progress(line);
     };
     FitReport report;
@@ -508,7 +613,6 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
     std::map<std::string, TargetResult> loo;
     for (const std::string& machine : machines) {
         const CalibrationScales start = CalibrationScales::from(model.base_config(machine));
-        const std::vector<ScaleBounds> bounds = bounds_of(model.base_config(machine));
         std::vector<FittedParameter> params = initial_parameters(machine, model.base_config(machine), start, true);
         const std::vector<const Target*>& targets = fitted_by_machine[machine];
         if (targets.empty()) {
@@ -519,198 +623,14 @@ FitReport fit_targets(const CalibrationModel& model, const FitOptions& options) 
             report.parameters.insert(report.parameters.end(), params.begin(), params.end());
             continue;
         }
-
-        // Which scales the targets can tell apart: each scale's elasticity on every target.
         say(fmt::format("{}: measuring what each scale moves ({} fitted targets)", machine, targets.size()));
-        // The base and each moved scale are independent runs: simulated side by side.
-        std::vector<std::vector<double>> runs(kScaleCount + 1);
-        pp5::parallel_for(std::size_t{0}, runs.size(), [&](std::size_t run) {
-            CalibrationScales scales = start;
-            if (run > 0) scales.*kScales[run - 1].member *= 1.1;
-            runs[run] = model.simulate(machine, scales, targets);
-        });
-        const std::vector<double>& base = runs.front();
-        std::vector<std::vector<double>> columns(kScaleCount);
-        std::vector<double> max_elasticity(kScaleCount, 0.0);
-        for (int j = 0; j < kScaleCount; ++j) {
-            const std::vector<double>& sim = runs[static_cast<std::size_t>(j) + 1];
-            for (std::size_t i = 0; i < targets.size(); ++i) {
-                const double elasticity = std::log(sim[i] / base[i]) / std::log(1.1);
-                columns[static_cast<std::size_t>(j)].push_back(elasticity /
-                                                               relative_uncertainty(targets[i]->exactness));
-                max_elasticity[static_cast<std::size_t>(j)] =
-                    std::max(max_elasticity[static_cast<std::size_t>(j)], std::abs(elasticity));
-            }
-        }
-        std::vector<int> free;
-        for (int j = 0; j < kScaleCount; ++j) {
-            if (max_elasticity[static_cast<std::size_t>(j)] < kIdentifiableElasticity) {
-                params[static_cast<std::size_t>(j)].free = false;
-                params[static_cast<std::size_t>(j)].note = fmt::format(
-                    "not identifiable: a 10% change moves no fitted target by more than {:.2f}%; held at {}",
-                    100.0 * (std::pow(1.1, max_elasticity[static_cast<std::size_t>(j)]) - 1.0),
-                    params[static_cast<std::size_t>(j)].value);
-                continue;
-            }
-            free.push_back(j);
-        }
-        // Nearly parallel columns: the targets cannot separate the two scales; keep the stronger.
-        const auto norm = [](const std::vector<double>& c) {
-            double s = 0;
-            for (double v : c) s += v * v;
-            return std::sqrt(s);
-        };
-        const auto cosine_of = [&](int i, int j) {
-            const auto& ci = columns[static_cast<std::size_t>(i)];
-            const auto& cj = columns[static_cast<std::size_t>(j)];
-            double dot = 0;
-            for (std::size_t t = 0; t < ci.size(); ++t) dot += ci[t] * cj[t];
-            return dot / (norm(ci) * norm(cj));
-        };
-        for (std::size_t a = 0; a < free.size(); ++a)
-            for (std::size_t b = a + 1; b < free.size(); ++b)
-                report.notes.push_back(fmt::format(
-                    "{}: {} and {} move the fitted targets alike with cosine {:.3f} (at the start)", machine,
-                    key_of(kScales[free[a]]), key_of(kScales[free[b]]), cosine_of(free[a], free[b])));
-        for (bool dropped = true; dropped;) {  // drop the weaker of the most nearly parallel pair, until none is
-            dropped = false;
-            double worst = kCollinearCosine;
-            std::size_t weaker = 0, stronger = 0;
-            for (std::size_t a = 0; a < free.size(); ++a) {
-                for (std::size_t b = a + 1; b < free.size(); ++b) {
-                    const double cosine = std::abs(cosine_of(free[a], free[b]));
-                    if (cosine < worst) continue;
-                    worst = cosine;
-                    const bool a_weaker = norm(columns[static_cast<std::size_t>(free[a])]) <
-                                          norm(columns[static_cast<std::size_t>(free[b])]);
-                    weaker = a_weaker ? a : b;
-                    stronger = a_weaker ? b : a;
-                    dropped = true;
-                }
-            }
-            if (!dropped) break;
-            FittedParameter& p = params[static_cast<std::size_t>(free[weaker])];
-            p.free = false;
-            p.note = fmt::format(
-                "not identifiable apart from {}: the targets respond to both alike (cosine {:.3f}); held at {}",
-                key_of(kScales[free[stronger]]), worst, p.value);
-            free.erase(free.begin() + static_cast<std::ptrdiff_t>(weaker));
-        }
-        // Fewer free scales than half the fitted targets, so no scale is pinned by one figure alone: while
-        // there are more, the one that moves the targets least is held.
-        const std::size_t allowed = (targets.size() - 1) / 2;
-        if (!free.empty() && allowed == 0) {
-            throw InputError(
-                model.targets().file.string(), "targets",
-                fmt::format("machine {} has {} fitted target(s); a fit frees fewer scales than half its targets, so it "
-                            "needs at least 3 (mark more rows use = \"fit\")",
-                            machine, targets.size()));
-        }
-        while (free.size() > allowed) {
-            const auto weakest = std::min_element(free.begin(), free.end(), [&](int a, int b) {
-                return norm(columns[static_cast<std::size_t>(a)]) < norm(columns[static_cast<std::size_t>(b)]);
-            });
-            FittedParameter& p = params[static_cast<std::size_t>(*weakest)];
-            p.free = false;
-            p.note = fmt::format(
-                "held at {}: {} fitted targets allow at most {} free scale(s) (fewer than half), and this one moves "
-                "them least",
-                p.value, targets.size(), allowed);
-            free.erase(weakest);
-        }
-        if (free.empty()) {
-            report.parameters.insert(report.parameters.end(), params.begin(), params.end());
-            continue;
-        }
-
-        const MachineFit fit(model, machine, targets, start, free, bounds);
-        std::vector<double> x = fit.log_start();
-        say(fmt::format("{}: fitting {} scales to {} targets", machine, free.size(), targets.size()));
-        const ceres::Solver::Summary summary = fit.solve(x, options.max_iterations);
-        const std::unique_ptr<ceres::Problem> plain = fit.problem(x, false);
-        report.notes.push_back(
-            fmt::format("{}: {} iterations, {} residual evaluations, final cost {:.4g} (from {:.4g}); {}", machine,
-                        summary.iterations.size(), summary.num_residual_evaluations, summary.final_cost,
-                        summary.initial_cost, summary.message));
-
-        // Standard errors: Ceres' covariance at the solution, widened when the residuals spread more than
-        // their sources' stated uncertainty (reduced chi-square above 1). The rows the workload step
-        // matched have spent degrees of freedom on its parameters as well as on the scales.
-        const std::vector<double> r = fit.residuals(fit.scales(x.data()));
-        double chi2 = 0;
-        for (double v : r) chi2 += v * v;
-        MachineFreedom freedom{machine,
-                               static_cast<int>(targets.size()),
-                               static_cast<int>(free.size()),
-                               workload_parameters_from(model, machine),
-                               std::numeric_limits<double>::quiet_NaN(),
-                               {},
-                               {}};
-        if (freedom.degrees_of_freedom() > 0) freedom.reduced_chi_square = chi2 / freedom.degrees_of_freedom();
-        const double spread = std::isfinite(freedom.reduced_chi_square) ? freedom.reduced_chi_square : 1.0;
-        ceres::Covariance::Options cov_options;
-        cov_options.algorithm_type = ceres::DENSE_SVD;
-        cov_options.null_space_rank = -1;
-        ceres::Covariance covariance(cov_options);
-        std::vector<double> cov(x.size() * x.size(), std::numeric_limits<double>::quiet_NaN());
-        const std::vector<std::pair<const double*, const double*>> blocks{{x.data(), x.data()}};
-        const bool have_cov =
-            covariance.Compute(blocks, plain.get()) && covariance.GetCovarianceBlock(x.data(), x.data(), cov.data());
-        if (have_cov) {
-            for (const int j : free) freedom.free_keys.push_back(key_of(kScales[j]));
-            for (const double c : cov) freedom.log_covariance.push_back(c * std::max(1.0, spread));
-        }
-        report.freedom.push_back(freedom);
-        for (std::size_t i = 0; i < free.size(); ++i) {
-            FittedParameter& p = params[static_cast<std::size_t>(free[i])];
-            // The covariance is of the logarithm; to first order the scale's error is the value times it.
-            p.value = std::exp(x[i]);
-            p.standard_error = have_cov ? p.value * std::sqrt(cov[i * x.size() + i] * std::max(1.0, spread))
-                                        : std::numeric_limits<double>::quiet_NaN();
-            p.at_bound = std::abs(p.value - p.lower) < 1e-6 * p.lower || std::abs(p.value - p.upper) < 1e-6 * p.upper;
-            // A scale held by its physical range is a finding about the model, not a fitted value: the
-            // targets want a machine the hardware could not be.
-            if (p.at_bound)
-                p.note = fmt::format(
-                    "at its {} bound, a finding: the targets ask for a machine {} than this range allows ({}); its "
-                    "standard error means little",
-                    p.value <= p.lower * (1 + 1e-6) ? "lower" : "upper",
-                    p.value <= p.lower * (1 + 1e-6) ? "faster" : "slower", p.provenance);
-            else if (std::isfinite(p.standard_error) && p.standard_error > 0.5 * p.value)
-                p.note = fmt::format("poorly determined: the standard error is {:.0f}% of the value",
-                                     100.0 * p.standard_error / p.value);
-            if (!have_cov)
-                p.note +=
-                    (p.note.empty() ? "" : "; ") + std::string("covariance not computable (rank-deficient Jacobian)");
-        }
-        report.notes.push_back(
-            freedom.degrees_of_freedom() > 0
-                ? fmt::format("{}: residual spread (reduced chi-square) {:.3g} on {} degrees of freedom ({} rows, {} "
-                              "free scales, {} workload "
-                              "parameters)",
-                              machine, freedom.reduced_chi_square, freedom.degrees_of_freedom(), freedom.rows,
-                              freedom.free_scales, freedom.workload_parameters)
-                : fmt::format(
-                      "{}: no degrees of freedom ({} rows, {} free scales, {} workload parameters): the rows determine "
-                      "the "
-                      "parameters exactly, so they test nothing, and the standard errors come from the rows' stated "
-                      "uncertainties alone",
-                      machine, freedom.rows, freedom.free_scales, freedom.workload_parameters));
-
-        // Leave one out: refit without each fitted target, from the same start as the full fit (not from
-        // its answer, which has seen the target), and predict it. The refits are independent: they run
-        // side by side, each deterministic, so the results do not depend on the thread count.
-        if (options.leave_one_out) {
-            std::vector<TargetResult> left_out(targets.size());
-            std::mutex progress;
-            const auto say_locked = [&](const std::string& line) {
-                const std::lock_guard<std::mutex> lock(progress);
-                say(line);
-            };
-            pp5::parallel_for(std::size_t{0}, targets.size(), [&](std::size_t k) {
-                left_out[k] = predict_left_out(model, fit, k, options, say_locked);
-            });
-            for (std::size_t k = 0; k < targets.size(); ++k) loo.emplace(targets[k]->id, std::move(left_out[k]));
+        const fit_detail::ScaleResponse response = fit_detail::measure_scale_response(model, machine, targets, start);
+        const std::vector<int> free = fit_detail::choose_free_scales(response, params, targets.size(), machine,
+                                                                     model.targets().file.string(), report.notes);
+        if (!free.empty()) {
+            const auto fit = fit_machine(model, machine, targets, start, free, bounds_of(model.base_config(machine)),
+                                         options, params, report, say);
+            if (options.leave_one_out) leave_each_out(model, *fit, targets, options, say, loo);
         }
         report.parameters.insert(report.parameters.end(), params.begin(), params.end());
     }

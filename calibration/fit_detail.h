@@ -1,7 +1,7 @@
 #pragma once
-// What fit.cpp and the files that write a fit's report, its fitted machine and the account of each row
-// that misses (residuals.cpp) share: the scales a fit can move, and how its numbers are written.
-// Internal to calibration/.
+// What fit.cpp and the files that choose a fit's free scales (identifiability.cpp), write its report,
+// its fitted machine and the account of each row that misses (residuals.cpp) share: the scales a fit
+// can move, and how its numbers are written. Internal to calibration/.
 
 #include "calibration/timing_model.h"
 
@@ -24,6 +24,9 @@ inline constexpr ScaleSpec kScales[] = {
     {"gp_cycles_scale", &CalibrationScales::gp_cycles},
     {"pp_cycles_scale", &CalibrationScales::pp_cycles},
 };
+inline constexpr int kScaleCount = static_cast<int>(std::size(kScales));
+// The scale's key among the machine's parameters.
+inline std::string key_of(const ScaleSpec& spec) { return std::string("calibration.") + spec.name; }
 
 // A relative difference as a signed percentage, one decimal: "+12.5%".
 inline std::string percent(double relative) { return fmt::format("{:+.1f}%", 100.0 * relative); }
