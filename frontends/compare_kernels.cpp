@@ -26,14 +26,14 @@ Scenario scenario_for(const Kernel& kernel, const Scenario& scenario, std::strin
     Scenario own = scenario;
     own.kernel = kernel.name();
     try {
-        kernel.check(own);
+        check_scenario(kernel, own);
         return own;
     } catch (const InputError& e) {
         if (e.field() != "image.resampling") throw;
         own.image.resampling = own.image.resampling == ResamplingOrder::ShadeThenInterpolate
                                    ? ResamplingOrder::InterpolateThenShade
                                    : ResamplingOrder::ShadeThenInterpolate;
-        kernel.check(own);
+        check_scenario(kernel, own);
         adaptation = fmt::format("renders with image.resampling = \"{}\", the order it implements",
                                  order_name(own.image.resampling));
         return own;

@@ -100,7 +100,7 @@ FrameActivity activity_between(const BusyTotals& before, const BusyTotals& after
 
 const Kernel& checked_kernel(const Scenario& scenario) {
     const Kernel& kernel = kernel_for(scenario);
-    kernel.check(scenario);
+    check_scenario(kernel, scenario);
     return kernel;
 }
 

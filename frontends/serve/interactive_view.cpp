@@ -405,7 +405,7 @@ nlohmann::json InteractiveView::state() const {
         other.kernel = k->name();
         bool usable = true;
         try {
-            k->check(other);
+            check_scenario(*k, other);
         } catch (const InputError&) {
             usable = false;
         }

@@ -74,6 +74,14 @@ struct KernelFormula {
 };
 using FormulaInputs = std::map<std::string, std::vector<double>>;
 
+// What a scenario may ask of a kernel beyond a volume, its classification and its lights. A scenario
+// asking for what its kernel lacks is refused by the registry (check_scenario), which names the
+// kernels that have it.
+struct KernelFeatures {
+    bool polygons = false;  // scan-converts the scenario's polygons with the volume
+    bool regions = false;   // the volume-of-interest tool (a frame's region)
+};
+
 class Kernel {
 public:
     virtual ~Kernel() = default;
@@ -90,7 +98,9 @@ public:
     // reference (a difference image each): what a run's up-front memory estimate counts.
     virtual std::size_t most_pictures_per_frame(const MachineConfig& /*config*/) const { return 1; }
     virtual bool compares_each_picture() const { return false; }
-    // Throws InputError naming the scenario's file and field for a feature the kernel cannot render.
+    virtual KernelFeatures features() const { return {}; }
+    // Throws InputError naming the scenario's file and field for what else the kernel cannot render
+    // (its resampling order, its lights); check_scenario (kernels/registry) checks the features too.
     virtual void check(const Scenario& scenario) const = 0;
     // What its frames can be measured by, and one frame's value of a metric once timed. Throws
     // std::domain_error saying why when the frame cannot give it (a polygon rate of a frame without

@@ -220,6 +220,7 @@ public:
             ++passes;
         return passes;
     }
+    KernelFeatures features() const override { return {.polygons = true, .regions = true}; }
     void check(const Scenario& scenario) const override {
         if (scenario.image.resampling != ResamplingOrder::ShadeThenInterpolate)
             throw InputError(

@@ -357,13 +357,6 @@ public:
         if (scenario.image.resampling != ResamplingOrder::InterpolateThenShade)
             throw InputError(file, "image.resampling",
                              "the perm kernel classifies and shades each sample (interpolate-then-shade)");
-        if (!scenario.polygons.empty())
-            throw InputError(file, "polygons",
-                             "the perm kernel does not scan-convert polygons; use kernel = \"levoy\"");
-        for (const FrameSpec& frame : scenario.frames)
-            if (frame.region)
-                throw InputError(file, "region",
-                                 "the perm kernel has no volume-of-interest tool; use kernel = \"levoy\"");
         refuse_stationary_lights(scenario, "perm",
                                  "its GPs shade each sample with one light (gp_cost.perm.* counts one)");
     }

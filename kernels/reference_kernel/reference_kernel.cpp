@@ -48,6 +48,7 @@ public:
     std::string timing_summary() const override { return "none: the host reference renderer; simulated time is 0"; }
     std::vector<const ParamGroup*> param_groups() const override { return {&reference_cost_params()}; }
     bool runs_on_machine() const override { return false; }
+    KernelFeatures features() const override { return {.polygons = true, .regions = true}; }
     void check(const Scenario&) const override {}
     std::unique_ptr<KernelRun> start(Machine&, const MachineConfig&, const Scenario& scenario,
                                      const Volume& volume) const override {

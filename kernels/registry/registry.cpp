@@ -44,6 +44,37 @@ const Kernel& kernel_for(const Scenario& scenario) {
                      "unknown kernel \"" + scenario.kernel + "\"; the known ones are " + kernel_names());
 }
 
+namespace {
+
+// `"levoy"` or `"levoy" or "yuan"`: the kernels on the machine with a feature.
+std::string kernels_with(bool KernelFeatures::*feature) {
+    std::string names;
+    for (const Kernel* k : registry())
+        if (k->runs_on_machine() && k->features().*feature)
+            names += (names.empty() ? "\"" : " or \"") + k->name() + "\"";
+    return names;
+}
+
+void refuse_missing(const Kernel& kernel, const Scenario& scenario, bool KernelFeatures::*feature, const char* field,
+                    const char* what) {
+    std::string why = "the " + kernel.name() + " kernel " + what;
+    if (const std::string others = kernels_with(feature); !others.empty()) why += "; use kernel = " + others;
+    throw InputError(scenario.file.string(), field, why);
+}
+
+}  // namespace
+
+void check_scenario(const Kernel& kernel, const Scenario& scenario) {
+    kernel.check(scenario);
+    const KernelFeatures has = kernel.features();
+    if (!has.polygons && !scenario.polygons.empty())
+        refuse_missing(kernel, scenario, &KernelFeatures::polygons, "polygons", "does not scan-convert polygons");
+    if (!has.regions)
+        for (const FrameSpec& frame : scenario.frames)
+            if (frame.region)
+                refuse_missing(kernel, scenario, &KernelFeatures::regions, "region", "has no volume-of-interest tool");
+}
+
 void register_kernel(const Kernel& kernel) {
     if (find_kernel(kernel.name()) != nullptr) throw std::logic_error("kernel registered twice: " + kernel.name());
     registry().push_back(&kernel);

@@ -19,6 +19,11 @@ std::string kernel_names();
 // known kernels.
 const Kernel& kernel_for(const Scenario& scenario);
 
+// The scenario as `kernel` would render it, checked: what the kernel itself refuses (Kernel::check),
+// then each feature asked for that it lacks (Kernel::features), refused naming the kernels on the
+// machine that have it. Throws InputError naming the scenario's file and field.
+void check_scenario(const Kernel& kernel, const Scenario& scenario);
+
 // Adds a kernel for the rest of the process (a test's own kernel); its name must be new.
 void register_kernel(const Kernel& kernel);
 

@@ -285,13 +285,6 @@ public:
         if (scenario.image.resampling != ResamplingOrder::ShadeThenInterpolate)
             throw InputError(file, "image.resampling",
                              "the wilson kernel interpolates shaded texels (shade-then-interpolate)");
-        if (!scenario.polygons.empty())
-            throw InputError(file, "polygons",
-                             "the wilson kernel does not scan-convert polygons; use kernel = \"levoy\"");
-        for (const FrameSpec& frame : scenario.frames)
-            if (frame.region)
-                throw InputError(file, "region",
-                                 "the wilson kernel has no volume-of-interest tool; use kernel = \"levoy\"");
         refuse_stationary_lights(scenario, "wilson",
                                  "its GPs shade each error point with one light (gp_cost.wilson.* counts one)");
     }

@@ -174,13 +174,6 @@ public:
         const std::string file = scenario.file.string();
         if (scenario.image.resampling != ResamplingOrder::ShadeThenInterpolate)
             throw InputError(file, "image.resampling", "the yuan kernel splats shaded voxels (shade-then-interpolate)");
-        if (!scenario.polygons.empty())
-            throw InputError(file, "polygons",
-                             "the yuan kernel does not scan-convert polygons; use kernel = \"levoy\"");
-        for (const FrameSpec& frame : scenario.frames)
-            if (frame.region)
-                throw InputError(file, "region",
-                                 "the yuan kernel has no volume-of-interest tool; use kernel = \"levoy\"");
     }
     void check_volume_fits(const Machine& machine, const MachineConfig& config, const Scenario& /*scenario*/,
                            glm::ivec3 dims) const override {

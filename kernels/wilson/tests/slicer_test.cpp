@@ -50,7 +50,7 @@ std::vector<FrameResult> render(const Scenario& scenario, const std::vector<std:
     Machine machine(config);
     const Volume volume = load_dataset(scenario);
     const Kernel& kernel = kernel_for(scenario);
-    kernel.check(scenario);
+    check_scenario(kernel, scenario);
     auto run = kernel.start(machine, config, scenario, volume);
     Machine host_machine(config);
     auto reference = find_kernel("reference")->start(host_machine, config, scenario, volume);

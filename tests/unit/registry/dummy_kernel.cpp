@@ -119,10 +119,8 @@ public:
     std::string timing_summary() const override { return "event-driven: a broadcast, then a task per row"; }
     std::vector<const ParamGroup*> param_groups() const override { return {&dummy_params(), &dummy_costs()}; }
     bool runs_on_machine() const override { return true; }
-    void check(const Scenario& scenario) const override {
-        if (!scenario.polygons.empty())
-            throw InputError(scenario.file.string(), "polygons", "the dummy kernel draws no polygons");
-    }
+    // No features (no polygons, no volume of interest): the registry refuses scenarios asking for them.
+    void check(const Scenario&) const override {}
     std::unique_ptr<KernelRun> start(Machine& machine, const MachineConfig& config, const Scenario& scenario,
                                      const Volume&) const override {
         return std::make_unique<DummyRun>(config, scenario, machine.renderers().size());

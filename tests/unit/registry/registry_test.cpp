@@ -130,6 +130,37 @@ TEST(Registry, AKernelRefusesWhatItCannotRender) {
         FAIL() << "expected an InputError";
     } catch (const InputError& e) {
         EXPECT_EQ(e.field(), "polygons");
+        // Written by the registry from the kernels' declared features: the kernels on the machine that can.
+        EXPECT_NE(std::string(e.what()).find("the dummy kernel does not scan-convert polygons; use kernel = \"levoy\""),
+                  std::string::npos)
+            << e.what();
+    }
+}
+
+TEST(Registry, RefusalsNameTheKernelsWithTheFeature) {
+    register_dummy_once();
+    const fs::path file = write_scenario("dummy-region", "dummy");
+    std::ofstream(file, std::ios::app) << "[region]\nshape = \"box\"\ncenter = [4, 4, 4]\nhalf_size = [2, 2, 2]\n";
+    const Scenario scenario = load_scenario(file);
+    for (const Kernel* kernel : kernels()) {
+        Scenario own = scenario;
+        own.kernel = kernel->name();
+        own.image.resampling = kernel->name() == "perm" || kernel->name() == "reference"
+                                   ? ResamplingOrder::InterpolateThenShade
+                                   : ResamplingOrder::ShadeThenInterpolate;
+        if (kernel->features().regions) {
+            EXPECT_NO_THROW(check_scenario(*kernel, own)) << kernel->name();
+            continue;
+        }
+        try {
+            check_scenario(*kernel, own);
+            ADD_FAILURE() << kernel->name() << " took a region it declares no tool for";
+        } catch (const InputError& e) {
+            EXPECT_EQ(e.field(), "region") << kernel->name();
+            EXPECT_NE(std::string(e.what()).find("has no volume-of-interest tool; use kernel = \"levoy\""),
+                      std::string::npos)
+                << e.what();
+        }
     }
 }
 
