@@ -46,13 +46,11 @@ public:
           scenario_file_(scenario.file.string()),
           settings_(PermSettings::from(config)),
           layout_(VoxelStoreSettings::from(config).layout),
-          renderers_(static_cast<std::uint32_t>(config.integer("renderer.count"))),
-          pps_(static_cast<int>(config.integer("renderer.pp_columns") * config.integer("renderer.pp_rows"))),
-          backing_store_bits_(static_cast<std::uint64_t>(config.integer("renderer.backing_store_bits"))),
-          renderer_bytes_(static_cast<std::uint64_t>(config.integer("renderer.pp_columns")) *
-                          static_cast<std::uint64_t>(config.integer("renderer.pp_rows")) *
-                          static_cast<std::uint64_t>(config.integer("renderer.backing_store_bits")) / 8),
-          gp_memory_bytes_(static_cast<std::uint64_t>(config.integer("gp.memory_bytes"))) {
+          renderers_(static_cast<std::uint32_t>(machine.shape().renderers)),
+          pps_(machine.shape().pps_per_renderer()),
+          backing_store_bits_(static_cast<std::uint64_t>(machine.shape().backing_store_bits)),
+          renderer_bytes_(static_cast<std::uint64_t>(pps_) * backing_store_bits_ / 8),
+          gp_memory_bytes_(machine.shape().gp_memory_bytes) {
         check_reduction(scenario);
         build(scenario.frames.front().classification);
     }

@@ -111,16 +111,14 @@ PpPassWork PermRecordShading::run(const PpProgram& program) {
 }
 
 PpPassWork PermRecordShading::classify(const Classification& classification) {
-    const PpProgramInputs inputs{layout_, quantization_, glm::vec3(1.0f),
-                                 static_cast<int>(machine_.config().integer("renderer.local_memory_bits"))};
+    const PpProgramInputs inputs{layout_, quantization_, glm::vec3(1.0f), machine_.shape().local_memory_bits};
     return run(build_classification_program(classification, inputs));
 }
 
 PpPassWork PermRecordShading::shade(const ColorMap& colors, const PhongLighting& lighting, glm::vec3 view_forward) {
     // Gradients are per voxel: an anisotropic volume's normals are corrected by the spacing the
     // structure was built on, as the voxel store's are.
-    const PpProgramInputs inputs{layout_, quantization_, spacing_,
-                                 static_cast<int>(machine_.config().integer("renderer.local_memory_bits"))};
+    const PpProgramInputs inputs{layout_, quantization_, spacing_, machine_.shape().local_memory_bits};
     ShadingView distant;
     distant.projection = Projection::Parallel;
     distant.forward = view_forward;

@@ -237,8 +237,7 @@ private:
 
     static RegionMachine slice_machine(const Machine& machine, const PpShading& store) {
         const VoxelPlacement* placement = &store.placement();
-        return RegionMachine::from(machine.config(),
-                                   [placement](glm::ivec3 v) { return placement->locate(v).renderer; });
+        return RegionMachine::from(machine, [placement](glm::ivec3 v) { return placement->locate(v).renderer; });
     }
 
     const Volume& volume_;

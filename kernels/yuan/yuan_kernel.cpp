@@ -135,8 +135,7 @@ public:
 private:
     static RegionMachine splat_machine(const Machine& machine, const PpShading& store) {
         const VoxelPlacement* placement = &store.placement();
-        return RegionMachine::from(machine.config(),
-                                   [placement](glm::ivec3 v) { return placement->locate(v).renderer; });
+        return RegionMachine::from(machine, [placement](glm::ivec3 v) { return placement->locate(v).renderer; });
     }
 
     const Volume& volume_;

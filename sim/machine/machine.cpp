@@ -49,6 +49,13 @@ Machine::Machine(const MachineConfig& config) try
       gps_(build_all<GraphicsProcessor>(config_.integer("gp.count"), config_)),
       renderers_(build_all<Renderer>(config_.integer("renderer.count"), config_)),
       ring_(config_, gps_.size(), renderers_.size()) {
+    shape_.gps = static_cast<int>(gps_.size());
+    shape_.gp_memory_bytes = static_cast<std::uint64_t>(config_.integer("gp.memory_bytes"));
+    shape_.renderers = static_cast<int>(renderers_.size());
+    shape_.pp_columns = static_cast<int>(config_.integer("renderer.pp_columns"));
+    shape_.pp_rows = static_cast<int>(config_.integer("renderer.pp_rows"));
+    shape_.local_memory_bits = static_cast<int>(config_.integer("renderer.local_memory_bits"));
+    shape_.backing_store_bits = static_cast<int>(config_.integer("renderer.backing_store_bits"));
 } catch (const InputError& error) {
     throw config.naming_origin(error);
 }

@@ -13,10 +13,23 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
 namespace pp5 {
+
+// The machine's shape as its components were built: what a kernel lays its data out by, read here
+// once rather than by key in every kernel.
+struct MachineShape {
+    int gps = 0;
+    std::uint64_t gp_memory_bytes = 0;
+    int renderers = 0;
+    int pp_columns = 0, pp_rows = 0;  // each renderer's PP array
+    int local_memory_bits = 0;        // per PP
+    int backing_store_bits = 0;       // per PP
+    int pps_per_renderer() const { return pp_columns * pp_rows; }
+};
 
 class Machine {
 public:
@@ -28,6 +41,7 @@ public:
     explicit Machine(const MachineConfig& config);
 
     const MachineConfig& config() const { return config_; }
+    const MachineShape& shape() const { return shape_; }
     EventQueue& events() { return events_; }
     const EventQueue& events() const { return events_; }
     Host& host() { return host_; }
@@ -60,6 +74,7 @@ public:
 
 private:
     MachineConfig config_;
+    MachineShape shape_;
     EventQueue events_;
     Host host_;
     FrameBuffer frame_buffer_;

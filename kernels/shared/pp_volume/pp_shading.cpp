@@ -30,10 +30,8 @@ void for_each_voxel(const SlotFrame& frame, glm::ivec3 dims, const PpArrayShape&
 }
 
 PpArrayShape shape_of(const Machine& machine) {
-    const MachineConfig& c = machine.config();
-    return {static_cast<int>(c.integer("renderer.count")), static_cast<int>(c.integer("renderer.pp_columns")),
-            static_cast<int>(c.integer("renderer.pp_rows")),
-            static_cast<int>(c.integer("renderer.backing_store_bits"))};
+    const MachineShape& m = machine.shape();
+    return {m.renderers, m.pp_columns, m.pp_rows, m.backing_store_bits};
 }
 
 void refuse_unless_placed(const VoxelPlacement& placement) {
@@ -136,8 +134,7 @@ PpPassWork PpShading::execute_program(const PpProgram& program, const ShadingVie
 }
 
 PpProgramInputs PpShading::program_inputs() const {
-    return PpProgramInputs{settings_.layout, quantization_, spacing_,
-                           static_cast<int>(machine_.config().integer("renderer.local_memory_bits"))};
+    return PpProgramInputs{settings_.layout, quantization_, spacing_, machine_.shape().local_memory_bits};
 }
 
 PpPassWork PpShading::execute(const PpProgram& program, const SlotSelector& select,

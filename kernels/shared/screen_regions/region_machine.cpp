@@ -9,12 +9,13 @@
 
 namespace pp5 {
 
-RegionMachine RegionMachine::from(const MachineConfig& c, std::function<int(glm::ivec3)> renderer_of_voxel) {
+RegionMachine RegionMachine::from(const Machine& machine, std::function<int(glm::ivec3)> renderer_of_voxel) {
+    const MachineShape& shape = machine.shape();
     RegionMachine m;
-    m.region_columns = static_cast<int>(c.integer("renderer.pp_columns"));
-    m.region_rows = static_cast<int>(c.integer("renderer.pp_rows"));
-    m.renderers = static_cast<int>(c.integer("renderer.count"));
-    m.local_memory_bits = static_cast<int>(c.integer("renderer.local_memory_bits"));
+    m.region_columns = shape.pp_columns;
+    m.region_rows = shape.pp_rows;
+    m.renderers = shape.renderers;
+    m.local_memory_bits = shape.local_memory_bits;
     m.renderer_of_voxel = std::move(renderer_of_voxel);
     return m;
 }

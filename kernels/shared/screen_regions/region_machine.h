@@ -3,7 +3,7 @@
 // renderers' shape (a renderer's PP array is one 128x128 region of the screen) with where the voxel
 // store keeps each voxel, and the sort-middle phase's account for stats.json.
 
-#include "sim/core/config.h"
+#include "sim/machine/machine.h"
 #include "sim/timing/frame_timing.h"
 
 #include <glm/vec3.hpp>
@@ -21,7 +21,7 @@ struct RegionMachine {
     std::function<int(glm::ivec3)> renderer_of_voxel;  // where the voxel store keeps each voxel
 
     // The renderers' shape from the configuration; the voxels' places come from the voxel store.
-    static RegionMachine from(const MachineConfig& config, std::function<int(glm::ivec3)> renderer_of_voxel);
+    static RegionMachine from(const Machine& machine, std::function<int(glm::ivec3)> renderer_of_voxel);
 };
 
 // A sort-middle GP phase's times and counts (GPs, ring, each renderer's drawing and their imbalance,
