@@ -252,15 +252,8 @@ py::object compare_kernels_of(const py::object& scenario_given, const std::optio
     return report;
 }
 
-}  // namespace
-}  // namespace pp5
-
-PYBIND11_MODULE(pp5sim, m) {
-    using namespace pp5;
-    m.doc() = "pp5sim: a cycle-approximate simulator of the Pixel-planes 5 volume rendering workstation";
-    m.attr("__version__") = PP5SIM_VERSION;
-
-    // InputError as a ValueError carrying the CLI's file, field and reason.
+// InputError as a ValueError carrying the CLI's file, field and reason.
+void bind_input_error(py::module_& m) {
     static py::exception<InputError> input_error(m, "InputError", PyExc_ValueError);
     py::register_exception_translator([](std::exception_ptr p) {
         try {
@@ -273,7 +266,10 @@ PYBIND11_MODULE(pp5sim, m) {
             PyErr_SetObject(input_error.ptr(), error.ptr());
         }
     });
+}
 
+// The shipped scenarios, the kernels, and Scenario with its loaders.
+void bind_scenarios(py::module_& m) {
     m.def(
         "scenarios",
         [] {
@@ -333,7 +329,10 @@ PYBIND11_MODULE(pp5sim, m) {
         },
         py::arg("text"), py::arg("directory") = ".",
         "A scenario written in TOML (traces/README.md); relative paths start from directory");
+}
 
+// Machine: a preset or machine file with parameters set.
+void bind_machine(py::module_& m) {
     py::class_<PyMachine>(m, "Machine", "A configured machine: a preset or machine file, with parameters set")
         .def(py::init<std::string, py::dict>(), py::arg("machine") = "pxpl5", py::arg("set") = py::dict())
         .def("with_set", &PyMachine::with_set, py::arg("set"), "The same machine with these parameters set as well")
@@ -355,7 +354,10 @@ PYBIND11_MODULE(pp5sim, m) {
         .def("__repr__", [](const PyMachine& p) {
             return fmt::format("<pp5sim.Machine {} with {} set>", p.config.machine_name(), p.overrides.size());
         });
+}
 
+// render(): a scenario's frames on a machine, as Run and its Frames.
+void bind_rendering(py::module_& m) {
     py::class_<PyFrame>(m, "Frame", "One rendered frame")
         .def_readonly("label", &PyFrame::label)
         .def_readonly("simulated_seconds", &PyFrame::simulated_seconds)
@@ -371,7 +373,10 @@ PYBIND11_MODULE(pp5sim, m) {
         .def_readonly("config", &PyRun::config, "The resolved configuration (config.json)");
     m.def("render", &render, py::arg("scenario"), py::arg("machine") = std::nullopt, py::arg("frames") = std::nullopt,
           "Render the scenario's frames (all, or the first `frames`) on the machine (default pxpl5)");
+}
 
+// record() and re-timing on other machines (Recording, Timings, Timing); compare_kernels().
+void bind_timing(py::module_& m) {
     py::class_<PyTiming>(m, "Timing", "A recorded frame timed on a machine")
         .def_readonly("label", &PyTiming::label)
         .def_readonly("machine", &PyTiming::machine, "The machine's name and the parameters set on it")
@@ -421,7 +426,10 @@ PYBIND11_MODULE(pp5sim, m) {
           "Render the scenario with every kernel that runs on the machine (default pxpl5): the report `pp5sim "
           "compare-kernels` "
           "writes, as a dict, with each kernel's last picture under 'pictures'");
+}
 
+// View: the browser tool's view, driven from Python.
+void bind_view(py::module_& m) {
     py::class_<InteractiveView>(m, "View",
                                 "The browser tool's view: change the eye, light, region or kernel a step at a time")
         .def(py::init([](const py::object& given, const std::optional<PyMachine>& machine) {
@@ -471,4 +479,19 @@ PYBIND11_MODULE(pp5sim, m) {
                 return to_python(report);
             },
             "Every kernel on the view as it stands, as the page's compare mode: the report as a dict");
+}
+
+}  // namespace
+}  // namespace pp5
+
+PYBIND11_MODULE(pp5sim, m) {
+    using namespace pp5;
+    m.doc() = "pp5sim: a cycle-approximate simulator of the Pixel-planes 5 volume rendering workstation";
+    m.attr("__version__") = PP5SIM_VERSION;
+    bind_input_error(m);
+    bind_scenarios(m);
+    bind_machine(m);
+    bind_rendering(m);
+    bind_timing(m);
+    bind_view(m);
 }
