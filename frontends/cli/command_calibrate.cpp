@@ -13,6 +13,7 @@
 #include "calibration/timing_model.h"
 #include "calibration/uncertainty_report.h"
 #include "frontends/cli/commands.h"
+#include "frontends/cli/reproduction_plots.h"
 #include "frontends/staged_output.h"
 #include "frontends/staged_plot.h"
 #include "kernels/registry/run_config.h"
@@ -166,56 +167,6 @@ void stage_plot_or_warn(StagedOutput& output, const PlotSpec& spec, const std::s
     if (const auto warning = stage_plot(output, spec, name)) fmt::print(stderr, "{}\n", *warning);
 }
 
-// The plots of reported against simulated values, one per metric unit: seconds and polygons a second
-// on one axis would say nothing about either. Named reported_vs_simulated_<unit>.
-std::vector<std::pair<std::string, PlotSpec>> reported_vs_simulated(const FitReport& report) {
-    std::vector<std::pair<std::string, PlotSpec>> plots;
-    for (const auto& [unit, summary] : report.by_unit()) {
-        PlotSpec spec;
-        std::string slug = unit == "s" ? "seconds" : unit == "1/s" ? "per_second" : unit;
-        std::replace_if(
-            slug.begin(), slug.end(), [](char c) { return !std::isalnum(static_cast<unsigned char>(c)); }, '_');
-        spec.title = fmt::format("Reported against simulated, {} ({}: {} of {} within 25%)",
-                                 unit == "s" ? "seconds" : unit, report.targets_name, summary.within_25, summary.count);
-        spec.x_label = "reported (" + unit + ")";
-        spec.y_label = "simulated (" + unit + ")";
-        spec.log_x = spec.log_y = true;
-        // Each point with its 95% interval as an error bar: the fit's for the calibrated values, the
-        // documented guesses' for the uncalibrated ones (a point without one gets a bar of no length).
-        PlotSeries fitted{"fitted targets (and the workload step's)", {}, {},
-                          "yerrorbars pt 7 ps 1.4 lc rgb '#1f77b4'",  {}, {}};
-        PlotSeries held{"predicted targets", {}, {}, "yerrorbars pt 5 ps 1.4 lc rgb '#d62728'", {}, {}};
-        PlotSeries uncalibrated{"uncalibrated (documented costs and their plausible ranges)",
-                                {},
-                                {},
-                                "yerrorbars pt 6 ps 1.2 lc rgb 'gray'",
-                                {},
-                                {}};
-        const auto add = [](PlotSeries& series, double x, double y, std::optional<double> low,
-                            std::optional<double> high) {
-            series.x.push_back(x);
-            series.y.push_back(y);
-            series.y_low.push_back(low.value_or(y));
-            series.y_high.push_back(high.value_or(y));
-        };
-        for (const TargetResult& r : report.results) {
-            const RowGroup group = report.group_of(r.target);
-            if (r.target.unit != unit ||
-                (group != RowGroup::Fitted && group != RowGroup::Workload && group != RowGroup::Predicted))
-                continue;
-            add(group == RowGroup::Predicted ? held : fitted, r.target.reported, r.simulated, r.low, r.high);
-            if (r.uncalibrated)
-                add(uncalibrated, r.target.reported, *r.uncalibrated, r.plausible_low, r.plausible_high);
-        }
-        for (const PlotSeries& s : {fitted, held, uncalibrated})
-            if (!s.x.empty()) spec.series.push_back(s);
-        spec.extra_plots = {"x title 'simulated = reported' lw 2 lc rgb 'black'",
-                            "1.25*x title '+/- 25%' dt 2 lc rgb 'gray'", "0.8*x notitle dt 2 lc rgb 'gray'"};
-        plots.emplace_back("reported_vs_simulated_" + slug, std::move(spec));
-    }
-    return plots;
-}
-
 HostCheckReport host_check(const CalibrateOptions& o) {
     if (o.repeats < 1) throw InputError("--repeats", "--repeats", "must be at least 1");
     HostCheckOptions options;
@@ -257,35 +208,31 @@ int run_host_check_command(const CalibrateOptions& o) {
     return 0;
 }
 
-int run_reproduce(const CalibrateOptions& o) {
-    if (o.gp_counts.empty()) throw InputError("--gp-counts", "--gp-counts", "needs at least one GP count");
-    for (const int n : o.gp_counts)
-        if (n < 1 || n > 1024)
-            throw InputError("--gp-counts", "--gp-counts", fmt::format("{} is not a GP count from 1 to 1024", n));
-    const std::filesystem::path folder = output_folder(o, "reproduce");
-    std::optional<tbb::global_control> parallelism;
-    const Prepared prepared = prepare(o, parallelism);
+// The fitted (or, uncalibrated, the evaluated) report the reproduction is made of; a fit is staged.
+FitReport reproduction_report(const Prepared& prepared, const CalibrateOptions& o, bool uncalibrated,
+                              StagedOutput& output) {
     const auto& model = prepared.model;
-    // With no row to fit (formula rows, say) there is nothing to calibrate: the table is the model's own.
-    const bool uncalibrated = o.uncalibrated || !has_fitted_rows(model->targets());
-    StagedOutput output(folder);
-    FitReport report;
-    if (uncalibrated) {
-        report = evaluate_targets(*model, {});
-        report.workload = prepared.workload;
-        for (TargetResult& r : report.results)
-            if (!r.target.is_formula()) r.uncalibrated = r.simulated;  // the column the guesses' intervals go in
-    } else {
-        report = fit(prepared, o);
+    if (!uncalibrated) {
+        FitReport report = fit(prepared, o);
         stage_fit(output, *model, report);
+        return report;
     }
+    FitReport report = evaluate_targets(*model, {});
+    report.workload = prepared.workload;
+    for (TargetResult& r : report.results)
+        if (!r.target.is_formula()) r.uncalibrated = r.simulated;  // the column the guesses' intervals go in
+    return report;
+}
 
-    // The table: every target with the (fitted) machines, and why each row that misses does.
+// The table: every target with the (fitted) machines, why each row that misses does, and what holds
+// across the guesses' plausible ranges. Returns the Markdown so far.
+std::string stage_reproduction_table(const CalibrationModel& model, FitReport& report, bool uncalibrated,
+                                     StagedOutput& output) {
     say("explaining the rows more than 10% off (re-timing each machine with every timing parameter moved)");
-    const std::vector<ResidualAccount> residuals = explain_residuals(*model, report);
+    const std::vector<ResidualAccount> residuals = explain_residuals(model, report);
     say("re-timing with every documented guess at either end of its plausible range");
-    add_plausible_bands(*model, report);
-    const std::vector<Conclusion> conclusions = check_conclusions(*model, report);
+    add_plausible_bands(model, report);
+    const std::vector<Conclusion> conclusions = check_conclusions(model, report);
     const nlohmann::json table = report.to_json();
     output.add_text("reproduction.json", nlohmann::json{{"targets", report.targets_name},
                                                         {"calibrated", !uncalibrated},
@@ -296,15 +243,17 @@ int run_reproduce(const CalibrateOptions& o) {
                                                         {"conclusions", conclusions_json(conclusions)}}
                                                  .dump(2) +
                                              "\n");
-    std::string markdown = report.to_markdown() + residuals_markdown(residuals) + conclusions_markdown(conclusions);
+    return report.to_markdown() + residuals_markdown(residuals) + conclusions_markdown(conclusions);
+}
 
-    // Figure-like images from the recorded frames (what is computed does not depend on the machine's timing).
-    // The target file's [[figures]].
+// The target file's [[figures]]: figure-like images from the recorded frames (what is computed does
+// not depend on the machine's timing), each with the rows that time it. Returns how many.
+int stage_figures(const CalibrationModel& model, const FitReport& report, StagedOutput& output, std::string& markdown) {
     int images = 0;
-    if (!model->targets().figures.empty())
+    if (!model.targets().figures.empty())
         markdown += "\n## Figures\n\nEach picture is a recorded frame, with the rows that time it.\n";
-    for (const Figure& f : model->targets().figures) {
-        const RecordedFrame& frame = model->recording(f.scenario).frames()[static_cast<std::size_t>(f.frame)];
+    for (const Figure& f : model.targets().figures) {
+        const RecordedFrame& frame = model.recording(f.scenario).frames()[static_cast<std::size_t>(f.frame)];
         output.add_image("images/" + f.name + ".png", f.final ? frame.refined_image : frame.crude_image,
                          ImageFormat::Png);
         ++images;
@@ -317,8 +266,11 @@ int run_reproduce(const CalibrateOptions& o) {
                                         r.target.reported, r.target.unit, r.simulated, 100.0 * r.relative_error);
         markdown += "\n";
     }
+    return images;
+}
 
-    // Plots.
+// One plot per metric unit of reported against simulated. Returns the plots' file names.
+std::string stage_reported_plots(const FitReport& report, StagedOutput& output, std::string& markdown) {
     std::string plot_names;
     markdown +=
         "\n## Reported against simulated\n\nOne plot per metric unit, each point with its 95% interval; grey points "
@@ -328,92 +280,31 @@ int run_reproduce(const CalibrateOptions& o) {
         plot_names += name + ".png, ";
         markdown += fmt::format("\n![{0}]({0}.png)\n", name);
     }
-    // The first Pixel-planes 5 target timed in seconds sets the scenario, frame and machine; every
-    // seconds metric the targets give for that frame is swept.
-    const Target* scaling = nullptr;
-    for (const Target& t : model->targets().targets)
-        if (!scaling && !t.is_formula() && model->base_config(t.machine).machine_kind() == MachineKind::Multicomputer &&
-            t.unit == "s")
-            scaling = &t;
-    std::vector<std::string> swept;
-    if (scaling)
-        for (const Target& t : model->targets().targets)
-            if (t.scenario == scaling->scenario && t.frame == scaling->frame && t.machine == scaling->machine &&
-                t.unit == "s" && std::find(swept.begin(), swept.end(), t.metric) == swept.end())
-                swept.push_back(t.metric);
-    nlohmann::json sweep = nlohmann::json::array();
-    if (scaling) {
-        PlotSpec spec;
-        spec.title = fmt::format("Frame time against GP count ({}, frame {}, {})", scaling->scenario, scaling->frame,
-                                 uncalibrated ? "uncalibrated" : "calibrated");
-        spec.x_label = "graphics processors";
-        spec.y_label = "simulated frame time (s)";
-        spec.log_x = spec.log_y = true;
-        const int most = *std::max_element(o.gp_counts.begin(), o.gp_counts.end());
-        const int fewest = *std::min_element(o.gp_counts.begin(), o.gp_counts.end());
-        spec.extra_commands = {"set xtics (1,2,4,8,16,32,64,128,256,512,1024)",
-                               fmt::format("set xrange [{}:{}]", 0.8 * fewest, 1.25 * most)};
-        std::vector<PlotSeries> series;
-        for (std::size_t m = 0; m < swept.size(); ++m) {
-            std::string title = swept[m];  // gnuplot would read an underscore as a subscript
-            std::replace(title.begin(), title.end(), '_', ' ');
-            series.push_back(PlotSeries{
-                title, {}, {}, fmt::format("linespoints pt {} lw 2", 7 - 2 * static_cast<int>(m % 3)), {}, {}});
-        }
-        const CalibrationScales scales = report.scales(scaling->machine);
-        for (const int n : o.gp_counts) {
-            say(fmt::format("GP sweep: {} GPs", n));
-            MachineConfig config = model->machine_config(scaling->machine, scales);
-            config.set("gp.count", static_cast<std::int64_t>(n), "--gp-counts");
-            const RecordedScenario& recording = model->recording(scaling->scenario);
-            const auto frame = static_cast<std::size_t>(scaling->frame);
-            const FrameTiming timing = recording.time_on(config, frame + 1)[frame];
-            nlohmann::json point = {{"gps", n}};
-            for (std::size_t m = 0; m < swept.size(); ++m) {
-                const double seconds = recording.metric(swept[m], frame, timing);
-                series[m].x.push_back(n);
-                series[m].y.push_back(seconds);
-                point[swept[m]] = seconds;
-            }
-            sweep.push_back(point);
-        }
-        // Perfect speed-up of the last metric from the fewest GPs, for comparison.
-        const PlotSeries& last = series.back();
-        PlotSeries ideal{last.title + ", perfect speed-up", {}, {}, "lines dt 2 lc rgb 'gray'", {}, {}};
-        for (std::size_t i = 0; i < last.x.size(); ++i) {
-            ideal.x.push_back(last.x[i]);
-            ideal.y.push_back(last.y.front() * last.x.front() / last.x[i]);
-        }
-        spec.series = series;
-        spec.series.push_back(ideal);
-        // The reported figures for the machine's GP count, where the frame's targets give them.
-        for (const Target& t : model->targets().targets) {
-            if (t.scenario != scaling->scenario || t.frame != scaling->frame || t.machine != scaling->machine) continue;
-            if (std::find(swept.begin(), swept.end(), t.metric) == swept.end()) continue;
-            const double gps = static_cast<double>(model->base_config(t.machine).integer("gp.count"));
-            spec.series.push_back(PlotSeries{"reported: " + t.id, {gps}, {t.reported}, "points pt 9 ps 2.5", {}, {}});
-        }
-        stage_plot_or_warn(output, spec, "frame_time_vs_gps");
-        markdown += fmt::format(
-            "\n## Frame time against GP count\n\n![frame time against GP count](frame_time_vs_gps.png)\n\n`{}` frame "
-            "{} on {} "
-            "with the {} scales, the GP count varied (data: frame_time_vs_gps.json).\n\n| GPs |",
-            scaling->scenario, scaling->frame, scaling->machine, uncalibrated ? "uncalibrated" : "fitted");
-        for (const std::string& m : swept) markdown += " " + m + " (s) |";
-        markdown += "\n|---|";
-        for (std::size_t m = 0; m < swept.size(); ++m) markdown += "---|";
-        markdown += "\n";
-        for (const auto& point : sweep) {
-            markdown += fmt::format("| {} |", point["gps"].get<int>());
-            for (const std::string& m : swept) markdown += fmt::format(" {:.4g} |", point[m].get<double>());
-            markdown += "\n";
-        }
-        output.add_text("frame_time_vs_gps.json", nlohmann::json{{"scenario", scaling->scenario},
-                                                                 {"frame", scaling->frame},
-                                                                 {"machine", scaling->machine},
-                                                                 {"points", sweep}}
-                                                          .dump(2) +
-                                                      "\n");
+    return plot_names;
+}
+
+int run_reproduce(const CalibrateOptions& o) {
+    if (o.gp_counts.empty()) throw InputError("--gp-counts", "--gp-counts", "needs at least one GP count");
+    for (const int n : o.gp_counts)
+        if (n < 1 || n > 1024)
+            throw InputError("--gp-counts", "--gp-counts", fmt::format("{} is not a GP count from 1 to 1024", n));
+    const std::filesystem::path folder = output_folder(o, "reproduce");
+    std::optional<tbb::global_control> parallelism;
+    const Prepared prepared = prepare(o, parallelism);
+    const CalibrationModel& model = *prepared.model;
+    // With no row to fit (formula rows, say) there is nothing to calibrate: the table is the model's own.
+    const bool uncalibrated = o.uncalibrated || !has_fitted_rows(model.targets());
+    StagedOutput output(folder);
+    FitReport report = reproduction_report(prepared, o, uncalibrated, output);
+    std::string markdown = stage_reproduction_table(model, report, uncalibrated, output);
+    const int images = stage_figures(model, report, output, markdown);
+    const std::string plot_names = stage_reported_plots(report, output, markdown);
+    const GpSweepFrame sweep = gp_sweep_frame(model);
+    if (sweep.target) {
+        GpSweep g = gp_sweep(model, report, sweep, o.gp_counts, uncalibrated, say);
+        stage_plot_or_warn(output, g.plot, "frame_time_vs_gps");
+        markdown += g.markdown;
+        output.add_text("frame_time_vs_gps.json", g.data.dump(2) + "\n");
     }
     std::optional<HostCheckReport> host;
     if (o.host_check) {
@@ -427,13 +318,13 @@ int run_reproduce(const CalibrateOptions& o) {
     }
     output.add_text("reproduction.md", markdown);
     const auto written = output.commit();
-    fmt::print("pp5sim reproduce: {} ({})\n", model->targets().name, uncalibrated ? "uncalibrated" : "calibrated");
+    fmt::print("pp5sim reproduce: {} ({})\n", model.targets().name, uncalibrated ? "uncalibrated" : "calibrated");
     if (host) {
         fmt::print("  host check: median absolute error {:.1f}% fitted, {:.1f}% held out\n",
                    100 * host->median_fitted_error, 100 * host->median_held_out_error);
     }
     print_summary(report);
-    fmt::print("  {} images; plots {}{}\n", images, plot_names, scaling ? "frame_time_vs_gps.png" : "");
+    fmt::print("  {} images; plots {}{}\n", images, plot_names, sweep.target ? "frame_time_vs_gps.png" : "");
     fmt::print("wrote {} files to {}\n", written.size(), output.directory().string());
     return 0;
 }
