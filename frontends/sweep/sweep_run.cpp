@@ -248,185 +248,233 @@ std::optional<Shard> shard_from_environment() {
     return std::nullopt;
 }
 
-SweepResult run_sweep(const SweepSpec& spec, const Shard& shard, const SweepProgress& progress) {
-    const std::vector<SweepPoint> plan = plan_sweep(spec);
-    SweepResult result;
+namespace {
 
-    // The columns: the machine's, then each kernel's metrics in the order the scenarios name them,
-    // then those of the kernels the sweep varies to.
-    result.columns = machine_columns();
-    const auto add_metrics_of = [&](const Kernel& kernel) {
-        for (const KernelMetric& m : kernel.metrics())
-            if (std::none_of(result.columns.begin(), result.columns.end(),
-                             [&](const SweepColumn& c) { return c.name == m.name; }))
-                result.columns.push_back({m.name, m.unit, m.description});
-    };
-    std::map<std::string, const Kernel*> kernel_of;  // scenario -> its own kernel
-    std::map<std::string, Scenario> scenarios;
-    for (const std::string& name : spec.scenarios) {
-        Scenario s = load_scenario(resolve_scenario_file(name));
-        const Kernel& kernel = kernel_for(s);
-        kernel_of[name] = &kernel;
-        add_metrics_of(kernel);
-        scenarios.emplace(name, std::move(s));
-    }
-    for (const SweepPoint& p : plan)
-        if (const std::string k = kernel_at(p.parameters, ""); !k.empty()) add_metrics_of(*find_kernel(k));
-    const std::vector<SweepColumn> metric_columns = result.columns;
-    const std::vector<std::size_t> banded = banded_columns(metric_columns);
-    if (spec.uncertainty)
-        for (const std::size_t c : banded) {
-            const SweepColumn& m = metric_columns[c];
-            result.columns.push_back(
-                {m.name + "_low", m.unit,
-                 "low end of " + m.name + "'s 95% band over the documented guesses' plausible ranges"});
-            result.columns.push_back(
-                {m.name + "_high", m.unit,
-                 "high end of " + m.name + "'s 95% band over the documented guesses' plausible ranges"});
-        }
+// One sweep run by one process: its columns and header, then its points, group by group (the points
+// that compute the same thing: the scenario, its kernel and the functional overrides), one recording
+// each, re-timed at every point of the group this shard takes.
+class SweepRunner {
+public:
+    SweepRunner(const SweepSpec& spec, const Shard& shard, const SweepProgress& progress)
+        : spec_(spec), shard_(shard), progress_(progress), plan_(plan_sweep(spec)) {}
 
-    if (!spec.plot_metric.empty() && std::none_of(result.columns.begin(), result.columns.end(),
-                                                  [&](const SweepColumn& c) { return c.name == spec.plot_metric; })) {
-        std::string known;
-        for (const SweepColumn& c : result.columns) known += (known.empty() ? "" : ", ") + c.name;
-        throw InputError(spec.file, "sweep.plot_metric",
-                         "\"" + spec.plot_metric + "\" is not a metric of this sweep; known: " + known);
+    SweepResult run() {
+        load_scenarios();
+        choose_columns();
+        write_header();
+        group_points();
+        if (spec_.uncertainty) choose_band_points();
+        for (const auto& [key, members] : groups_) total_ += members.size();
+        for (const auto& group : groups_) run_group(group.first, group.second);
+        for (auto& [index, r] : done_) result_.points.push_back(std::move(r));
+        return std::move(result_);
     }
-    nlohmann::json axes = nlohmann::json::array();
-    for (const SweepAxis& a : spec.axes) axes.push_back({{"key", a.key}, {"values", a.values}});
-    nlohmann::json explicit_points = nlohmann::json::array();
-    for (const SweepAssignment& p : spec.points) {
-        nlohmann::json point = nlohmann::json::object();
-        for (const auto& [k, v] : p) point[k] = v;
-        explicit_points.push_back(point);
-    }
-    result.header = {{"name", spec.name},
-                     {"description", spec.description},
-                     {"scenarios", spec.scenarios},
-                     {"machine", spec.machine},
-                     {"set", spec.fixed},
-                     {"frames", spec.frames},
-                     {"axes", axes},
-                     {"points", explicit_points},
-                     {"total_points", plan.size()},
-                     {"plot_x", spec.plot_x},
-                     {"plot_metric", spec.plot_metric}};
-    nlohmann::json kernels = nlohmann::json::object();
-    for (const auto& [name, kernel] : kernel_of) kernels[name] = kernel->name();
-    result.header["kernels"] = kernels;
 
-    // The points grouped by what they compute (the scenario, its kernel and the functional overrides):
-    // one recording per group. Each group's uncertainty is measured at its middle point, whichever
-    // shard runs it.
+private:
     struct Group {
         std::string scenario;
         std::string kernel;
         std::vector<std::string> overrides;  // the functional ones
         auto operator<=>(const Group&) const = default;
     };
-    const auto group_of = [&](const SweepPoint& p) {
-        return Group{p.scenario, kernel_at(p.parameters, kernel_of.at(p.scenario)->name()),
-                     overrides_of(spec, p.parameters, false)};
-    };
-    std::map<Group, std::vector<std::size_t>> all_groups, groups;
-    for (const SweepPoint& p : plan) {
-        const auto key = group_of(p);
-        all_groups[key].push_back(p.index);
-        if (shard.takes(p.index)) groups[key].push_back(p.index);
-    }
-    std::map<Group, std::size_t> reference_of;
-    std::set<std::string> varied;  // the sweep's own keys: chosen, not guessed
-    for (const SweepPoint& p : plan)
-        for (const auto& [k, v] : p.parameters) varied.insert(k);
-    if (spec.uncertainty) {
-        nlohmann::json references = nlohmann::json::array();
-        for (const auto& [key, members] : all_groups) {
-            reference_of[key] = middle_point(plan, members);
-            references.push_back(reference_of[key]);
+
+    void load_scenarios() {
+        for (const std::string& name : spec_.scenarios) {
+            Scenario s = load_scenario(resolve_scenario_file(name));
+            kernel_of_[name] = &kernel_for(s);
+            scenarios_.emplace(name, std::move(s));
         }
-        result.header["uncertainty"] = {
+    }
+
+    // The columns: the machine's, then each kernel's metrics in the order the scenarios name them, then
+    // those of the kernels the sweep varies to; with bands, each banded metric's low and high ends.
+    void choose_columns() {
+        result_.columns = machine_columns();
+        const auto add_metrics_of = [&](const Kernel& kernel) {
+            for (const KernelMetric& m : kernel.metrics())
+                if (std::none_of(result_.columns.begin(), result_.columns.end(),
+                                 [&](const SweepColumn& c) { return c.name == m.name; }))
+                    result_.columns.push_back({m.name, m.unit, m.description});
+        };
+        for (const std::string& name : spec_.scenarios) add_metrics_of(*kernel_of_.at(name));
+        for (const SweepPoint& p : plan_)
+            if (const std::string k = kernel_at(p.parameters, ""); !k.empty()) add_metrics_of(*find_kernel(k));
+        metric_columns_ = result_.columns;
+        banded_ = banded_columns(metric_columns_);
+        if (spec_.uncertainty)
+            for (const std::size_t c : banded_) {
+                const SweepColumn& m = metric_columns_[c];
+                result_.columns.push_back(
+                    {m.name + "_low", m.unit,
+                     "low end of " + m.name + "'s 95% band over the documented guesses' plausible ranges"});
+                result_.columns.push_back(
+                    {m.name + "_high", m.unit,
+                     "high end of " + m.name + "'s 95% band over the documented guesses' plausible ranges"});
+            }
+        if (!spec_.plot_metric.empty() &&
+            std::none_of(result_.columns.begin(), result_.columns.end(),
+                         [&](const SweepColumn& c) { return c.name == spec_.plot_metric; })) {
+            std::string known;
+            for (const SweepColumn& c : result_.columns) known += (known.empty() ? "" : ", ") + c.name;
+            throw InputError(spec_.file, "sweep.plot_metric",
+                             "\"" + spec_.plot_metric + "\" is not a metric of this sweep; known: " + known);
+        }
+    }
+
+    void write_header() {
+        nlohmann::json axes = nlohmann::json::array();
+        for (const SweepAxis& a : spec_.axes) axes.push_back({{"key", a.key}, {"values", a.values}});
+        nlohmann::json explicit_points = nlohmann::json::array();
+        for (const SweepAssignment& p : spec_.points) {
+            nlohmann::json point = nlohmann::json::object();
+            for (const auto& [k, v] : p) point[k] = v;
+            explicit_points.push_back(point);
+        }
+        result_.header = {{"name", spec_.name},
+                          {"description", spec_.description},
+                          {"scenarios", spec_.scenarios},
+                          {"machine", spec_.machine},
+                          {"set", spec_.fixed},
+                          {"frames", spec_.frames},
+                          {"axes", axes},
+                          {"points", explicit_points},
+                          {"total_points", plan_.size()},
+                          {"plot_x", spec_.plot_x},
+                          {"plot_metric", spec_.plot_metric}};
+        nlohmann::json kernels = nlohmann::json::object();
+        for (const auto& [name, kernel] : kernel_of_) kernels[name] = kernel->name();
+        result_.header["kernels"] = kernels;
+    }
+
+    // Every point's group, and the groups of the points this shard takes.
+    void group_points() {
+        for (const SweepPoint& p : plan_) {
+            const Group key{p.scenario, kernel_at(p.parameters, kernel_of_.at(p.scenario)->name()),
+                            overrides_of(spec_, p.parameters, false)};
+            all_groups_[key].push_back(p.index);
+            if (shard_.takes(p.index)) groups_[key].push_back(p.index);
+            for (const auto& [k, v] : p.parameters) varied_.insert(k);
+        }
+    }
+
+    // Each group's uncertainty is measured at its middle point, whichever shard runs it.
+    void choose_band_points() {
+        nlohmann::json references = nlohmann::json::array();
+        for (const auto& [key, members] : all_groups_) {
+            band_point_of_[key] = middle_point(plan_, members);
+            references.push_back(band_point_of_[key]);
+        }
+        result_.header["uncertainty"] = {
             {"bands",
              "95%, every documented guess (`pp5sim params`, plausible) spread evenly over its range, independently; "
              "the "
              "response to each measured by re-timing with it at either end of its range, at the point below of each "
              "recording group, and carried to the group's other points as a relative change"},
             {"measured_at_points", references},
-            {"not_guessed", varied}};
+            {"not_guessed", varied_}};
     }
-    std::map<std::size_t, SweepPointResult> done;
-    std::size_t finished = 0, total = 0;
-    for (const auto& [key, members] : groups) total += members.size();
-    std::mutex report;
-    const auto finish = [&](SweepPointResult r) {
-        const std::lock_guard<std::mutex> lock(report);
-        const std::size_t index = r.point.index;
-        done.emplace(index, std::move(r));
-        ++finished;
-        if (progress) progress(finished, total);
-    };
 
-    for (const auto& group : groups) {
-        // Named, not bound: clang 14 (the sanitizer build) cannot capture a structured binding.
-        const auto& key = group.first;
-        const std::vector<std::size_t>& members = group.second;
-        Scenario scenario = scenarios.at(key.scenario);
-        scenario.kernel = key.kernel;
-        std::set<std::string> kernel_metrics;
-        for (const KernelMetric& m : find_kernel(scenario.kernel)->metrics()) kernel_metrics.insert(m.name);
-        const int frames = spec.frames > 0 ? std::min<int>(spec.frames, static_cast<int>(scenario.frames.size()))
-                                           : static_cast<int>(scenario.frames.size());
-        std::unique_ptr<RecordedScenario> recording;
-        std::optional<UncertaintyTable> uncertainty;
-        std::string group_error;
+    // The group's recording, or the reason it has none (a machine that refuses its functional overrides).
+    std::unique_ptr<RecordedScenario> record_group(const Group& key, const Scenario& scenario, std::string& error) {
+        const int frames = spec_.frames > 0 ? std::min<int>(spec_.frames, static_cast<int>(scenario.frames.size()))
+                                            : static_cast<int>(scenario.frames.size());
         try {
-            MachineConfig functional = load_run_config(spec.machine, key.overrides);
+            MachineConfig functional = load_run_config(spec_.machine, key.overrides);
             // A lone processor is timed from work recorded on Pixel-planes 5.
             if (functional.machine_kind() == MachineKind::Uniprocessor)
                 functional = load_run_config("pxpl5", key.overrides);
-            recording = std::make_unique<RecordedScenario>(scenario, functional, frames);
+            return std::make_unique<RecordedScenario>(scenario, functional, frames);
         } catch (const InputError& e) {
-            group_error = e.what();
+            error = e.what();
+            return nullptr;
         }
-        if (recording && spec.uncertainty) {
-            const auto started = std::chrono::steady_clock::now();
-            const SweepPoint& middle = plan[reference_of.at(key)];
-            try {
-                uncertainty = measure_group_bands(
-                    *recording, load_run_config(spec.machine, overrides_of(spec, middle.parameters, true)),
-                    metric_columns, banded, kernel_metrics, varied);
-                result.uncertainty_retimings += uncertainty->retimings;
-            } catch (const InputError&) {
-                // The middle point is one the machine refuses: its row says why, and the group has no bands.
-            }
-            result.uncertainty_seconds +=
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    }
+
+    std::optional<UncertaintyTable> measure_bands(const Group& key, const RecordedScenario& recording,
+                                                  const std::set<std::string>& kernel_metrics) {
+        const auto started = std::chrono::steady_clock::now();
+        std::optional<UncertaintyTable> bands;
+        const SweepPoint& middle = plan_[band_point_of_.at(key)];
+        try {
+            bands = measure_group_bands(recording,
+                                        load_run_config(spec_.machine, overrides_of(spec_, middle.parameters, true)),
+                                        metric_columns_, banded_, kernel_metrics, varied_);
+            result_.uncertainty_retimings += bands->retimings;
+        } catch (const InputError&) {
+            // The middle point is one the machine refuses: its row says why, and the group has no bands.
         }
+        result_.uncertainty_seconds +=
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        return bands;
+    }
+
+    void run_group(const Group& key, const std::vector<std::size_t>& members) {
+        Scenario scenario = scenarios_.at(key.scenario);
+        scenario.kernel = key.kernel;
+        std::set<std::string> kernel_metrics;
+        for (const KernelMetric& m : find_kernel(scenario.kernel)->metrics()) kernel_metrics.insert(m.name);
+        std::string group_error;
+        const std::unique_ptr<RecordedScenario> recording = record_group(key, scenario, group_error);
+        std::optional<UncertaintyTable> bands;
+        if (recording && spec_.uncertainty) bands = measure_bands(key, *recording, kernel_metrics);
         pp5::parallel_for(std::size_t{0}, members.size(), [&](std::size_t m) {
-            const SweepPoint& point = plan[members[m]];
+            const SweepPoint& point = plan_[members[m]];
             SweepPointResult r{point, group_error, nlohmann::json::object(), {}};
-            const MachineConfig config = load_run_config(spec.machine, overrides_of(spec, point.parameters, true));
+            const MachineConfig config = load_run_config(spec_.machine, overrides_of(spec_, point.parameters, true));
             r.parameters = parameter_values(config);
             r.parameters[kSweepKernelKey] = scenario.kernel;
-            if (recording) {
-                try {
-                    const std::vector<FrameTiming> timings = recording->time_on(config);
-                    for (std::size_t f = 0; f < timings.size(); ++f) {
-                        SweepFrameResult row{
-                            f, recording->frames()[f].label,
-                            frame_values(*recording, f, timings[f], config, metric_columns, kernel_metrics)};
-                        if (spec.uncertainty) add_bands(row.values, banded, uncertainty, f);
-                        r.frames.push_back(std::move(row));
-                    }
-                } catch (const InputError& e) {
-                    r.error = e.what();
-                    r.frames.clear();
-                }
-            }
+            if (recording) time_point(*recording, config, kernel_metrics, bands, r);
             finish(std::move(r));
         });
     }
-    for (auto& [index, r] : done) result.points.push_back(std::move(r));
-    return result;
+
+    // Every frame of the recording timed on the point's machine (none, with the reason, if it refuses).
+    void time_point(const RecordedScenario& recording, const MachineConfig& config,
+                    const std::set<std::string>& kernel_metrics, const std::optional<UncertaintyTable>& bands,
+                    SweepPointResult& r) const {
+        try {
+            const std::vector<FrameTiming> timings = recording.time_on(config);
+            for (std::size_t f = 0; f < timings.size(); ++f) {
+                SweepFrameResult row{f, recording.frames()[f].label,
+                                     frame_values(recording, f, timings[f], config, metric_columns_, kernel_metrics)};
+                if (spec_.uncertainty) add_bands(row.values, banded_, bands, f);
+                r.frames.push_back(std::move(row));
+            }
+        } catch (const InputError& e) {
+            r.error = e.what();
+            r.frames.clear();
+        }
+    }
+
+    void finish(SweepPointResult r) {
+        const std::lock_guard<std::mutex> lock(report_);
+        const std::size_t index = r.point.index;
+        done_.emplace(index, std::move(r));
+        ++finished_;
+        if (progress_) progress_(finished_, total_);
+    }
+
+    const SweepSpec& spec_;
+    const Shard& shard_;
+    const SweepProgress& progress_;
+    const std::vector<SweepPoint> plan_;
+    SweepResult result_;
+    std::map<std::string, const Kernel*> kernel_of_;  // scenario -> its own kernel
+    std::map<std::string, Scenario> scenarios_;
+    std::vector<SweepColumn> metric_columns_;
+    std::vector<std::size_t> banded_;
+    std::map<Group, std::vector<std::size_t>> all_groups_, groups_;
+    std::map<Group, std::size_t> band_point_of_;
+    std::set<std::string> varied_;  // the sweep's own keys: chosen, not guessed
+    std::map<std::size_t, SweepPointResult> done_;
+    std::size_t finished_ = 0, total_ = 0;
+    std::mutex report_;
+};
+
+}  // namespace
+
+SweepResult run_sweep(const SweepSpec& spec, const Shard& shard, const SweepProgress& progress) {
+    return SweepRunner(spec, shard, progress).run();
 }
 
 }  // namespace pp5
