@@ -1,6 +1,7 @@
 #include "kernels/levoy/levoy_renderer.h"
 
 #include "kernels/levoy/geometry_programs.h"
+#include "kernels/levoy/ray_cast_work.h"
 #include "kernels/levoy/ray_caster.h"
 #include "sim/core/input_error.h"
 #include "sim/core/work_progress.h"
@@ -204,158 +205,66 @@ Phase LevoyRenderer::scan_convert() {
 // refinement tests that chose them first; filling and sending the tile's pixels last), a group per pass.
 // A ray is an item whose steps are the samples and pyramid steps up to each block it looks up.
 Phase LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& report) {
-    const int width = image_.width;
-    const int height = image_.height;
-    const int tile = settings_.tile_pixels;
-    const int tiles_x = (width + tile - 1) / tile;
-    const int tiles_y = (height + tile - 1) / tile;
-    const auto tile_of = [&](std::uint32_t p) {
-        const int x = static_cast<int>(p % static_cast<std::uint32_t>(width));
-        const int y = static_cast<int>(p / static_cast<std::uint32_t>(width));
-        return (y / tile) * tiles_x + x / tile;
-    };
-    const auto pixels_in_tile = [&](int t) {
-        const int x0 = (t % tiles_x) * tile;
-        const int y0 = (t / tiles_x) * tile;
-        return static_cast<std::uint32_t>((std::min(width, x0 + tile) - x0) * (std::min(height, y0 + tile) - y0));
-    };
-
+    const ScreenTiles tiles(image_.width, image_.height, settings_.tile_pixels);
     RayCastSettings cast_settings;
-    cast_settings.width = width;
-    cast_settings.height = height;
+    cast_settings.width = image_.width;
+    cast_settings.height = image_.height;
     cast_settings.sample_step = image_.sample_step;
     cast_settings.early_termination = image_.termination_opacity < 1.0f;
     cast_settings.termination_opacity = image_.termination_opacity;
     cast_settings.background = image_.background;
     cast_settings.pyramid_skipping = settings_.pyramid_skipping;
     const RayCaster caster(shaded_, pyramid_, blocks_, camera, cast_settings);
-    AdaptiveRefinement refinement(width, height, settings_.refinement);
+    AdaptiveRefinement refinement(image_.width, image_.height, settings_.refinement);
 
-    const int tiles = tiles_x * tiles_y;
-    // A static assignment deals tile keys round-robin (key mod G). In raster order, a picture as many
-    // tiles wide as there are GPs gives each GP one column, and the GPs' loads differ as the columns'
-    // contents do. Skewing each row's keys by 7 (prime, so coprime to the usual power-of-two GP counts)
-    // gives each GP tiles spread over rows and columns alike, and keys stay independent of the GP count.
-    constexpr int kRowSkew = 7;
-    const auto tile_key = [&](int t) {
-        return static_cast<std::uint32_t>(settings_.interleave_tiles ? t + kRowSkew * (t / tiles_x) : t);
-    };
     GpPhase job;
     job.assignment = settings_.ray_assignment;
     job.blocks = directory_;
-    RayCastCounts& counts = report.work.rays;
-    // One ray as an item: a step per block look-up (its ray setup in the first), then the rest.
-    const auto add_ray = [&](const CastBatch& batch, const RayWork& ray) {
-        GpItem item{static_cast<std::uint32_t>(job.steps.size()), 0};
-        bool setup = true;
-        const auto add_step = [&](std::uint32_t samples, std::uint32_t pyramid_steps, std::uint32_t block) {
-            GpStep step{static_cast<std::uint32_t>(job.ops.size()), 0, block};
-            if (setup) add_op(job.ops, kRaySetup, 1);
-            setup = false;
-            add_op(job.ops, kSample, samples);
-            add_op(job.ops, kPyramidStep, pyramid_steps);
-            step.op_count = static_cast<std::uint32_t>(job.ops.size()) - step.first_op;
-            job.steps.push_back(step);
-            ++item.step_count;
-        };
-        for (std::uint32_t i = 0; i < ray.touch_count; ++i) {
-            const BlockTouch& touch = batch.touches[ray.first_touch + i];
-            add_step(touch.samples, touch.pyramid_steps, touch.block);
-        }
-        if (setup || ray.tail_samples > 0 || ray.tail_pyramid_steps > 0)
-            add_step(ray.tail_samples, ray.tail_pyramid_steps, kNoFetch);
-        job.items.push_back(item);
-        ++counts.rays;
-        counts.samples += ray.samples;
-        counts.samples_skipped += ray.samples_skipped;
-        counts.pyramid_steps += ray.pyramid_steps;
-        if (ray.terminated) ++counts.rays_terminated;
-    };
-    const auto add_task = [&](std::uint32_t pass, int t, std::uint32_t first_item, std::uint32_t tests,
-                              std::uint32_t filled) {
-        GpTask task;
-        task.group = pass;
-        task.key = tile_key(t);
-        {
-            const int x0 = (t % tiles_x) * tile, y0 = (t / tiles_x) * tile;
-            task.screen = {static_cast<std::uint16_t>(x0), static_cast<std::uint16_t>(y0),
-                           static_cast<std::uint16_t>(std::min(width, x0 + tile) - x0),
-                           static_cast<std::uint16_t>(std::min(height, y0 + tile) - y0)};
-        }
-        task.first_item = first_item;
-        task.item_count = static_cast<std::uint32_t>(job.items.size()) - first_item;
-        task.first_op = static_cast<std::uint32_t>(job.ops.size());
-        add_op(job.ops, kRefinementTest, tests);
-        task.op_count = static_cast<std::uint32_t>(job.ops.size()) - task.first_op;
-        task.first_finish_op = static_cast<std::uint32_t>(job.ops.size());
-        if (task.item_count > 0) {  // a tile that cast nothing sends nothing
-            add_op(job.ops, kPixelFill, filled);
-            task.pixels = pixels_in_tile(t);
-            counts.pixels_filled += filled;
-        }
-        task.finish_op_count = static_cast<std::uint32_t>(job.ops.size()) - task.first_finish_op;
-        if (task.item_count > 0 || tests > 0) job.tasks.push_back(task);
-    };
-
-    std::vector<std::uint32_t> cast_in_tile(static_cast<std::size_t>(tiles), 0);
-    // The refinement decision's square tests, by the tile of each square's top-left corner.
-    const auto tests_per_tile = [&] {
-        std::vector<std::uint32_t> tests(static_cast<std::size_t>(tiles), 0);
-        for (const std::uint32_t corner : refinement.tested_squares())
-            ++tests[static_cast<std::size_t>(tile_of(corner))];
-        return tests;
-    };
-    std::vector<std::uint32_t> slot_of(static_cast<std::size_t>(width) * static_cast<std::size_t>(height), 0);
+    RayWorkRecorder recorder(tiles, settings_.interleave_tiles, job, report.work.rays);
+    std::vector<std::uint32_t> cast_in_tile(static_cast<std::size_t>(tiles.count()), 0);
+    std::vector<std::uint32_t> slot_of(static_cast<std::size_t>(image_.width) * static_cast<std::size_t>(image_.height),
+                                       0);
     while (!refinement.finished()) {
         const int pass = refinement.passes_recorded();
         const std::vector<std::uint32_t>& pending = refinement.pending();
-        // Rays grouped by tile, row by row within a tile: the order a GP casts them in (a counting
-        // sort of the row-major pending list by tile keeps rows in order).
-        std::vector<std::uint32_t> tile_start(static_cast<std::size_t>(tiles) + 1, 0);
-        for (const std::uint32_t p : pending) ++tile_start[static_cast<std::size_t>(tile_of(p)) + 1];
-        std::partial_sum(tile_start.begin(), tile_start.end(), tile_start.begin());
-        std::vector<std::uint32_t> order(pending.size());
-        {
-            std::vector<std::uint32_t> next = tile_start;
-            for (const std::uint32_t p : pending) order[next[static_cast<std::size_t>(tile_of(p))]++] = p;
-        }
-        CastBatch batch = caster.cast(
-            order, settings_.depth_buffer ? std::span<const std::uint32_t>(depth_) : std::span<const std::uint32_t>());
+        const TileOrder order = order_by_tile(tiles, pending);
+        CastBatch batch = caster.cast(order.pixels, settings_.depth_buffer ? std::span<const std::uint32_t>(depth_)
+                                                                           : std::span<const std::uint32_t>());
         for (std::size_t i = 0; i < pending.size(); ++i) slot_of[pending[i]] = static_cast<std::uint32_t>(i);
         std::vector<glm::vec4> colors(pending.size());
         RefinementPassReport pass_report;
-        for (std::size_t i = 0; i < order.size(); ++i) {
-            colors[slot_of[order[i]]] = batch.colors[i];
-            ++cast_in_tile[static_cast<std::size_t>(tile_of(order[i]))];
+        for (std::size_t i = 0; i < order.pixels.size(); ++i) {
+            colors[slot_of[order.pixels[i]]] = batch.colors[i];
+            ++cast_in_tile[static_cast<std::size_t>(tiles.of(order.pixels[i]))];
             const RayWork& ray = batch.rays[i];
             if (settings_.depth_buffer && settings_.pyramid_skipping) depth_[ray.pixel] = ray.first_sample;
             pass_report.samples += ray.samples;
         }
-        pass_report.rays = order.size();
+        pass_report.rays = order.pixels.size();
 
-        const std::vector<std::uint32_t> tests = tests_per_tile();
+        const std::vector<std::uint32_t> tests = tests_per_tile(tiles, refinement);
         refinement.record(colors);
         pass_report.pixels_cast = refinement.pixels_cast();
         pass_report.image = refinement.image();
         report.passes.push_back(std::move(pass_report));
 
-        for (int t = 0; t < tiles; ++t) {
+        for (int t = 0; t < tiles.count(); ++t) {
+            const auto tile = static_cast<std::size_t>(t);
             const auto first_item = static_cast<std::uint32_t>(job.items.size());
-            for (std::uint32_t r = tile_start[static_cast<std::size_t>(t)];
-                 r < tile_start[static_cast<std::size_t>(t) + 1]; ++r)
-                add_ray(batch, batch.rays[r]);
-            add_task(static_cast<std::uint32_t>(pass), t, first_item, tests[static_cast<std::size_t>(t)],
-                     pixels_in_tile(t) - cast_in_tile[static_cast<std::size_t>(t)]);
+            for (std::uint32_t r = order.first[tile]; r < order.first[tile + 1]; ++r)
+                recorder.add_ray(batch, batch.rays[r]);
+            recorder.add_task(static_cast<std::uint32_t>(pass), t, first_item, tests[tile],
+                              tiles.pixels_in(t) - cast_in_tile[tile]);
         }
         job.groups = static_cast<std::uint32_t>(pass) + 1;
     }
     // The last decision, that nothing more splits, was made too: charge its tests to the last pass.
     if (job.groups > 0 && !refinement.tested_squares().empty()) {
-        const std::vector<std::uint32_t> tests = tests_per_tile();
-        for (int t = 0; t < tiles; ++t)
+        const std::vector<std::uint32_t> tests = tests_per_tile(tiles, refinement);
+        for (int t = 0; t < tiles.count(); ++t)
             if (tests[static_cast<std::size_t>(t)] > 0)
-                add_task(job.groups - 1, t, static_cast<std::uint32_t>(job.items.size()),
-                         tests[static_cast<std::size_t>(t)], 0);
+                recorder.add_task(job.groups - 1, t, static_cast<std::uint32_t>(job.items.size()),
+                                  tests[static_cast<std::size_t>(t)], 0);
     }
     return Phase{"ray_casting", std::move(job)};
 }
