@@ -159,8 +159,10 @@ private:
     std::size_t draw_slice(SliceRegion& region, std::uint32_t l, const std::vector<std::uint32_t>& list,
                            std::size_t next, glm::ivec2 origin, RegionTally& tally) const;
     // A slab's points in the region, entries [first, end) of its list.
+    // `block` is scratch for the GPs' point blocks, kept by the caller across slabs.
     void draw_slab_points(SliceRegion& region, const std::vector<std::uint32_t>& list, std::size_t first,
-                          std::size_t end, glm::ivec2 origin, RegionTally& tally) const;
+                          std::size_t end, glm::ivec2 origin, RegionTally& tally,
+                          std::vector<std::array<std::int32_t, 4>>& block) const;
     // The region's pixels over the background.
     void write_pixels(const SliceRegion& region, glm::ivec2 origin, Image& out) const;
 

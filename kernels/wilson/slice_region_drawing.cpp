@@ -32,6 +32,7 @@ FrameBuilder::RegionTally FrameBuilder::draw_region(std::size_t r, bool with_poi
     const std::vector<std::uint32_t>& rq = region_quads[r];
     const std::vector<std::uint32_t>& rp = region_points[r];
     std::size_t next_quad = 0, next_point = 0;
+    std::vector<std::array<std::int32_t, 4>> block;  // the GPs' point blocks, reused across slabs
     for (std::uint32_t l = 0; l < layers.size(); ++l) {
         if (layers[l].kind == LayerKind::Plane) {
             if (next_quad < rq.size() && quads[rq[next_quad]].layer == l)
@@ -40,7 +41,7 @@ FrameBuilder::RegionTally FrameBuilder::draw_region(std::size_t r, bool with_poi
         }
         const std::size_t first = next_point;
         while (next_point < rp.size() && points[rp[next_point]].layer == l) ++next_point;
-        if (with_points) draw_slab_points(region, rp, first, next_point, origin, tally);
+        if (with_points) draw_slab_points(region, rp, first, next_point, origin, tally, block);
     }
     write_pixels(region, origin, out);
     return tally;
@@ -70,7 +71,8 @@ std::size_t FrameBuilder::draw_slice(SliceRegion& region, std::uint32_t l, const
 }
 
 void FrameBuilder::draw_slab_points(SliceRegion& region, const std::vector<std::uint32_t>& list, std::size_t first,
-                                    std::size_t end, glm::ivec2 origin, RegionTally& tally) const {
+                                    std::size_t end, glm::ivec2 origin, RegionTally& tally,
+                                    std::vector<std::array<std::int32_t, 4>>& block) const {
     const auto local = [&](const DrawnPoint& p) {
         PointSquare sq = p.square;
         sq.x0 -= origin.x;
@@ -79,7 +81,6 @@ void FrameBuilder::draw_slab_points(SliceRegion& region, const std::vector<std::
         sq.y1 -= origin.y;
         return sq;
     };
-    std::vector<std::array<std::int32_t, 4>> block;
     for (std::size_t e = first; e < end;) {
         if (!gp_sheets) {
             tally.point_pixels += draw_point_square(region, local(points[list[e]]), format_);

@@ -31,6 +31,7 @@ public:
             drawn.bands.push_back(band);
             sheet_holds = false;
         };
+        std::vector<std::array<std::int32_t, 4>> block;  // the GPs' sheet block, reused across chunks
         for (std::size_t e = 0; e < list.size();) {
             const Item& item = items_[list[e].item];
             if (item.band != band) {
@@ -44,7 +45,7 @@ public:
                 continue;
             }
             sheet_holds = true;
-            e = draw_points(list, e, origin, region, kinds);
+            e = draw_points(list, e, origin, region, kinds, block);
         }
         close_band();
         write_pixels(origin, region, kinds, background, frame);
@@ -75,7 +76,7 @@ private:
     // this region are filtered into one block, which the renderer adds to its sheet. Returns the entry
     // after those drawn.
     std::size_t draw_points(std::vector<RegionEntry>& list, std::size_t e, glm::ivec2 origin, RegionPixels& region,
-                            std::vector<std::uint8_t>& kinds) const {
+                            std::vector<std::uint8_t>& kinds, std::vector<std::array<std::int32_t, 4>>& block) const {
         const int rc = region.columns, rr = region.rows;
         if (f_.settings.point_path != PointPath::GpSheets) {
             const ScreenPrimitive& p = primitives_[list[e].item];
@@ -96,8 +97,7 @@ private:
             ++end;
         }
         const int bw = bx1 - bx0 + 1;
-        std::vector<std::array<std::int32_t, 4>> block(
-            static_cast<std::size_t>(bw) * static_cast<std::size_t>(by1 - by0 + 1), {0, 0, 0, 0});
+        block.assign(static_cast<std::size_t>(bw) * static_cast<std::size_t>(by1 - by0 + 1), {0, 0, 0, 0});
         for (std::size_t k = e; k < end; ++k)
             list[k].pixels = filter_point(point_draw(primitives_[list[k].item], origin.x, origin.y), f_.format, bx0,
                                           by0, bx1, by1, block);
