@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -273,10 +274,13 @@ void validate(const PpProgram& program, const PpSlotContext& context, int local_
 #else
 #define PP5_VECTOR_CLONES
 #endif
-PP5_VECTOR_CLONES
-PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context) {
-    validate(program, context, local_memory_bits_, backing_store_bits_);
+template <bool Listed>
+[[gnu::always_inline]] inline PpRunCounts PpArray::execute(const PpProgram& program, const PpSlotContext& context,
+                                                          std::span<const int> listed) {
+    // `total` PPs own backing store; `lanes` of them run (all, or the listed ones, whose fields are kept
+    // in list order).
     const auto total = static_cast<std::size_t>(size());
+    const std::size_t lanes = Listed ? listed.size() : total;
     const auto slots = static_cast<std::size_t>(program.storage_slots);
     if (fields_.size() < slots) fields_.resize(slots);
     for (std::size_t slot = 0; slot < slots; ++slot) fields_[slot].resize(total, 0);  // kept across runs
@@ -299,8 +303,20 @@ PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context)
     constexpr std::size_t kBlock = 1024;
     PpRunCounts counts;
     counts.instructions = program.instructions.size();
-    for (std::size_t first = 0; first < total; first += kBlock) {
-        const std::size_t n = std::min(kBlock, total - first);
+    for (std::size_t first = 0; first < lanes; first += kBlock) {
+        const std::size_t n = std::min(kBlock, lanes - first);
+        // The PP that lane p of this block runs.
+        const auto pp_of = [&](std::size_t p) {
+            return Listed ? static_cast<std::size_t>(listed[first + p]) : first + p;
+        };
+        // Listed lanes' columns and rows, for the QEE, found once per block.
+        std::array<std::uint32_t, Listed ? kBlock : 0> lane_x{}, lane_y{};
+        if constexpr (Listed) {
+            for (std::size_t p = 0; p < n; ++p) {
+                lane_x[p] = static_cast<std::uint32_t>(pp_of(p) % columns);
+                lane_y[p] = static_cast<std::uint32_t>(pp_of(p) / columns);
+            }
+        }
         auto field = [&](int id) {
             return fields_[static_cast<std::size_t>(program.fields[static_cast<std::size_t>(id)].storage)].data() +
                    first;
@@ -389,6 +405,17 @@ PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context)
                     // coefficients wrap rather than overflow; exact whenever the value fits 64 bits.
                     const QeeCoefficients& q = context.expressions[static_cast<std::size_t>(in.expression)];
                     const auto u = [](std::int64_t v) { return static_cast<std::uint64_t>(v); };
+                    if constexpr (Listed) {
+                        for (std::size_t p = 0; p < n; ++p) {
+                            const std::uint64_t x = lane_x[p];
+                            const std::uint64_t y = lane_y[p];
+                            const auto v = static_cast<std::int64_t>(u(q.a) * x * x + u(q.b) * x * y + u(q.c) * y * y +
+                                                                     u(q.d) * x + u(q.e) * y + u(q.f)) >>
+                                           shift;
+                            dst[p] = en[p] ? wrap(v) : dst[p];
+                        }
+                        break;
+                    }
                     std::size_t p = 0;
                     while (p < n) {
                         const std::size_t index = first + p;
@@ -416,7 +443,7 @@ PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context)
                     // dst.bits bits at record_base_bit + record_offset; sign-extended by the wrap when signed.
                     const PpBitWindow window(context.record_base_bit + in.record_offset, dst_field->bits);
                     for_enabled(n, en, all, dst, wrap, [&](std::size_t p) {
-                        return static_cast<std::int64_t>(window.read(store, total, first + p));
+                        return static_cast<std::int64_t>(window.read(store, total, pp_of(p)));
                     });
                     break;
                 }
@@ -424,6 +451,11 @@ PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context)
                     // The low a.bits bits of a; a disabled PP's backing store is left as it was.
                     const PpBitWindow window(context.record_base_bit + in.record_offset,
                                              program.fields[static_cast<std::size_t>(in.a)].bits);
+                    if constexpr (Listed) {
+                        for (std::size_t p = 0; p < n; ++p)
+                            if (en[p]) window.write(store, total, pp_of(p), static_cast<std::uint64_t>(a[p]));
+                        break;
+                    }
                     std::uint64_t* low = store + static_cast<std::size_t>(window.word) * total + first;
                     const std::uint64_t low_mask = window.mask << window.shift;
                     for (std::size_t p = 0; p < n; ++p) {
@@ -446,6 +478,36 @@ PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context)
             }
         }
     }
+    return counts;
+}
+
+PP5_VECTOR_CLONES
+PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context) {
+    validate(program, context, local_memory_bits_, backing_store_bits_);
+    return execute<false>(program, context, {});
+}
+
+PP5_VECTOR_CLONES
+PpRunCounts PpArray::run_candidates(const PpProgram& program, const PpSlotContext& context,
+                                    std::span<const int> candidates) {
+    validate(program, context, local_memory_bits_, backing_store_bits_);
+    const PpBystander bystander = bystander_of(program);
+    if (bystander.stores) {
+        throw std::invalid_argument(fmt::format(
+            "PP program {}: a PP its tests rule out would still store, so it cannot run on candidates alone",
+            program.name));
+    }
+    for (std::size_t i = 0; i < candidates.size(); ++i) {
+        if (candidates[i] < 0 || candidates[i] >= size() || (i > 0 && candidates[i] <= candidates[i - 1])) {
+            throw std::invalid_argument(fmt::format("PP program {}: candidate {} is PP {}; candidates must be "
+                                                    "distinct PPs of the {}, in ascending order",
+                                                    program.name, i, candidates[i], size()));
+        }
+    }
+    PpRunCounts counts = execute<true>(program, context, candidates);
+    const auto bystanders = static_cast<std::uint64_t>(size()) - candidates.size();
+    counts.pp_operations += bystanders * program.instructions.size();
+    counts.enabled_pp_operations += bystanders * bystander.enabled_operations;
     return counts;
 }
 

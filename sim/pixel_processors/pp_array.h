@@ -62,12 +62,23 @@ public:
     // std::invalid_argument if the program needs more local memory than the array has, more QEE
     // expressions than the context gives, or a record past the backing store's end.
     PpRunCounts run(const PpProgram& program, const PpSlotContext& context);
+    // The same run, computed on the host for `candidates` only (distinct PPs, ascending): every other PP
+    // must be a bystander of the program (pp_program.h), one its first test after each EnableAll rules
+    // out, which the caller vouches for (a kernel tells them from its QEE expressions; its tests
+    // compare with run() bit for bit). Bystanders keep their backing store and are counted as the
+    // hardware runs them, so the counts equal run()'s. Fields afterwards hold the candidates' values, in
+    // list order. Throws std::invalid_argument as run() does, for a candidate list out of order or
+    // range, and for a program whose bystanders would store.
+    PpRunCounts run_candidates(const PpProgram& program, const PpSlotContext& context, std::span<const int> candidates);
 
     // A field's value in every PP after the last run (for tests and inspection).
     std::span<const std::int64_t> field_values(const PpField& field) const;
 
 private:
     void check_backing_range(int bit_offset, int bits) const;
+    // Runs a validated program over every PP (Listed = false) or over `listed` PPs.
+    template <bool Listed>
+    PpRunCounts execute(const PpProgram& program, const PpSlotContext& context, std::span<const int> listed);
 
     int columns_;
     int rows_;

@@ -99,6 +99,26 @@ int PpTable::runs() const {
     return runs;
 }
 
+PpBystander bystander_of(const PpProgram& program) {
+    PpBystander bystander;
+    bool enabled = true;  // every PP starts enabled
+    bool tested = false;  // whether a test has looked at it since then, or since the last EnableAll
+    for (const PpInstruction& in : program.instructions) {
+        // An instruction is counted with the enable bit it finds, as PpArray counts it.
+        if (enabled) ++bystander.enabled_operations;
+        if (in.op == PpOp::EnableAll) {
+            enabled = true;
+            tested = false;
+        } else if (in.op == PpOp::EnableIf) {
+            if (!tested) enabled = false;
+            tested = true;
+        } else if (in.op == PpOp::Store && enabled) {
+            bystander.stores = true;
+        }
+    }
+    return bystander;
+}
+
 int pp_bits_for_range(std::int64_t lo, std::int64_t hi) {
     if (lo > hi) std::swap(lo, hi);
     int bits = 1;

@@ -163,6 +163,17 @@ private:
     std::vector<Range> ranges_;      // per field id: the values it may hold
 };
 
+// A bystander of a program is a PP that fails the first EnableIf after the program starts and after
+// every EnableAll: the program's tests rule it out as soon as they look at it (a voxel far from the
+// polygon being scan-converted, say). The hardware still runs every instruction on it; what it does
+// while enabled is this, the same for every bystander, so the host need not run it
+// (PpArray::run_candidates).
+struct PpBystander {
+    std::uint64_t enabled_operations = 0;  // instructions that find it enabled
+    bool stores = false;                   // whether it stores while enabled (then it must be run)
+};
+PpBystander bystander_of(const PpProgram& program);
+
 // Bits needed to hold every value in [lo, hi] (signed when lo < 0).
 int pp_bits_for_range(std::int64_t lo, std::int64_t hi);
 

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -286,6 +287,94 @@ TEST(PpArray, EveryWriteAndStoreIsMaskedByTheEnableBit) {
     EXPECT_EQ(counts.enabled_pp_operations,
               4u * static_cast<std::uint64_t>(pps) + (n - 4u) * static_cast<std::uint64_t>(enabled));
     EXPECT_NE(first.a, second.a);
+}
+
+// A program of two tested groups: PPs near the line x = 2 y, then PPs right of x = 85.
+struct TwoGroupProgram {
+    PpProgram program;
+    std::vector<QeeCoefficients> expressions{{0, 0, 0, 1, -2, 0}, {0, 0, 0, 1, 0, -85}};
+
+    // Whether a PP fails the first test of both groups.
+    static bool bystander(int x, int y) { return std::abs(x - 2 * y) > 12 && x - 85 <= 0; }
+
+    TwoGroupProgram() {
+        PpProgramBuilder b("two groups", 208);
+        const PpField sum = b.set_const("sum", 0, 16, true);
+        b.enable_all();
+        const PpField v = b.qee("line", 0, 16, true, 0);
+        const PpField near = b.abs_diff_const("|line|", v, 0);
+        b.enable_if(near, PpCompare::LessEqual, 12);
+        const PpField a = b.load("a", 8, 8, true);
+        b.enable_if(a, PpCompare::GreaterEqual, 0);
+        b.assign(sum, b.add_const("a + 1", a, 1));
+        b.store(sum, 32);
+        b.enable_all();
+        const PpField w = b.qee("right", 1, 12, true, 0);
+        b.enable_if(w, PpCompare::Greater, 0);
+        b.store(b.mul_const("w x 3", w, 3), 48);
+        b.enable_all();
+        program = b.finish();
+    }
+};
+
+void write_random_store(PpArray& array, std::uint32_t seed) {
+    std::mt19937_64 rng(seed);
+    for (int p = 0; p < array.size(); ++p) array.write_backing(p, 0, 64, rng());
+}
+
+TEST(PpArray, CandidatesAloneLeaveWhatTheWholeRunLeavesAndCountTheSame) {
+    // 100 x 37 PPs, so the candidates span more than one block; and a superset of them, which may
+    // include bystanders.
+    const TwoGroupProgram two;
+    std::vector<int> exact, superset;
+    for (int p = 0; p < 100 * 37; ++p) {
+        const bool candidate = !TwoGroupProgram::bystander(p % 100, p / 100);
+        if (candidate) exact.push_back(p);
+        if (candidate || p % 7 == 0) superset.push_back(p);
+    }
+    ASSERT_GT(exact.size(), 1024u);
+    ASSERT_LT(exact.size(), 100u * 37u / 2);
+    const PpSlotContext context{0, two.expressions};
+    PpArray whole(100, 37, 208, 64);
+    write_random_store(whole, 5);
+    const PpRunCounts want = whole.run(two.program, context);
+    for (const std::vector<int>* candidates : {&exact, &superset}) {
+        PpArray listed(100, 37, 208, 64);
+        write_random_store(listed, 5);
+        const PpRunCounts got = listed.run_candidates(two.program, context, *candidates);
+        for (int p = 0; p < 100 * 37; ++p)
+            ASSERT_EQ(listed.read_backing(p, 0, 64), whole.read_backing(p, 0, 64)) << "PP " << p;
+        EXPECT_EQ(got.instructions, want.instructions);
+        EXPECT_EQ(got.pp_operations, want.pp_operations);
+        EXPECT_EQ(got.enabled_pp_operations, want.enabled_pp_operations);
+    }
+    // Each group's first test rules a bystander out: the set-const and enable-all, the line's three
+    // instructions, then the right's QEE and its test.
+    const PpBystander bystander = bystander_of(two.program);
+    EXPECT_EQ(bystander.enabled_operations, 7u);
+    EXPECT_FALSE(bystander.stores);
+}
+
+TEST(PpArray, CandidateRunsRefuseWhatTheyCannotVouchFor) {
+    const TwoGroupProgram two;
+    const PpSlotContext context{0, two.expressions};
+    PpArray array(100, 37, 208, 64);
+    write_random_store(array, 9);
+    const std::vector<int> descending{5, 3};
+    const std::vector<int> outside{0, 100 * 37};
+    EXPECT_THROW(array.run_candidates(two.program, context, descending), std::invalid_argument);
+    EXPECT_THROW(array.run_candidates(two.program, context, outside), std::invalid_argument);
+    // A store before any test would change bystanders too.
+    PpProgramBuilder b("stores first", 208);
+    b.store(b.set_const("one", 1, 8, false), 0, 8);
+    const PpField one = b.load("one", 0, 8, false);
+    b.enable_if(one, PpCompare::Equal, 1);
+    const PpProgram stores_first = b.finish();
+    EXPECT_TRUE(bystander_of(stores_first).stores);
+    EXPECT_THROW(array.run_candidates(stores_first, context, std::vector<int>{0, 1}), std::invalid_argument);
+    PpArray untouched(100, 37, 208, 64);
+    write_random_store(untouched, 9);
+    for (int p = 0; p < 100 * 37; ++p) ASSERT_EQ(array.read_backing(p, 0, 64), untouched.read_backing(p, 0, 64));
 }
 
 TEST(PpArray, CountsAddUpOverRuns) {
