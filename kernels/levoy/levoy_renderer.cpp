@@ -10,6 +10,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <map>
+#include <memory>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -175,18 +177,27 @@ Phase LevoyRenderer::scan_convert() {
     const PpProgramInputs inputs = pixel_processors_.program_inputs();
     const VoxelPlacement& placement = pixel_processors_.placement();
     PpPhase phase;
+    // The controller runs one program per polygon; polygons of one shape run the same one.
+    std::map<PolygonProgramShape, std::shared_ptr<const PpProgram>> programs;
     for (std::size_t k = 0; k < polygons_.size(); ++k) {
         const PreparedPolygon& polygon = polygons_[k];
         if (polygon.degenerate) continue;
-        PpProgram program = build_polygon_program(polygon, settings_.jitter_samples, dims_, inputs);
+        const PolygonProgramShape shape = polygon_program_shape(polygon, settings_.jitter_samples, dims_, inputs.layout);
+        std::shared_ptr<const PpProgram>& shared = programs[shape];
+        if (!shared) shared = std::make_shared<const PpProgram>(build_polygon_program(shape, inputs));
+        const PpProgram& program = *shared;
         // D, E and F of every expression, a word each.
         const auto bits = static_cast<std::uint64_t>(program.expressions) * 3 * 32;
         PpPhase::Pass pass{
             pixel_processors_.execute(
-                program,
+                shared,
                 [&](const SlotFrame& frame) { return polygon_reaches_slot(polygon, frame, dims_, placement.shape()); },
                 [&](const SlotFrame& frame) {
                     return polygon_expressions(polygon, offsets, frame, settings_.store.layout);
+                },
+                [&](const SlotFrame&, std::span<const QeeCoefficients> expressions, std::vector<int>& candidates) {
+                    polygon_candidates(polygon, settings_.jitter_samples, program, expressions, placement.shape(),
+                                       candidates);
                 }),
             bits,
             {}};

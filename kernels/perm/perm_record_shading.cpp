@@ -95,7 +95,7 @@ PpPassWork PermRecordShading::run(const PpProgram& program) {
     if (program.expressions > 0)
         throw std::logic_error("PERM's PP programs cannot use the QEE: records are not laid out in space");
     auto& renderers = machine_.renderers();
-    PpPassWork work{program, std::vector<std::uint64_t>(renderers.size(), 0),
+    PpPassWork work{std::make_shared<const PpProgram>(program), std::vector<std::uint64_t>(renderers.size(), 0),
                     std::vector<PpRunCounts>(renderers.size())};
     // Each renderer runs over its own slots only, so the thread count changes nothing.
     pp5::parallel_for(std::size_t{0}, renderers.size(), [&](std::size_t r) {

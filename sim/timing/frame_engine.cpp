@@ -203,12 +203,13 @@ void FrameRun::start_pp_phase(const PpPhase& phase, PhaseTiming& timing, Tick t)
         PpPassTiming p;
         p.start_ps = start;
         p.end_ps = start;
-        p.instructions = work.program.instructions.size();
-        p.local_memory_bits_used = work.program.local_memory_bits_used;
+        const PpProgram& program = *work.program;
+        p.instructions = program.instructions.size();
+        p.local_memory_bits_used = program.local_memory_bits_used;
         for (std::size_t r = 0; r < renderers.size(); ++r) {
             Renderer& renderer = *renderers[r];
-            const RendererPass run{work.program.name, renderer.cost_model().cost(work.program), work.slots[r],
-                                   work.counts[r], work.program.local_memory_bits_used};
+            const RendererPass run{program.name, renderer.cost_model().cost(program), work.slots[r], work.counts[r],
+                                   program.local_memory_bits_used};
             const Tick end = renderer.begin_pass(events, start, run);
             if (end > p.end_ps || r == 0) {
                 p.end_ps = end;

@@ -27,7 +27,7 @@ FrameTiming time_frame_on_one_processor(const MachineConfig& config, const Frame
                 PpPassTiming done;
                 done.start_ps = t;
                 done.end_ps = t += sum_all(pass.on_one_processor);
-                done.instructions = pass.work.program.instructions.size();
+                done.instructions = pass.work.program->instructions.size();
                 p.passes.push_back(done);
             }
         } else if (const auto* broadcast = std::get_if<BroadcastPhase>(&phase.work)) {

@@ -51,9 +51,10 @@ struct GpOp {
 void append_ops(std::vector<GpOp>& ops, std::uint32_t kind, std::uint64_t count);
 
 // A kernel's PP program over slots of every renderer: the program, and per renderer how many slots it
-// ran over and what it did there (from the functional run, so instruction counts are real).
+// ran over and what it did there (from the functional run, so instruction counts are real). Passes
+// may share one program (a mesh's triangles of one shape), which a frame then keeps once.
 struct PpPassWork {
-    PpProgram program;
+    std::shared_ptr<const PpProgram> program;
     std::vector<std::uint64_t> slots;  // per renderer
     std::vector<PpRunCounts> counts;   // per renderer
 };

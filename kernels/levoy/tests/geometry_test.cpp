@@ -15,7 +15,9 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <random>
 
 namespace pp5 {
 namespace {
@@ -254,6 +256,71 @@ TEST(ScanConversion, ReportsItsProgressPolygonByPolygon) {
                     triangle({4, 4, 14}, {20, 4, 14}, {4, 20, 14})},
                    1);
     EXPECT_EQ(recorder.done, (std::vector<std::size_t>{1, 2, 3}));
+}
+
+// The host runs a polygon's program only on the PPs polygon_candidates names: every PP's record, and
+// the counts, must come out as a run on every PP leaves them. Random triangles and quads of every
+// orientation (some in a plane of voxels, some steep, some tiny), every kind of coverage, and a slot
+// reaching past the volume, where the plane's values can wrap in their fields.
+TEST(ScanConversion, RunningOnlyTheCandidatesChangesNothing) {
+    const glm::ivec3 dims(40, 23, 9);
+    const PpArrayShape shape{1, 32, 16, 64};
+    const PpProgramInputs inputs;
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> coordinate(-3.0f, 42.0f), unit(0.0f, 1.0f);
+    const auto random_polygon = [&](int kind) {
+        PolygonSpec p{{}, {glm::vec3(unit(rng), unit(rng), unit(rng))}, {0.2f + 0.8f * unit(rng)}};
+        const glm::vec3 a(coordinate(rng), coordinate(rng) * 0.6f, coordinate(rng) * 0.25f);
+        if (kind == 0) {  // in the plane z = const, through voxel centres
+            const float z = std::round(a.z);
+            p.vertices = {{a.x, a.y, z}, {a.x + 9.0f, a.y + 1.0f, z}, {a.x + 2.0f, a.y + 8.0f, z}, {a.x - 1, a.y + 5, z}};
+        } else if (kind == 1) {  // tiny
+            p.vertices = {a, a + glm::vec3(0.7f, 0.2f, 0.1f), a + glm::vec3(0.1f, 0.8f, 0.4f)};
+        } else {
+            p.vertices = {a, a + 12.0f * glm::vec3(unit(rng) - 0.5f, unit(rng) - 0.5f, unit(rng) - 0.5f),
+                          a + 12.0f * glm::vec3(unit(rng) - 0.5f, unit(rng) - 0.5f, unit(rng) - 0.5f)};
+        }
+        return p;
+    };
+    std::size_t candidates_seen = 0, pps_seen = 0, changed = 0;
+    for (int trial = 0; trial < 60; ++trial) {
+        const PreparedPolygon polygon = prepare_polygon(random_polygon(trial % 4 == 0 ? 0 : trial % 4 == 1 ? 1 : 2));
+        if (polygon.degenerate) continue;
+        const int samples = std::array{1, 5, 16}[static_cast<std::size_t>(trial % 3)];
+        const PpProgram program = build_polygon_program(polygon, samples, dims, inputs);
+        const std::vector<glm::dvec3> offsets = subvoxel_offsets(samples);
+        // A slice through the polygon's middle.
+        const int z = std::clamp(static_cast<int>(std::round((polygon.lower.z + polygon.upper.z) / 2.0f)), 0, dims.z - 1);
+        for (const glm::ivec3 origin : {glm::ivec3(0, 0, z), glm::ivec3(32, 16, z), glm::ivec3(0, 16, trial % 9)}) {
+            const std::vector<QeeCoefficients> expressions =
+                polygon_expressions(polygon, offsets, SlotFrame{origin, true}, inputs.layout);
+            const PpSlotContext context{0, expressions};
+            PpArray whole(shape.columns, shape.rows, inputs.local_memory_bits, shape.backing_store_bits);
+            PpArray listed(shape.columns, shape.rows, inputs.local_memory_bits, shape.backing_store_bits);
+            std::mt19937_64 records(static_cast<std::uint64_t>(trial));
+            std::vector<std::uint64_t> before;
+            for (int pp = 0; pp < whole.size(); ++pp) {
+                before.push_back(records());
+                whole.write_backing(pp, 0, 64, before.back());
+                listed.write_backing(pp, 0, 64, before.back());
+            }
+            std::vector<int> candidates;
+            polygon_candidates(polygon, samples, program, expressions, shape, candidates);
+            const PpRunCounts want = whole.run(program, context);
+            const PpRunCounts got = listed.run_candidates(program, context, candidates);
+            for (int pp = 0; pp < whole.size(); ++pp) {
+                ASSERT_EQ(listed.read_backing(pp, 0, 64), whole.read_backing(pp, 0, 64)) << "trial " << trial << " PP " << pp;
+                changed += whole.read_backing(pp, 0, 64) != before[static_cast<std::size_t>(pp)] ? 1 : 0;
+            }
+            ASSERT_EQ(got.enabled_pp_operations, want.enabled_pp_operations) << "trial " << trial;
+            ASSERT_EQ(got.pp_operations, want.pp_operations);
+            candidates_seen += candidates.size();
+            pps_seen += static_cast<std::size_t>(whole.size());
+        }
+    }
+    // Polygons really were scan-converted, and far fewer PPs ran on the host.
+    EXPECT_GT(changed, 500u) << changed;
+    EXPECT_LT(candidates_seen, pps_seen / 3) << candidates_seen << " of " << pps_seen;
 }
 
 // Coordinates up to kFarthestPolygonVertex reach the renderers' fixed-point fields intact (a plane

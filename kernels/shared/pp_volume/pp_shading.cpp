@@ -137,16 +137,18 @@ PpProgramInputs PpShading::program_inputs() const {
     return PpProgramInputs{settings_.layout, quantization_, spacing_, machine_.shape().local_memory_bits};
 }
 
-PpPassWork PpShading::execute(const PpProgram& program, const SlotSelector& select,
-                              const SlotExpressions& expressions) {
+PpPassWork PpShading::execute(std::shared_ptr<const PpProgram> shared, const SlotSelector& select,
+                              const SlotExpressions& expressions, const SlotCandidates& candidates) {
+    const PpProgram& program = *shared;
     auto& renderers = machine_.renderers();
     const int record_bits = settings_.layout.bits();
-    PpPassWork work{program, std::vector<std::uint64_t>(renderers.size(), 0),
+    PpPassWork work{std::move(shared), std::vector<std::uint64_t>(renderers.size(), 0),
                     std::vector<PpRunCounts>(renderers.size())};
     // Every renderer's PPs run the program over their slots (renderers in parallel; each renderer's
     // result depends on its own data only, so the thread count changes nothing).
     pp5::parallel_for(std::size_t{0}, renderers.size(), [&](std::size_t r) {
         PpArray& array = renderers[r]->array();
+        std::vector<int> listed;
         for (int slot = 0; slot < placement_.slots_needed(); ++slot) {
             const SlotFrame frame = placement_.frame(static_cast<int>(r), slot);
             if (!frame.used || !select(frame)) continue;
@@ -155,7 +157,12 @@ PpPassWork PpShading::execute(const PpProgram& program, const SlotSelector& sele
             PpSlotContext context;
             context.record_base_bit = slot * record_bits;
             context.expressions = coefficients;
-            work.counts[r] += array.run(program, context);
+            if (candidates) {
+                candidates(frame, coefficients, listed);
+                work.counts[r] += array.run_candidates(program, context, listed);
+            } else {
+                work.counts[r] += array.run(program, context);
+            }
             ++work.slots[r];
         }
     });

@@ -31,7 +31,9 @@
 #include "sim/timing/recorded_work.h"
 
 #include <functional>
+#include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
 namespace pp5 {
@@ -98,9 +100,19 @@ public:
                                                         const SlotExpressions& expressions = {},
                                                         bool rewrite_changed = false);
 
+    // The PPs of a slot a program must run on, given its frame and expressions; every other PP must be
+    // a bystander of the program (PpArray::run_candidates).
+    using SlotCandidates =
+        std::function<void(const SlotFrame&, std::span<const QeeCoefficients>, std::vector<int>& candidates)>;
+
     // Runs `program` on every renderer over the slots `select` accepts, each with the QEE expressions
-    // `expressions` gives for its frame (none when empty), and records what each renderer ran.
-    PpPassWork execute(const PpProgram& program, const SlotSelector& select, const SlotExpressions& expressions);
+    // `expressions` gives for its frame (none when empty), and records what each renderer ran. With
+    // `candidates`, the host runs only those PPs of each slot; the work recorded is the same.
+    PpPassWork execute(std::shared_ptr<const PpProgram> program, const SlotSelector& select,
+                       const SlotExpressions& expressions, const SlotCandidates& candidates = {});
+    PpPassWork execute(const PpProgram& program, const SlotSelector& select, const SlotExpressions& expressions) {
+        return execute(std::make_shared<const PpProgram>(program), select, expressions);
+    }
     PpProgramInputs program_inputs() const;
 
     // The colour and opacity codes the PPs hold, read back into `into`, reusing its storage: a
