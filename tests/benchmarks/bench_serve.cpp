@@ -1,6 +1,6 @@
 // Host time for `pp5sim serve` to answer what a class does on the 512x512 MR head (the default
 // scenario's volume, Debian's mricron-data): a light move (the PPs reshade, the GPs cast), an orbit
-// (the GPs cast), a change of GP count (a re-time of the recorded frame, no rendering), and the PSNR
+// (the GPs cast), a region move (the PPs reclassify), a change of GP count (a re-time of the recorded frame, no rendering), and the PSNR
 // read-out the page asks for after a light move (the reference renderer, deferred). Each iteration is
 // one change applied to the interactive view, as the HTTP handler applies it; counters give the
 // changed frame's simulated milliseconds.
@@ -41,6 +41,20 @@ void BM_ServeOrbit(benchmark::State& state) {
     state.counters["simulated_ms"] = simulated_ms();
 }
 BENCHMARK(BM_ServeOrbit)->Unit(benchmark::kMillisecond)->Iterations(6);
+
+// The region moved by a few voxels, as a drag does: the PPs reclassify inside and outside it, the
+// pyramid is rebuilt and the GPs cast.
+void BM_ServeRegionMove(benchmark::State& state) {
+    view().apply({{"region", nlohmann::json::object()}});  // a cut-away cube in the middle
+    int step = 0;
+    for (auto _ : state) {
+        const double x = (++step % 2 == 0) ? 80.0 : 84.0;
+        view().apply({{"region", {{"center", {x, 128.0, 90.0}}}}});
+    }
+    state.counters["simulated_ms"] = simulated_ms();
+    view().apply({{"region", nullptr}});
+}
+BENCHMARK(BM_ServeRegionMove)->Unit(benchmark::kMillisecond)->Iterations(6);
 
 void BM_ServeRetimeGpCount(benchmark::State& state) {
     view();
