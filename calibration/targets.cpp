@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 #include "sim/core/toml_file.h"
+#include "sim/core/toml_table.h"
 
 #include <algorithm>
 #include <cmath>
@@ -34,24 +35,20 @@ std::string text_field(const toml::table& row, const std::string& file, const st
 }
 
 // Calls read(row, prefix) for each table of the optional array `name` ("figures[2]." its prefix), after
-// refusing a key outside `known` ("unknown field; <what> has a, b and c").
+// refusing a key outside `known`.
 template <typename Read>
 void for_each_row(const toml::table& root, const std::string& file, const char* name,
-                  std::initializer_list<std::string_view> known, const char* what, Read read) {
+                  std::initializer_list<std::string_view> known, Read read) {
     const toml::array* rows = root[name].as_array();
     if (rows == nullptr) return;
-    std::string listed;
-    for (std::size_t i = 0; i < known.size(); ++i)
-        listed += (i == 0 ? "" : i + 1 == known.size() ? " and " : ", ") + std::string(known.begin()[i]);
     for (std::size_t i = 0; i < rows->size(); ++i) {
-        const std::string prefix = fmt::format("{}[{}].", name, i);
+        const std::string row_name = fmt::format("{}[{}]", name, i);
         const toml::table* row = (*rows)[i].as_table();
-        if (!row) throw InputError(file, prefix.substr(0, prefix.size() - 1), "must be a table");
-        for (const auto& [k, v] : *row)
-            if (std::find(known.begin(), known.end(), k.str()) == known.end())
-                throw InputError(file, prefix + std::string(k.str()),
-                                 fmt::format("unknown field; {} has {}", what, listed));
-        read(*row, prefix);
+        if (!row) throw InputError(file, row_name, "must be a table");
+        TomlTable strict(row, row_name, file);
+        strict.allow(known);
+        strict.finish();
+        read(*row, row_name + ".");
     }
 }
 
@@ -66,7 +63,7 @@ Scenario scenario_named(const std::string& name, const std::string& file, const 
 
 // [[figures]]: name, scenario, frame, picture ("final" or "first").
 void read_figures(const toml::table& root, const std::string& file, TargetSet& set) {
-    for_each_row(root, file, "figures", {"name", "scenario", "frame", "picture"}, "a figure",
+    for_each_row(root, file, "figures", {"name", "scenario", "frame", "picture"},
                  [&](const toml::table& row, const std::string& prefix) {
                      Figure f;
                      f.name = text_field(row, file, prefix, "name", true);
@@ -99,7 +96,7 @@ void read_figures(const toml::table& root, const std::string& file, TargetSet& s
 void read_workload(const toml::table& root, const std::string& file, TargetSet& set) {
     const MachineConfig declared(run_param_groups());  // every machine and kernel parameter, to look keys up in
     for_each_row(
-        root, file, "workload", {"parameter", "bounds", "ratio_of", "why"}, "a workload parameter",
+        root, file, "workload", {"parameter", "bounds", "ratio_of", "why"},
         [&](const toml::table& row, const std::string& prefix) {
             WorkloadSpec w;
             w.key = text_field(row, file, prefix, "parameter", true);
@@ -320,17 +317,14 @@ TargetSet load_targets(const std::filesystem::path& path) {
     TargetSet set;
     set.file = path;
     set.name = path.stem().string();
-    if (const toml::table* head = root["calibration"].as_table()) {
-        set.name = text_field(*head, file, "calibration.", "name", false);
-        if (set.name.empty()) set.name = path.stem().string();
-        set.description = text_field(*head, file, "calibration.", "description", false);
-    }
-    for (const auto& [key, node] : root) {
-        if (key.str() != "calibration" && key.str() != "targets" && key.str() != "figures" && key.str() != "workload")
-            throw InputError(
-                file, std::string(key.str()),
-                "unknown table; a target file holds [calibration], [[targets]], [[workload]] and [[figures]]");
-    }
+    TomlTable top(&root, "", file);
+    top.allow({"targets", "workload", "figures"});  // read row by row below
+    TomlTable head = top.sub("calibration");
+    set.name = head.text("name").value_or("");
+    if (set.name.empty()) set.name = path.stem().string();
+    set.description = head.text("description").value_or("");
+    head.finish();
+    top.finish();
     const toml::array* rows = root["targets"].as_array();
     if (!rows || rows->empty()) throw InputError(file, "targets", "needs at least one [[targets]] row");
 
@@ -339,22 +333,15 @@ TargetSet load_targets(const std::filesystem::path& path) {
         const std::string prefix = fmt::format("targets[{}].", i);
         const toml::table* row = (*rows)[i].as_table();
         if (!row) throw InputError(file, prefix.substr(0, prefix.size() - 1), "must be a table");
+        // A row simulates a scenario, or (with a formula) recomputes a paper's own equation.
         const bool formula_row = row->contains("formula");
-        static const std::set<std::string> known{
-            "id",       "source",    "quote", "scenario",         "frame",  "machine", "metric",
-            "reported", "exactness", "use",   "divided_by_frame", "assumes"};
-        static const std::set<std::string> known_formula{"id",     "source",   "quote",     "kernel", "formula",
-                                                         "inputs", "reported", "exactness", "use"};
-        for (const auto& [k, v] : *row) {
-            if (!(formula_row ? known_formula : known).count(std::string(k.str())))
-                throw InputError(
-                    file, prefix + std::string(k.str()),
-                    formula_row
-                        ? "unknown field for a formula row; it has id, source, quote, kernel, formula, inputs, "
-                          "reported, exactness and use"
-                        : "unknown field; a target has id, source, quote, scenario, frame, machine, metric, "
-                          "divided_by_frame, reported, exactness, use and assumes (or kernel, formula and inputs)");
-        }
+        TomlTable strict(row, prefix.substr(0, prefix.size() - 1), file,
+                         formula_row ? "" : "a formula row has kernel, formula and inputs instead");
+        strict.allow({"id", "source", "quote"});
+        if (formula_row) strict.allow({"kernel", "formula", "inputs"});
+        else strict.allow({"scenario", "frame", "machine", "metric", "divided_by_frame", "assumes"});
+        strict.allow({"reported", "exactness", "use"});
+        strict.finish();
         Target t;
         t.id = text_field(*row, file, prefix, "id", true);
         if (!ids.insert(t.id).second)

@@ -6,6 +6,7 @@
 #include "sim/core/input_error.h"
 #include "sim/core/named_file.h"
 #include "sim/core/toml_file.h"
+#include "sim/core/toml_table.h"
 
 #include <fmt/format.h>
 
@@ -26,29 +27,6 @@ std::string as_override_text(const toml::node& node, const std::string& file, co
     if (const auto* b = node.as_boolean()) return b->get() ? "true" : "false";
     if (const auto* s = node.as_string()) return s->get();
     throw InputError(file, field, "must be a number, a boolean or a string");
-}
-
-std::string text_field(const toml::table& t, const std::string& file, const std::string& field, const char* key) {
-    const toml::node* node = t.get(key);
-    if (node == nullptr) return {};
-    const auto* s = node->as_string();
-    if (s == nullptr) throw InputError(file, field + key, "must be a string");
-    return s->get();
-}
-
-std::vector<std::string> text_list(const toml::table& t, const std::string& file, const std::string& field,
-                                   const char* key) {
-    std::vector<std::string> out;
-    const toml::node* node = t.get(key);
-    if (node == nullptr) return out;
-    const toml::array* a = node->as_array();
-    if (a == nullptr) throw InputError(file, field + key, "must be a list of strings");
-    for (std::size_t i = 0; i < a->size(); ++i) {
-        const auto* s = (*a)[i].as_string();
-        if (s == nullptr) throw InputError(file, fmt::format("{}{}[{}]", field, key, i), "must be a string");
-        out.push_back(s->get());
-    }
-    return out;
 }
 
 // Flattens a table of parameters (quoted dotted keys, or nested tables) into (key, node, line).
@@ -104,40 +82,22 @@ SweepSpec load_sweep_file(const std::filesystem::path& path) {
     SweepSpec spec;
     spec.file = file;
     spec.name = path.stem().string();
-    for (const auto& [key, node] : root) {
-        const std::string k(key.str());
-        if (k != "sweep" && k != "vary" && k != "points")
-            throw InputError(file, k, "unknown table; a sweep file holds [sweep], [vary] and [[points]]");
-    }
-    const toml::table* head = root["sweep"].as_table();
-    if (head == nullptr)
-        throw InputError(file, "sweep", "is missing: a sweep file starts with a [sweep] table naming its scenarios");
-    static const std::set<std::string> known{"name",   "description", "scenarios",   "machine",    "set",
-                                             "frames", "plot_x",      "plot_metric", "uncertainty"};
-    for (const auto& [k, v] : *head)
-        if (!known.count(std::string(k.str())))
-            throw InputError(file, "sweep." + std::string(k.str()),
-                             "unknown field; [sweep] has name, description, scenarios, machine, set, frames, plot_x, "
-                             "plot_metric and uncertainty");
-    if (const std::string name = text_field(*head, file, "sweep.", "name"); !name.empty()) spec.name = name;
-    spec.description = text_field(*head, file, "sweep.", "description");
-    spec.scenarios = text_list(*head, file, "sweep.", "scenarios");
-    if (const std::string machine = text_field(*head, file, "sweep.", "machine"); !machine.empty())
-        spec.machine = machine;
-    spec.fixed = text_list(*head, file, "sweep.", "set");
-    if (const toml::node* uncertainty = head->get("uncertainty")) {
-        const auto* on = uncertainty->as_boolean();
-        if (on == nullptr) throw InputError(file, "sweep.uncertainty", "must be true or false");
-        spec.uncertainty = on->get();
-    }
-    if (const toml::node* frames = head->get("frames")) {
-        const auto n = frames->value<std::int64_t>();
-        if (!n || *n < 0 || *n > 100000)
-            throw InputError(file, "sweep.frames", "must be a whole number of frames (0: all)");
-        spec.frames = static_cast<int>(*n);
-    }
-    spec.plot_x = text_field(*head, file, "sweep.", "plot_x");
-    spec.plot_metric = text_field(*head, file, "sweep.", "plot_metric");
+    TomlTable top(&root, "", file);
+    top.allow({"vary", "points"});  // read below, as parameter tables
+    if (!top.has("sweep"))
+        top.fail("sweep", "is missing: a sweep file starts with a [sweep] table naming its scenarios");
+    TomlTable head = top.sub("sweep");
+    if (const auto name = head.text("name"); name && !name->empty()) spec.name = *name;
+    spec.description = head.text("description").value_or("");
+    spec.scenarios = head.text_list("scenarios").value_or(std::vector<std::string>{});
+    if (const auto machine = head.text("machine"); machine && !machine->empty()) spec.machine = *machine;
+    spec.fixed = head.text_list("set").value_or(std::vector<std::string>{});
+    spec.uncertainty = head.boolean("uncertainty").value_or(false);
+    spec.frames = static_cast<int>(head.integer("frames", 0, 100000).value_or(0));  // 0: all
+    spec.plot_x = head.text("plot_x").value_or("");
+    spec.plot_metric = head.text("plot_metric").value_or("");
+    head.finish();
+    top.finish();
 
     if (const toml::node* vary = root.get("vary")) {
         const toml::table* table = vary->as_table();

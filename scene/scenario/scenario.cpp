@@ -3,6 +3,7 @@
 #include "scene/volume/datasets.h"
 #include "scene/volume/host_memory.h"
 #include "scene/volume/phantoms.h"
+#include "sim/core/toml_table.h"
 #include "scene/volume/resample.h"
 #include "scene/volume/volume_io.h"
 #include "sim/core/input_error.h"
@@ -31,126 +32,26 @@
 namespace pp5 {
 namespace {
 
-// Reads one TOML table strictly: every key read is remembered, and finish() rejects the rest, so a
-// misspelt key is an error rather than a silently ignored setting.
-class TableReader {
-public:
-    TableReader(const toml::table* table, std::string path, std::string file)
-        : table_(table), path_(std::move(path)), file_(std::move(file)) {}
+// Where a refusal of an unknown key sends the user.
+constexpr const char* kFormatHint = "see traces/README.md for the scenario format";
 
-    bool has(const std::string& key) const { return table_ && table_->contains(key); }
-    std::string field(const std::string& key) const {
-        if (key.empty()) return path_;
-        return path_.empty() ? key : path_ + "." + key;
-    }
-    [[noreturn]] void fail(const std::string& key, const std::string& reason) const {
-        throw InputError(file_, field(key), reason);
-    }
+// A scenario's vectors, as floats.
+std::optional<glm::vec3> vec3(TomlTable& table, const std::string& key, double min, double max) {
+    const auto v = table.triple(key, min, max);
+    if (!v) return std::nullopt;
+    return glm::vec3(static_cast<float>((*v)[0]), static_cast<float>((*v)[1]), static_cast<float>((*v)[2]));
+}
 
-    const toml::node* node(const std::string& key) {
-        used_.insert(key);
-        return table_ ? table_->get(key) : nullptr;
-    }
-
-    TableReader sub(const std::string& key) {
-        const toml::node* n = node(key);
-        if (n && !n->is_table()) fail(key, "expected a table");
-        return TableReader(n ? n->as_table() : nullptr, field(key), file_);
-    }
-
-    std::optional<std::string> text(const std::string& key) {
-        const toml::node* n = node(key);
-        if (!n) return std::nullopt;
-        if (!n->is_string()) fail(key, "expected a string");
-        return n->as_string()->get();
-    }
-
-    std::optional<double> number(const std::string& key, double min, double max) {
-        const toml::node* n = node(key);
-        if (!n) return std::nullopt;
-        double v = 0;
-        if (const auto* i = n->as_integer()) v = static_cast<double>(i->get());
-        else if (const auto* f = n->as_floating_point()) v = f->get();
-        else fail(key, "expected a number");
-        check_range(key, v, min, max);
-        return v;
-    }
-
-    std::optional<int> integer(const std::string& key, int min, int max) {
-        const toml::node* n = node(key);
-        if (!n) return std::nullopt;
-        const auto* i = n->as_integer();
-        if (!i) fail(key, "expected an integer");
-        check_range(key, static_cast<double>(i->get()), min, max);
-        return static_cast<int>(i->get());
-    }
-
-    std::optional<bool> boolean(const std::string& key) {
-        const toml::node* n = node(key);
-        if (!n) return std::nullopt;
-        if (!n->is_boolean()) fail(key, "expected true or false");
-        return n->as_boolean()->get();
-    }
-
-    std::optional<glm::vec3> vec3(const std::string& key, double min, double max) {
-        const toml::node* n = node(key);
-        if (!n) return std::nullopt;
-        const auto* a = n->as_array();
-        if (!a || a->size() != 3) fail(key, "expected an array of three numbers");
-        glm::vec3 v{};
-        for (int i = 0; i < 3; ++i) {
-            const toml::node& e = *a->get(static_cast<std::size_t>(i));
-            double x = 0;
-            if (const auto* iv = e.as_integer()) x = static_cast<double>(iv->get());
-            else if (const auto* fv = e.as_floating_point()) x = fv->get();
-            else fail(key, "expected an array of three numbers");
-            check_range(key, x, min, max);
-            v[i] = static_cast<float>(x);
-        }
-        return v;
-    }
-
-    // An array of tables, each read strictly by `each`.
-    template <class F>
-    bool table_array(const std::string& key, F each) {
-        const toml::node* n = node(key);
-        if (!n) return false;
-        const auto* a = n->as_array();
-        if (!a) fail(key, "expected an array of tables");
-        for (std::size_t i = 0; i < a->size(); ++i) {
-            const auto* t = a->get(i)->as_table();
-            const std::string name = fmt::format("{}[{}]", field(key), i);
-            if (!t) throw InputError(file_, name, "expected a table, e.g. { value = 50, opacity = 0.8 }");
-            TableReader item(t, name, file_);
-            each(item);
-            item.finish();
-        }
-        return true;
-    }
-
-    void finish() const {
-        if (!table_) return;
-        for (const auto& [k, v] : *table_) {
-            const std::string key(k.str());
-            if (!used_.count(key)) fail(key, "unknown key (see traces/README.md for the scenario format)");
-        }
-    }
-
-private:
-    void check_range(const std::string& key, double v, double min, double max) const {
-        if (!std::isfinite(v)) fail(key, "must be a finite number");
-        if (v < min || v > max) fail(key, fmt::format("{} is outside the allowed range [{}, {}]", v, min, max));
-    }
-
-    const toml::table* table_;
-    std::string path_;
-    std::string file_;
-    std::set<std::string> used_;
-};
+// A scenario's counts and sizes, all of which fit an int.
+std::optional<int> small_integer(TomlTable& table, const std::string& key, int min, int max) {
+    const auto v = table.integer(key, min, max);
+    if (!v) return std::nullopt;
+    return static_cast<int>(*v);
+}
 
 constexpr double kHuge = 1e9;
 
-DatasetSpec read_dataset(TableReader r, const std::filesystem::path& scenario_file) {
+DatasetSpec read_dataset(TomlTable r, const std::filesystem::path& scenario_file) {
     DatasetSpec d;
     const auto packaged = r.text("packaged");
     const auto file = r.text("file");
@@ -169,7 +70,7 @@ DatasetSpec read_dataset(TableReader r, const std::filesystem::path& scenario_fi
     } else if (phantom) {
         d.source = DatasetSpec::Source::Phantom;
         d.name = *phantom;
-        d.phantom_size = r.integer("size", 2, 1024).value_or(d.phantom_size);
+        d.phantom_size = small_integer(r, "size", 2, 1024).value_or(d.phantom_size);
     } else {
         d.source = DatasetSpec::Source::File;
         std::filesystem::path p(*file);
@@ -177,8 +78,8 @@ DatasetSpec read_dataset(TableReader r, const std::filesystem::path& scenario_fi
         d.name = p.lexically_normal().string();
         if (r.has("raw")) {
             d.source = DatasetSpec::Source::Raw;
-            TableReader raw = r.sub("raw");
-            const auto dims = raw.vec3("dims", 1, 16384);
+            TomlTable raw = r.sub("raw");
+            const auto dims = vec3(raw, "dims", 1, 16384);
             if (!dims) raw.fail("dims", "required for a raw file, e.g. dims = [256, 256, 128]");
             d.raw_dims = glm::ivec3(*dims);
             if (glm::vec3(d.raw_dims) != *dims) raw.fail("dims", "must be whole numbers");
@@ -188,12 +89,12 @@ DatasetSpec read_dataset(TableReader r, const std::filesystem::path& scenario_fi
             if (!parsed) raw.fail("type", "unknown scalar type \"" + *type + "\"");
             d.raw_type = *parsed;
             d.raw_big_endian = raw.boolean("big_endian").value_or(false);
-            d.raw_header_bytes = static_cast<std::size_t>(raw.integer("header_bytes", 0, 1 << 30).value_or(0));
-            d.raw_spacing = raw.vec3("spacing", 1e-6, 1e6).value_or(glm::vec3(1.0f));
+            d.raw_header_bytes = static_cast<std::size_t>(small_integer(raw, "header_bytes", 0, 1 << 30).value_or(0));
+            d.raw_spacing = vec3(raw, "spacing", 1e-6, 1e6).value_or(glm::vec3(1.0f));
             raw.finish();
         }
     }
-    if (const auto target = r.vec3("resample", 2, 4096)) {
+    if (const auto target = vec3(r, "resample", 2, 4096)) {
         if (glm::vec3(glm::ivec3(*target)) != *target) r.fail("resample", "must be whole numbers");
         d.resample_to = glm::ivec3(*target);
     }
@@ -201,7 +102,7 @@ DatasetSpec read_dataset(TableReader r, const std::filesystem::path& scenario_fi
     return d;
 }
 
-void read_classification(TableReader r, Classification& c, ColorMap& colors) {
+void read_classification(TomlTable r, Classification& c, ColorMap& colors) {
     if (const auto kind = r.text("kind")) {
         if (*kind == "isovalue-contours") c.kind = ClassificationKind::IsovalueContours;
         else if (*kind == "region-boundaries") c.kind = ClassificationKind::RegionBoundaries;
@@ -209,7 +110,7 @@ void read_classification(TableReader r, Classification& c, ColorMap& colors) {
         else r.fail("kind", "\"" + *kind + "\" is not one of isovalue-contours, region-boundaries, piecewise-linear");
     }
     std::vector<IsovalueContour> contours;
-    if (r.table_array("contours", [&](TableReader& item) {
+    if (r.table_array("contours", [&](TomlTable& item) {
             IsovalueContour iso;
             const auto value = item.number("value", -kHuge, kHuge);
             if (!value) item.fail("value", "required");
@@ -220,7 +121,7 @@ void read_classification(TableReader r, Classification& c, ColorMap& colors) {
         }))
         c.contours = contours;
     std::vector<OpacityPoint> points;
-    if (r.table_array("points", [&](TableReader& item) {
+    if (r.table_array("points", [&](TomlTable& item) {
             const auto value = item.number("value", -kHuge, kHuge);
             const auto opacity = item.number("opacity", 0, 1);
             if (!value || !opacity) item.fail(value ? "opacity" : "value", "required");
@@ -230,9 +131,9 @@ void read_classification(TableReader r, Classification& c, ColorMap& colors) {
         }))
         c.points = points;
     std::vector<ColorPoint> color_points;
-    if (r.table_array("colors", [&](TableReader& item) {
+    if (r.table_array("colors", [&](TomlTable& item) {
             const auto value = item.number("value", -kHuge, kHuge);
-            const auto color = item.vec3("color", 0, 1);
+            const auto color = vec3(item, "color", 0, 1);
             if (!value || !color) item.fail(value ? "color" : "value", "required");
             if (!color_points.empty() && *value <= color_points.back().value)
                 item.fail("value", "colors must be in increasing order of value");
@@ -246,7 +147,7 @@ void read_classification(TableReader r, Classification& c, ColorMap& colors) {
         r.fail("points", "needs at least two points");
 }
 
-void read_shading(TableReader r, PhongLighting& l) {
+void read_shading(TomlTable r, PhongLighting& l) {
     l.ambient = static_cast<float>(r.number("ambient", 0, 10).value_or(l.ambient));
     l.diffuse = static_cast<float>(r.number("diffuse", 0, 10).value_or(l.diffuse));
     l.specular = static_cast<float>(r.number("specular", 0, 10).value_or(l.specular));
@@ -255,7 +156,7 @@ void read_shading(TableReader r, PhongLighting& l) {
         if (*light != "headlight") r.fail("light", "the only named light is \"headlight\"; else give light_direction");
         l.light_follows_camera = true;
     }
-    if (const auto dir = r.vec3("light_direction", -kHuge, kHuge)) {
+    if (const auto dir = vec3(r, "light_direction", -kHuge, kHuge)) {
         if (glm::length(*dir) == 0.0f) r.fail("light_direction", "must not be zero");
         l.light_direction = glm::normalize(*dir);
         l.light_follows_camera = false;
@@ -270,8 +171,8 @@ void read_shading(TableReader r, PhongLighting& l) {
             r.fail("depth_cue", "needs k1 > 0 and k2 >= 0");
     }
     std::vector<StationaryLight> stationary;
-    if (r.table_array("stationary_lights", [&](TableReader& item) {
-            const auto direction = item.vec3("direction", -kHuge, kHuge);
+    if (r.table_array("stationary_lights", [&](TomlTable& item) {
+            const auto direction = vec3(item, "direction", -kHuge, kHuge);
             if (!direction) item.fail("direction", "required: [x, y, z] towards the light, world space");
             const float length = glm::length(*direction);
             if (!(length > 0.0f) || !std::isfinite(length)) item.fail("direction", "must be non-zero and finite");
@@ -287,17 +188,17 @@ void read_shading(TableReader r, PhongLighting& l) {
     r.finish();
 }
 
-void read_camera(TableReader r, CameraSpec& c) {
+void read_camera(TomlTable r, CameraSpec& c) {
     if (const auto p = r.text("projection")) {
         if (*p == "parallel") c.projection = Projection::Parallel;
         else if (*p == "perspective") c.projection = Projection::Perspective;
         else r.fail("projection", "\"" + *p + "\" is not parallel or perspective");
     }
-    if (const auto v = r.vec3("view_from", -kHuge, kHuge)) {
+    if (const auto v = vec3(r, "view_from", -kHuge, kHuge)) {
         if (glm::length(*v) == 0.0f) r.fail("view_from", "must not be zero");
         c.view_from = glm::normalize(*v);
     }
-    if (const auto v = r.vec3("up", -kHuge, kHuge)) {
+    if (const auto v = vec3(r, "up", -kHuge, kHuge)) {
         if (glm::length(*v) == 0.0f) r.fail("up", "must not be zero");
         c.up = glm::normalize(*v);
     }
@@ -310,11 +211,11 @@ void read_camera(TableReader r, CameraSpec& c) {
     if (std::abs(glm::dot(c.view_from, c.up)) > 0.999f) r.fail("up", "must not be parallel to view_from");
 }
 
-ImageSpec read_image(TableReader r) {
+ImageSpec read_image(TomlTable r) {
     ImageSpec s;
-    s.width = r.integer("width", 1, 16384).value_or(s.width);
-    s.height = r.integer("height", 1, 16384).value_or(s.height);
-    s.background = r.vec3("background", 0, 1).value_or(s.background);
+    s.width = small_integer(r, "width", 1, 16384).value_or(s.width);
+    s.height = small_integer(r, "height", 1, 16384).value_or(s.height);
+    s.background = vec3(r, "background", 0, 1).value_or(s.background);
     s.sample_step = static_cast<float>(r.number("sample_step", 0.01, 16).value_or(s.sample_step));
     s.termination_opacity =
         static_cast<float>(r.number("termination_opacity", 0.01, 1).value_or(s.termination_opacity));
@@ -365,7 +266,7 @@ std::filesystem::path resolve_scenario_file(const std::string& name_or_path) {
 std::vector<std::filesystem::path> shipped_scenario_files() { return list_named_files(scenario_search()); }
 
 // A list of [x, y, z] points.
-std::vector<glm::vec3> read_points(TableReader& r, const std::string& key) {
+std::vector<glm::vec3> read_points(TomlTable& r, const std::string& key) {
     std::vector<glm::vec3> points;
     const toml::node* n = r.node(key);
     if (!n) return points;
@@ -386,8 +287,8 @@ std::vector<glm::vec3> read_points(TableReader& r, const std::string& key) {
 }
 
 // One colour for all vertices (color) or one each (colors); likewise opacity / opacities.
-void read_vertex_attributes(TableReader& item, PolygonSpec& p) {
-    if (const auto c = item.vec3("color", 0, 1)) p.colors = {*c};
+void read_vertex_attributes(TomlTable& item, PolygonSpec& p) {
+    if (const auto c = vec3(item, "color", 0, 1)) p.colors = {*c};
     if (item.has("colors")) p.colors = read_points(item, "colors");
     if (p.colors.empty()) p.colors = {glm::vec3(1.0f)};
     if (const auto a = item.number("opacity", 0, 1)) p.opacities = {static_cast<float>(*a)};
@@ -435,13 +336,13 @@ std::string oversized_obj_index(std::string_view text) {
 }
 
 // The triangles of an OBJ mesh, scaled then translated into voxel coordinates.
-std::vector<PolygonSpec> read_mesh(TableReader& item, const std::filesystem::path& scenario_file) {
+std::vector<PolygonSpec> read_mesh(TomlTable& item, const std::filesystem::path& scenario_file) {
     const auto file = item.text("file");
     if (!file) item.fail("file", "required: the mesh's .obj file, relative to the scenario");
     std::filesystem::path path(*file);
     if (path.is_relative()) path = scenario_file.parent_path() / path;
-    const glm::vec3 scale = item.vec3("scale", -kHuge, kHuge).value_or(glm::vec3(1.0f));
-    const glm::vec3 translate = item.vec3("translate", -kHuge, kHuge).value_or(glm::vec3(0.0f));
+    const glm::vec3 scale = vec3(item, "scale", -kHuge, kHuge).value_or(glm::vec3(1.0f));
+    const glm::vec3 translate = vec3(item, "translate", -kHuge, kHuge).value_or(glm::vec3(0.0f));
     PolygonSpec attributes;
     read_vertex_attributes(item, attributes);
     if (attributes.colors.size() != 1 || attributes.opacities.size() != 1)
@@ -486,16 +387,16 @@ std::vector<PolygonSpec> read_mesh(TableReader& item, const std::filesystem::pat
     return triangles;
 }
 
-void read_region(TableReader r, std::optional<RegionOfInterest>& region) {
+void read_region(TomlTable r, std::optional<RegionOfInterest>& region) {
     RegionOfInterest g = region.value_or(RegionOfInterest{});
     if (const auto shape = r.text("shape")) {
         if (*shape == "box") g.shape = RegionOfInterest::Shape::Box;
         else if (*shape == "ellipsoid") g.shape = RegionOfInterest::Shape::Ellipsoid;
         else r.fail("shape", "must be \"box\" or \"ellipsoid\"");
     }
-    g.center = r.vec3("center", -kHuge, kHuge).value_or(g.center);
-    g.half_size = r.vec3("half_size", 1e-3, kHuge).value_or(g.half_size);
-    g.rotation_degrees = r.vec3("rotation", -3600, 3600).value_or(g.rotation_degrees);
+    g.center = vec3(r, "center", -kHuge, kHuge).value_or(g.center);
+    g.half_size = vec3(r, "half_size", 1e-3, kHuge).value_or(g.half_size);
+    g.rotation_degrees = vec3(r, "rotation", -3600, 3600).value_or(g.rotation_degrees);
     g.scale_inside = static_cast<float>(r.number("scale_inside", 0, 16).value_or(g.scale_inside));
     g.scale_outside = static_cast<float>(r.number("scale_outside", 0, 16).value_or(g.scale_outside));
     g.transition = static_cast<float>(r.number("transition", 0, 1000).value_or(g.transition));
@@ -534,11 +435,11 @@ namespace {
 
 Scenario read_scenario(const toml::table& root, const std::filesystem::path& path) {
     const std::string file = path.string();
-    TableReader top(&root, "", file);
+    TomlTable top(&root, "", file, kFormatHint);
     Scenario s;
     s.file = path;
 
-    TableReader meta = top.sub("scenario");
+    TomlTable meta = top.sub("scenario");
     s.name = meta.text("name").value_or(path.stem().string());
     s.description = meta.text("description").value_or("");
     // Checked against the registry when a run starts (this layer lies below the kernels).
@@ -560,14 +461,14 @@ Scenario read_scenario(const toml::table& root, const std::filesystem::path& pat
     read_camera(top.sub("camera"), base.camera);
     if (top.has("region")) read_region(top.sub("region"), base.region);
 
-    top.table_array("polygons", [&](TableReader& item) {
+    top.table_array("polygons", [&](TomlTable& item) {
         PolygonSpec p;
         p.vertices = read_points(item, "vertices");
         read_vertex_attributes(item, p);
         validate_polygon(p, file, item.field(""));
         s.polygons.push_back(std::move(p));
     });
-    top.table_array("meshes", [&](TableReader& item) {
+    top.table_array("meshes", [&](TomlTable& item) {
         for (PolygonSpec& t : read_mesh(item, path)) {
             validate_polygon(t, file, item.field(""));
             s.polygons.push_back(std::move(t));
@@ -576,7 +477,7 @@ Scenario read_scenario(const toml::table& root, const std::filesystem::path& pat
 
     // Each [[frames]] entry patches the state left by the frame before it.
     FrameSpec current = base;
-    const bool listed = top.table_array("frames", [&](TableReader& item) {
+    const bool listed = top.table_array("frames", [&](TomlTable& item) {
         FrameSpec next = current;
         next.label = item.text("label").value_or(fmt::format("frame {}", s.frames.size()));
         next.camera_changed = item.has("camera") || s.frames.empty();
