@@ -92,11 +92,10 @@ nlohmann::json machine_record(const LevoyFrameReport& f, const std::vector<std::
             {"pyramid_steps", rc.pyramid_steps},
             {"rays_terminated", rc.rays_terminated},
             {"pixels_filled", rc.pixels_filled},
-            {"cache",
-             {{"hits", rc.cache_hits},
-              {"misses", rc.cache_misses},
-              {"hit_rate", lookups == 0 ? 0.0 : static_cast<double>(rc.cache_hits) / static_cast<double>(lookups)}}},
-            {"voxel_requests", rc.requests},
+            {"fetch_requests", rc.fetch_requests},
+            {"cache_hits", rc.cache_hits},
+            {"cache_misses", rc.cache_misses},
+            {"cache_hit_rate", lookups == 0 ? 0.0 : static_cast<double>(rc.cache_hits) / static_cast<double>(lookups)},
             {"blocks_refreshed", rc.blocks_refreshed},
             {"context_switches", rc.context_switches},
             {"events", rc.events},
@@ -164,7 +163,7 @@ public:
             "\n    GPs: {} rays in {} passes, {} samples ({} skipped), cache hit rate {:.1f}%; crude {:.1f} ms{}, "
             "refined {:.1f} ms simulated",
             m["rays"].dump(), m["passes"].size(), m["samples"].dump(), m["samples_skipped"].dump(),
-            100.0 * m["cache"]["hit_rate"].get<double>(), crude * 1e3,
+            100.0 * m["cache_hit_rate"].get<double>(), crude * 1e3,
             crude > 0 ? fmt::format(" ({:.1f} a second)", 1.0 / crude) : std::string(),
             m["refined_seconds"].get<double>() * 1e3);
         // Where the frame's time went, phase by phase (each phase starts when the one before ends).

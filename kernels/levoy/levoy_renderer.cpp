@@ -103,7 +103,7 @@ LevoyFrameTiming levoy_frame_timing(const LevoyFrameWork& work, const FrameTimin
         rc.pass_end = cast->group_end_ps;
         rc.cache_hits = cast->gp.cache_hits;
         rc.cache_misses = cast->gp.cache_misses;
-        rc.requests = cast->gp.fetch_requests;
+        rc.fetch_requests = cast->gp.fetch_requests;
         rc.blocks_refreshed = cast->gp.blocks_refreshed;
         rc.context_switches = cast->gp.context_switches;
         rc.gp_busy = cast->gp.gp_busy;

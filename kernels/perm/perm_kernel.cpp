@@ -123,9 +123,9 @@ public:
                                   {"ring_busy_seconds", seconds(g.ring_busy)},
                                   {"renderers_answering_seconds", seconds(g.renderer_busy)},
                                   {"note", "GP and ring times are summed over GPs and channels"},
-                                  {"record_fetches", g.fetch_requests},
-                                  {"record_cache_hits", g.cache_hits},
-                                  {"record_cache_misses", g.cache_misses},
+                                  {"fetch_requests", g.fetch_requests},  // a block of records each
+                                  {"cache_hits", g.cache_hits},
+                                  {"cache_misses", g.cache_misses},
                                   {"events", g.events}};
         }
         return out;

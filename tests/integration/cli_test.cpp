@@ -169,7 +169,7 @@ TEST(Cli, RenderReportsRefinementPassesAndWritesATrace) {
             previous = pass["complete_seconds"].get<double>();
         }
         EXPECT_GT(m["rays"].get<long>(), 0);
-        EXPECT_GT(m["cache"]["hits"].get<long>() + m["cache"]["misses"].get<long>(), 0);
+        EXPECT_GT(m["cache_hits"].get<long>() + m["cache_misses"].get<long>(), 0);
     }
     EXPECT_TRUE(stats["frames"][0]["machine"]["pyramid_rebuilt"].get<bool>());
     long fills = 0;
@@ -554,8 +554,8 @@ TEST(Cli, OnTheMrHeadSequenceALightChangeThatRefreshesSendsFewerFetchesThanAnOrb
         const auto& frames = stats["frames"];
         EXPECT_EQ(frames[2]["label"], "observer moved again");
         EXPECT_EQ(frames[3]["label"], "light moved");
-        return std::pair{frames[2]["machine"]["voxel_requests"].get<std::uint64_t>(),
-                         frames[3]["machine"]["voxel_requests"].get<std::uint64_t>()};
+        return std::pair{frames[2]["machine"]["fetch_requests"].get<std::uint64_t>(),
+                         frames[3]["machine"]["fetch_requests"].get<std::uint64_t>()};
     };
     const auto [orbit, light] = requests("refresh");
     const auto [orbit_dropping, light_dropping] = requests("drop");

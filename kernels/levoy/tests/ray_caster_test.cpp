@@ -358,11 +358,11 @@ TEST(LevoyRenderer, ALightChangeThatRefreshesTheCachesSendsFewerFetchesThanOneTh
     EXPECT_TRUE(light.caches_refreshed);
     EXPECT_FALSE(dropped[2].caches_refreshed);
     EXPECT_TRUE(dropped[2].caches_invalidated);
-    EXPECT_GT(orbit.ray_cast.requests, 0u);
+    EXPECT_GT(orbit.ray_cast.fetch_requests, 0u);
     // The blocks the orbit frame used are the ones asked for again.
     EXPECT_GT(light.ray_cast.blocks_refreshed, 0u);
     EXPECT_LE(light.ray_cast.blocks_refreshed, orbit.ray_cast.cache_hits + orbit.ray_cast.cache_misses);
-    EXPECT_LT(light.ray_cast.requests, dropped[2].ray_cast.requests);
+    EXPECT_LT(light.ray_cast.fetch_requests, dropped[2].ray_cast.fetch_requests);
     // Refreshing or dropping changes when voxels arrive, never what is drawn.
     EXPECT_EQ(light.final_image.pixels, dropped[2].final_image.pixels);
     EXPECT_EQ(dropped[2].ray_cast.blocks_refreshed, 0u);

@@ -37,9 +37,9 @@ nlohmann::json region_phase_stats(const GpPhaseCounts& g) {
             {"note",
              "GP and ring times are summed over GPs and channels; imbalance is the busiest renderer's drawing time "
              "over the mean"},
-            {"brick_fetches", g.fetch_requests},
-            {"brick_cache_hits", g.cache_hits},
-            {"brick_cache_misses", g.cache_misses},
+            {"fetch_requests", g.fetch_requests},  // a brick of the volume each
+            {"cache_hits", g.cache_hits},
+            {"cache_misses", g.cache_misses},
             {"batches_sent", g.batches_sent},
             {"batch_bits", g.batch_bits},
             {"primitives_drawn", g.primitives_drawn},

@@ -80,7 +80,7 @@ inline Target make_target(const CalibrationFiles& files, const std::string& id, 
     t.frame = frame;
     t.machine = files.machine.string();
     t.metric = metric;
-    t.unit = "s";  // every metric these tests use is in seconds
+    t.unit = std::string("s");  // every metric these tests use is in seconds (a string: GCC 12 misreads the literal)
     t.reported = 1.0;
     t.exactness = Exactness::Measured;
     return t;
