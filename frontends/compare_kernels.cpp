@@ -62,9 +62,9 @@ void render_row(const Kernel& kernel, const Scenario& scenario, const MachineCon
         row.phases.clear();
         for (const PhaseTiming& phase : rendered.timing.phases)
             row.phases.emplace_back(phase.name, ticks_to_seconds(phase.duration_ps()));
-        row.gp_utilisation = rendered.activity.gps;
-        row.renderer_utilisation = rendered.activity.renderers;
-        row.ring_utilisation = rendered.activity.ring;
+        row.gp_utilisation = rendered.timing.activity.gps;
+        row.renderer_utilisation = rendered.timing.activity.renderers;
+        row.ring_utilisation = rendered.timing.activity.ring;
         row.psnr_db.reset();
         if (rendered.record.contains("fidelity") && rendered.record["fidelity"]["psnr_db"].is_number())
             row.psnr_db = rendered.record["fidelity"]["psnr_db"].get<double>();

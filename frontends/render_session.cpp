@@ -74,30 +74,6 @@ std::string describe_frame(const nlohmann::json& f, const KernelRun& run) {
     return line;
 }
 
-// Busy time so far, summed over each kind of component.
-struct BusyTotals {
-    std::uint64_t gps = 0, renderers = 0, ring = 0;
-};
-
-BusyTotals busy_totals(const Machine& machine) {
-    BusyTotals t;
-    for (const auto& gp : machine.gps()) t.gps += gp->busy_ps.value();
-    for (const auto& r : machine.renderers()) t.renderers += r->busy_ps.value();
-    t.ring = machine.ring().busy_ps();
-    return t;
-}
-
-FrameActivity activity_between(const BusyTotals& before, const BusyTotals& after, const Machine& machine,
-                               Tick duration) {
-    const auto share = [&](std::uint64_t busy, std::size_t count) {
-        const double capacity = static_cast<double>(duration) * static_cast<double>(count);
-        return capacity > 0 ? static_cast<double>(busy) / capacity : 0.0;
-    };
-    return {share(after.gps - before.gps, machine.gps().size()),
-            share(after.renderers - before.renderers, machine.renderers().size()),
-            share(after.ring - before.ring, static_cast<std::size_t>(machine.ring().channel_count()))};
-}
-
 const Kernel& checked_kernel(const Scenario& scenario) {
     const Kernel& kernel = kernel_for(scenario);
     check_scenario(kernel, scenario);
@@ -166,21 +142,18 @@ RenderSession::RenderSession(const Scenario& scenario, const MachineConfig& conf
     }
 }
 
-RenderSession::Retimed RenderSession::retime_on(const MachineConfig& timing,
+FrameTiming RenderSession::retime_on(const MachineConfig& timing,
                                                 const std::vector<const FrameWork*>& replay) {
     check_only_timing_differs(config_, timing, "the frame must be rendered again");
     timing_machine_.reset();  // it refers to the configuration replaced next
     timing_config_ = timing;
     timing_machine_ = std::make_unique<Machine>(*timing_config_);
     if (trace_ != nullptr) timing_machine_->attach_trace(trace_);
-    Retimed last;
+    FrameTiming last;
     if (!kernel_.runs_on_machine()) return last;
     for (const FrameWork* work : replay) {
         if (trace_ != nullptr) trace_->forget_slices();
-        const BusyTotals before = busy_totals(*timing_machine_);
-        last.timing = time_frame(*timing_machine_, *work);
-        last.activity =
-            activity_between(before, busy_totals(*timing_machine_), *timing_machine_, last.timing.duration_ps());
+        last = time_frame(*timing_machine_, *work);
     }
     return last;
 }
@@ -228,10 +201,8 @@ SessionFrame RenderSession::render(FrameSpec frame) {
         naming_parameter_origins(config_, [&] { return run_->record_frame(frame); });
     const bool on_machine = kernel_.runs_on_machine();
     Machine& timed = timing_machine_ ? *timing_machine_ : machine_;
-    const BusyTotals before = busy_totals(timed);
     if (trace_ != nullptr) trace_->forget_slices();
     out.timing = on_machine ? time_frame(timed, recorded->work) : FrameTiming{};
-    out.activity = activity_between(before, busy_totals(timed), timed, out.timing.duration_ps());
 
     // Each stage against the reference, with its difference image, for kernels whose stages are
     // alternatives (the low-resolution volume alone, then with its points).
@@ -263,7 +234,9 @@ SessionFrame RenderSession::render(FrameSpec frame) {
     if (!pass_fidelity.empty()) kernel_stats["fidelity_by_pass"] = std::move(pass_fidelity);
     if (on_machine)
         kernel_stats["utilisation"] = {
-            {"gps", out.activity.gps}, {"renderers", out.activity.renderers}, {"ring", out.activity.ring}};
+            {"gps", out.timing.activity.gps},
+            {"renderers", out.timing.activity.renderers},
+            {"ring", out.timing.activity.ring}};
     std::optional<ImageDifference> fidelity;
     if (reference_image) fidelity = compare_images(image, *reference_image);
     const std::string image_name = fmt::format("frame_{:04}.{}", index, extension_);

@@ -22,13 +22,6 @@
 
 namespace pp5 {
 
-// How busy each kind of component was over one frame: busy time over count x the frame's time.
-struct FrameActivity {
-    double gps = 0.0;
-    double renderers = 0.0;
-    double ring = 0.0;
-};
-
 // One picture a frame produced, with the file name `render` gives it.
 struct FrameImage {
     enum class Kind { Pass, Difference, Frame };
@@ -40,8 +33,7 @@ struct FrameImage {
 
 struct SessionFrame {
     std::size_t index = 0;
-    FrameTiming timing;
-    FrameActivity activity;
+    FrameTiming timing;  // with the components' activity over the frame
     std::vector<FrameImage> images;         // the passes (on the machine), difference images, then the frame
     nlohmann::json record;                  // the frame's record in stats.json
     std::unique_ptr<KernelFrame> recorded;  // the kernel's record (its images moved into `images`)
@@ -88,14 +80,10 @@ public:
     // From now on, times frames on `timing`, a machine that differs from the session's only in timing
     // parameters (InputError naming the first key that does not), with caches starting cold, and first
     // times `replay` on it (the frames before, in order) so that what follows finds the caches as that
-    // machine would have left them. Returns the last of replay's timings and activity. The recording
+    // machine would have left them. Returns the last of replay's timings. The recording
     // machine stays as it was: what the kernels computed does not depend on timing. The session's trace,
     // if it has one, records the frames timed on `timing` from then on.
-    struct Retimed {
-        FrameTiming timing;
-        FrameActivity activity;
-    };
-    Retimed retime_on(const MachineConfig& timing, const std::vector<const FrameWork*>& replay);
+    FrameTiming retime_on(const MachineConfig& timing, const std::vector<const FrameWork*>& replay);
     // The configuration frames are timed with (the session's own until retime_on).
     const MachineConfig& timing_config() const { return timing_config_ ? *timing_config_ : config_; }
     // The machine frames are timed on (the session's own until retime_on).

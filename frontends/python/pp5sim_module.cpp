@@ -129,9 +129,9 @@ PyRun render(const py::object& scenario_given, const std::optional<PyMachine>& m
         PyFrame frame;
         frame.label = scenario.frames[i].label;
         frame.simulated_seconds = ticks_to_seconds(f.timing.duration_ps());
-        frame.utilisation["gps"] = f.activity.gps;
-        frame.utilisation["renderers"] = f.activity.renderers;
-        frame.utilisation["ring"] = f.activity.ring;
+        frame.utilisation["gps"] = f.timing.activity.gps;
+        frame.utilisation["renderers"] = f.timing.activity.renderers;
+        frame.utilisation["ring"] = f.timing.activity.ring;
         frame.image = to_array(*f.find(FrameImage::Kind::Frame));
         for (const FrameImage& image : f.images)
             if (image.kind == FrameImage::Kind::Pass) frame.passes.append(to_array(image.image));

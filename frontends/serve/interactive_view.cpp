@@ -273,13 +273,13 @@ void InteractiveView::render(FrameSpec frame) {
 
     machine_change_ = nullptr;
     last_record_ = rendered.record;
-    describe(rendered.index, rendered.record, *rendered.recorded, rendered.timing, rendered.activity);
+    describe(rendered.index, rendered.record, *rendered.recorded, rendered.timing);
     recent_.push_back(std::move(rendered.recorded));
     if (recent_.size() > 2) recent_.erase(recent_.begin());
 }
 
 void InteractiveView::describe(std::size_t index, const nlohmann::json& record, const KernelFrame& recorded,
-                               const FrameTiming& timing, const FrameActivity& activity) {
+                               const FrameTiming& timing) {
     const Kernel& kernel = session_->kernel();
     nlohmann::json metrics = nlohmann::json::array();
     for (const KernelMetric& m : kernel.metrics()) {
@@ -319,7 +319,8 @@ void InteractiveView::describe(std::size_t index, const nlohmann::json& record, 
              {"passes", passes_.size()},
              {"passes_ready_seconds", ready},
              {"tile_map", tile_map_.has_value()},
-             {"utilisation", {{"gps", activity.gps}, {"renderers", activity.renderers}, {"ring", activity.ring}}},
+             {"utilisation",
+              {{"gps", timing.activity.gps}, {"renderers", timing.activity.renderers}, {"ring", timing.activity.ring}}},
              {"psnr_db", fidelity_.is_null() ? nlohmann::json(nullptr) : fidelity_["psnr_db"]},
              {"psnr_pending", fidelity_.is_null() && session_->kernel().runs_on_machine()},
              {"host_seconds", record["host_seconds"]},
@@ -365,9 +366,9 @@ void InteractiveView::change_machine(const nlohmann::json& change) {
         // What the kernels computed stands: the last frames are timed again on the changed machine.
         std::vector<const FrameWork*> replay;
         for (const auto& frame : recent_) replay.push_back(&frame->work);
-        const RenderSession::Retimed retimed = session_->retime_on(wanted, replay);
+        const FrameTiming retimed = session_->retime_on(wanted, replay);
         timing_ = std::move(wanted);
-        describe(last_["index"].get<std::size_t>(), last_record_, *recent_.back(), retimed.timing, retimed.activity);
+        describe(last_["index"].get<std::size_t>(), last_record_, *recent_.back(), retimed);
         last_["changed"] = {{"machine", changed}};
         ++version_;
         machine_change_ = {

@@ -64,7 +64,7 @@ private:
     void change_machine(const nlohmann::json& change);
     // last_ from a frame's record, its kernel's record and its timing on the machine.
     void describe(std::size_t index, const nlohmann::json& record, const KernelFrame& recorded,
-                  const FrameTiming& timing, const FrameActivity& activity);
+                  const FrameTiming& timing);
 
     Scenario scenario_;
     MachineConfig config_;

@@ -28,8 +28,8 @@ namespace {
 const std::vector<SweepColumn>& machine_columns() {
     static const std::vector<SweepColumn> columns = {
         {"simulated_seconds", "s", "the frame's simulated time"},
-        {"gp_utilisation", "fraction", "GP busy time over the GP count times the frame time"},
-        {"ring_utilisation", "fraction", "ring busy time over the channel count times the frame time"},
+        {"gp_utilisation", "fraction", "GP busy time over the GP count times the frame time (all phases)"},
+        {"ring_utilisation", "fraction", "ring busy time over the channel count times the frame time (all phases)"},
         {"cache_hit_rate", "fraction", "GP cache look-ups that hit"},
         {"fetch_requests", "count", "fetch requests the GPs sent to renderers"},
         {"events", "count", "events the timing engine ran"},
@@ -40,22 +40,15 @@ const std::vector<SweepColumn>& machine_columns() {
 std::vector<double> machine_values(const FrameTiming& timing, const MachineConfig& config) {
     GpPhaseCounts sum;
     for (const PhaseTiming& p : timing.phases) {
-        sum.gp_busy += p.gp.gp_busy;
-        sum.ring_busy += p.gp.ring_busy;
         sum.cache_hits += p.gp.cache_hits;
         sum.cache_misses += p.gp.cache_misses;
         sum.fetch_requests += p.gp.fetch_requests;
         sum.events += p.gp.events;
     }
-    const double duration = static_cast<double>(timing.duration_ps());
-    const auto share = [&](Tick busy, const char* count_key) {
-        const double capacity = duration * static_cast<double>(config.integer(count_key));
-        return capacity > 0 ? static_cast<double>(busy) / capacity : 0.0;
-    };
     const std::uint64_t lookups = sum.cache_hits + sum.cache_misses;
     return {ticks_to_seconds(timing.duration_ps()),
-            share(sum.gp_busy, "gp.count"),
-            config.machine_kind() == MachineKind::Multicomputer ? share(sum.ring_busy, "ring.channels") : 0.0,
+            timing.activity.gps,
+            config.machine_kind() == MachineKind::Multicomputer ? timing.activity.ring : 0.0,
             lookups > 0 ? static_cast<double>(sum.cache_hits) / static_cast<double>(lookups) : -1.0,
             static_cast<double>(sum.fetch_requests),
             static_cast<double>(sum.events)};

@@ -307,9 +307,37 @@ void check_gp_memory_fits(const Machine& machine, bool with_cache, std::uint64_t
     }
 }
 
+namespace {
+
+// Busy time so far, summed over each kind of component.
+struct BusyTotals {
+    std::uint64_t gps = 0, renderers = 0, ring = 0;
+
+    explicit BusyTotals(const Machine& machine) : ring(machine.ring().busy_ps()) {
+        for (const auto& gp : machine.gps()) gps += gp->busy_ps.value();
+        for (const auto& r : machine.renderers()) renderers += r->busy_ps.value();
+    }
+};
+
+FrameActivity activity_between(const BusyTotals& before, const BusyTotals& after, const Machine& machine,
+                               Tick duration) {
+    const auto share = [&](std::uint64_t busy, std::size_t count) {
+        const double capacity = static_cast<double>(duration) * static_cast<double>(count);
+        return capacity > 0 ? static_cast<double>(busy) / capacity : 0.0;
+    };
+    return {share(after.gps - before.gps, machine.gps().size()),
+            share(after.renderers - before.renderers, machine.renderers().size()),
+            share(after.ring - before.ring, static_cast<std::size_t>(machine.ring().channel_count()))};
+}
+
+}  // namespace
+
 FrameTiming time_frame(Machine& machine, const FrameWork& work, const EngineOptions& options) {
+    const BusyTotals before(machine);
     engine::FrameRun run(machine, work);
-    return run.run(options);
+    FrameTiming timing = run.run(options);
+    timing.activity = activity_between(before, BusyTotals(machine), machine, timing.duration_ps());
+    return timing;
 }
 
 }  // namespace pp5

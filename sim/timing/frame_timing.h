@@ -54,10 +54,19 @@ struct PhaseTiming {
     Tick duration_ps() const { return end_ps - start_ps; }
 };
 
+// How busy each kind of component was over a frame: its busy time over the frame, from the components'
+// own counters (read before and after it), as a share of the count times the frame's duration.
+struct FrameActivity {
+    double gps = 0.0;
+    double renderers = 0.0;
+    double ring = 0.0;  // over its channels
+};
+
 struct FrameTiming {
     Tick start_ps = 0;
     Tick end_ps = 0;
     std::vector<PhaseTiming> phases;
+    FrameActivity activity;
     // The phase of that name, or nullptr.
     const PhaseTiming* phase(const std::string& name) const;
     Tick duration_ps() const { return end_ps - start_ps; }

@@ -3,10 +3,12 @@
 // or shard count (merged shards are the whole sweep's bytes), and a point that fails recorded as a
 // row while the rest run.
 
+#include "frontends/render_session.h"
 #include "frontends/sweep/sweep_run.h"
 #include "frontends/sweep/sweep_spec.h"
 #include "frontends/sweep/sweep_tables.h"
 #include "kernels/registry/registry.h"
+#include "kernels/registry/run_config.h"
 #include "sim/core/input_error.h"
 
 #include <gtest/gtest.h>
@@ -291,6 +293,30 @@ TEST(SweepRun, PointsThatOnlyRetimeMatchAFreshRecordingOnTheirMachine) {
     const SweepResult alone = run_sweep(spec, Shard{});
     ASSERT_EQ(alone.points.size(), 1u);
     for (std::size_t f = 0; f < 2; ++f) EXPECT_EQ(swept.points[1].frames[f].values, alone.points[0].frames[f].values);
+}
+
+// One book for utilisation: a sweep point's GP and ring utilisation are the ones stats.json reports for
+// the same frame on the same machine (the components' busy time over the frame, every phase).
+TEST(SweepRun, UtilisationIsTheOneARenderReports) {
+    SweepSpec spec = small_sweep();
+    spec.axes.clear();
+    spec.fixed = {"gp.count=8"};
+    spec.points = {{}};
+    spec.frames = 1;
+    const SweepResult swept = run_sweep(spec, Shard{});
+    ASSERT_EQ(swept.points.size(), 1u);
+    const auto column = [&](const std::string& name) {
+        for (std::size_t c = 0; c < swept.columns.size(); ++c)
+            if (swept.columns[c].name == name) return swept.points[0].frames[0].values[c].value();
+        ADD_FAILURE() << "no column " << name;
+        return -1.0;
+    };
+    const Scenario scenario = load_scenario(resolve_scenario_file("head-phantom"));
+    RenderSession session(scenario, load_run_config("pxpl5", {"gp.count=8"}), nullptr, "png", false);
+    const SessionFrame frame = session.render(scenario.frames.front());
+    EXPECT_GT(frame.timing.activity.gps, 0.0);
+    EXPECT_EQ(column("gp_utilisation"), frame.timing.activity.gps);
+    EXPECT_EQ(column("ring_utilisation"), frame.timing.activity.ring);
 }
 
 // The kernel as an axis: every point is rendered by its kernel (its metrics in its rows, the kernel in
