@@ -15,14 +15,6 @@
 
 namespace pp5 {
 
-namespace {
-
-// Only these parameters may differ between the recording machine and the machine that re-times.
-constexpr const char* kTimingGroups[] = {"gp.", "gp_cost.", "pp.", "ring.", "calibration."};
-constexpr const char* kTimingKeys[] = {"renderer.clock_mhz", "renderer.fetch_setup_cycles",
-                                       "renderer.fetch_cycles_per_unit", "frame_buffer.bits_per_pixel"};
-
-}  // namespace
 
 MachineConfig recording_machine(const TargetSet& targets) {
     std::optional<MachineConfig> first;
@@ -37,9 +29,10 @@ MachineConfig recording_machine(const TargetSet& targets) {
 }
 
 bool is_timing_parameter(const std::string& key) {
-    for (const char* group : kTimingGroups)
-        if (key.starts_with(group)) return true;
-    return std::find(std::begin(kTimingKeys), std::end(kTimingKeys), key) != std::end(kTimingKeys);
+    // Every machine and kernel parameter, each declaring whether it only changes timing.
+    static const MachineConfig declared(run_param_groups());
+    const ParamSpec* spec = declared.find_spec(key);
+    return spec != nullptr && spec->timing_only;
 }
 
 RecordedScenario::RecordedScenario(const Scenario& scenario, const MachineConfig& functional, int frames)

@@ -65,7 +65,8 @@ private:
 // uniprocessors.
 MachineConfig recording_machine(const TargetSet& targets);
 
-// Whether `key` only changes when things happen, never what is computed.
+// Whether `key` only changes when things happen, never what is computed: as its parameter declares it
+// (ParamSpec::timing_only); false for a key no machine or kernel declares.
 bool is_timing_parameter(const std::string& key);
 // Recorded work can be re-timed on `timing` only if it computes what `recorded` did: an InputError
 // names the first parameter that differs and is not a timing one (and where `timing` got it), ending

@@ -8,6 +8,7 @@ namespace pp5 {
 const ParamGroup& RingNetwork::params() {
     static const ParamGroup group = [] {
         ParamGroup g("ring", "The ring network joining every processor");
+        g.all_timing_only();  // it changes when work happens, never what is computed
         g.integer("channels", 8, "count", 1, 256, "Independent channels (tokens) on the ring", Provenance::Default,
                   "machine.md: 8 x 32 bits x 20 MHz fits both Levoy's 640 Mb/s and Fuchs' 5 Gbit/s")
             .plausible(8, 8, "fixed by the sources: Fuchs' 5.12 Gbit/s over Levoy's 640 Mbit/s a channel")

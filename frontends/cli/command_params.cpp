@@ -76,7 +76,9 @@ int run_params(const ParamsOptions& options) {
             const std::string origin = resolved[key]["origin"];
             fmt::print("  {:<34} = {:<10} {:<7} {:<16} ({})\n", key, value, spec.unit, format_range(spec),
                        origin == "default" ? "default" : "from " + origin);
-            fmt::print("      {}\n      provenance: {}: {}\n", spec.doc, to_string(spec.provenance), spec.source);
+            fmt::print("      {}{}\n      provenance: {}: {}\n", spec.doc,
+                       spec.timing_only ? " [timing only: a recorded frame is re-timed, not rendered again]" : "",
+                       to_string(spec.provenance), spec.source);
             if (spec.plausible)
                 fmt::print("      plausible: [{}, {}]: {}\n", spec.plausible->low, spec.plausible->high,
                            spec.plausible->why);

@@ -5,6 +5,7 @@ namespace pp5 {
 const ParamGroup& levoy_cost_params() {
     static const ParamGroup group = [] {
         ParamGroup g("gp_cost.levoy", "What each of Levoy's GP operations costs on an i860; none is published");
+        g.all_timing_only();  // it changes when work happens, never what is computed
         const auto flops = [&g](const char* name, double def, const char* doc, const char* count) {
             g.real(name, def, "flops", 0, 1e6, doc, Provenance::Default, count).hand_counted();
         };

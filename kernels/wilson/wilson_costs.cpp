@@ -6,6 +6,7 @@ const ParamGroup& wilson_cost_params() {
     static const ParamGroup group = [] {
         ParamGroup g("gp_cost.wilson",
                      "What each of Wilson's hybrid-rendering operations costs on an i860; none is published");
+        g.all_timing_only();  // it changes when work happens, never what is computed
         const auto flops = [&g](const char* name, double def, const char* doc, const char* count) {
             g.real(name, def, "flops", 0, 1e6, doc, Provenance::Default, count).hand_counted();
         };

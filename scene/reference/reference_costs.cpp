@@ -5,6 +5,7 @@ namespace pp5 {
 const ParamGroup& reference_cost_params() {
     static const ParamGroup group = [] {
         ParamGroup g("gp_cost.reference", "What the reference renderer's ray-casting loop costs on a processor");
+        g.all_timing_only();  // it changes when work happens, never what is computed
         const char* same = "the operation count of the same work in Levoy's ray caster (gp_cost.levoy)";
         g.real("ray_setup_flops", 60, "flops", 0, 1e6,
                "Set up a ray: origin, direction, entry into and exit from the volume", Provenance::Default, same)

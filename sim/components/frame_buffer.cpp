@@ -12,7 +12,8 @@ const ParamGroup& FrameBuffer::params() {
             .integer("bits_per_pixel", 24, "bits", 1, 128, "Colour depth of a stored pixel", Provenance::Default,
                      "not stated for Levoy's configuration; 8 bits per RGB channel")
             .plausible(24, 32,
-                       "a colour frame buffer of the time: 8 bits a channel, perhaps with a padding or alpha byte");
+                       "a colour frame buffer of the time: 8 bits a channel, perhaps with a padding or alpha byte")
+            .timing_only();
         return g;
     }();
     return group;

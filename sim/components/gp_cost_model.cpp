@@ -10,6 +10,7 @@ namespace pp5 {
 const ParamGroup& GpCostModel::params() {
     static const ParamGroup group = [] {
         ParamGroup g("gp_cost", "Graphics-processor (i860) cost of the machine's own operations; none is published");
+        g.all_timing_only();  // it changes when work happens, never what is computed
         const auto cycles = [&g](const char* name, double def, const char* doc, const char* count) {
             g.real(name, def, "cycles", 0, 1e7, doc, Provenance::Default, count).hand_counted();
         };

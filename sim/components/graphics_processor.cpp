@@ -11,6 +11,7 @@ namespace pp5 {
 const ParamGroup& GraphicsProcessor::params() {
     static const ParamGroup group = [] {
         ParamGroup g("gp", "Graphics processors: Intel i860 nodes with memory and a block cache");
+        g.all_timing_only();  // it changes when work happens, never what is computed
         g.integer("count", 32, "count", 1, 1024, "Number of graphics processors", Provenance::Paper,
                   "Levoy 1989, Implementation on Pixel-planes 5: 32 GPs")
             .real("clock_mhz", 40.0, "MHz", 1, 10000,

@@ -25,24 +25,29 @@ const ParamGroup& Renderer::params() {
                      "blocks")
             .real("clock_mhz", 40.0, "MHz", 1, 1000, "Pixel-processor clock", Provenance::Hardware,
                   "Fuchs et al. 1989: chips designed for 40 MHz")
+            .timing_only()
             .integer("fetch_setup_cycles", 64, "cycles", 0, 1 << 24,
                      "Controller cycles to decode a GP's fetch request and set up the read-out", Provenance::Default,
                      "not published: a few dozen controller instructions")
             .plausible_factor(0.5, 2, "'a few dozen' instructions: from one to a hundred and more")
+            .timing_only()
             .real("fetch_cycles_per_unit", 4.0, "cycles", 0, 1 << 20,
                   "Cycles to read one unit of a fetched block (a 32-bit word: one of Levoy's shaded voxels) out of the "
                   "PPs onto the ring port",
                   Provenance::Default, "not published: a 32-bit word through the renderer's port in a few cycles")
             .plausible(1, 8, "a word a cycle at best; 8 if the port is a byte wide")
+            .timing_only()
             .integer("write_setup_cycles", 64, "cycles", 0, 1 << 24,
                      "Controller cycles to set up writing a block of words that arrived over the ring into the PPs (a "
                      "pixel block)",
                      Provenance::Default, "not published: taken as the fetch set-up, the same port the other way")
             .plausible_factor(0.5, 2, "as renderer.fetch_setup_cycles")
+            .timing_only()
             .real("write_cycles_per_word", 4.0, "cycles", 0, 1 << 20,
                   "Cycles to write one 32-bit word that arrived over the ring into the PP it is for",
                   Provenance::Default, "not published: taken as the fetch rate, the same port the other way")
-            .plausible(1, 8, "as renderer.fetch_cycles_per_unit");
+            .plausible(1, 8, "as renderer.fetch_cycles_per_unit")
+            .timing_only();
         return g;
     }();
     return group;

@@ -48,6 +48,7 @@ const ParamGroup& CalibrationScales::params() {
     static const ParamGroup group = [] {
         ParamGroup g("calibration",
                      "Scale factors over families of documented costs; 1 = uncalibrated, `pp5sim fit` sets them");
+        g.all_timing_only();  // it changes when work happens, never what is computed
         const char* source =
             "1 (uncalibrated); a fitted machine file gives the value `pp5sim fit` found, with its standard error";
         for (const ScaleFamily& family : kFamilies) {

@@ -78,7 +78,20 @@ ParamGroup& ParamGroup::add(ParamSpec spec) {
             throw std::logic_error("parameter declared twice: " + prefix_ + "." + spec.name);
     if (const std::string why = spec.check(spec.default_value); !why.empty())
         throw std::logic_error("default of " + prefix_ + "." + spec.name + " " + why);
+    spec.timing_only = spec.timing_only || all_timing_only_;
     specs_.push_back(std::move(spec));
+    return *this;
+}
+
+ParamGroup& ParamGroup::timing_only() {
+    if (specs_.empty()) throw std::logic_error("timing_only before any parameter of " + prefix_);
+    specs_.back().timing_only = true;
+    return *this;
+}
+
+ParamGroup& ParamGroup::all_timing_only() {
+    all_timing_only_ = true;
+    for (ParamSpec& spec : specs_) spec.timing_only = true;
     return *this;
 }
 

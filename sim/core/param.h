@@ -43,6 +43,10 @@ struct ParamSpec {
     Provenance provenance = Provenance::Default;
     std::string source;                       // e.g. "Levoy 1989, Implementation on Pixel-planes 5"
     std::optional<PlausibleRange> plausible;  // numbers only; every timing guess has one (tests/unit/sim)
+    // It changes when the machine's work happens, never what is computed: a frame recorded on one
+    // machine may be re-timed on another that differs only in such parameters (calibration, sweeps, the
+    // browser tool's machine controls).
+    bool timing_only = false;
 
     // Empty when `value` is acceptable, else the reason it is not.
     std::string check(const ParamValue& value) const;
@@ -67,6 +71,10 @@ public:
     ParamGroup& plausible_factor(double low_factor, double high_factor, std::string why);
     // An operation's cost counted by hand from its arithmetic: half to twice the count.
     ParamGroup& hand_counted();
+    // The parameter declared last only changes timing (ParamSpec::timing_only).
+    ParamGroup& timing_only();
+    // Every parameter of the group, declared before or after, only changes timing.
+    ParamGroup& all_timing_only();
 
     const std::string& prefix() const { return prefix_; }
     const std::string& description() const { return description_; }
@@ -78,6 +86,7 @@ private:
     std::string prefix_;
     std::string description_;
     std::vector<ParamSpec> specs_;
+    bool all_timing_only_ = false;
 };
 
 }  // namespace pp5

@@ -32,6 +32,7 @@ std::uint64_t bits_of(const PpProgram& program, int id) {
 const ParamGroup& PpCostModel::params() {
     static const ParamGroup group = [] {
         ParamGroup g("pp", "Pixel-processor array timing: operation costs, QEE, controller and backing store");
+        g.all_timing_only();  // it changes when work happens, never what is computed
         g.real("cycles_per_bit", 1.0, "cycles", 0.01, 100,
                "Cycles per result bit of a bit-serial add, subtract, compare or move", Provenance::Default,
                "machine.md: about one cycle per operand bit for add/compare/move ([D])")

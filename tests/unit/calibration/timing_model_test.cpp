@@ -8,10 +8,96 @@
 #include "sim/core/input_error.h"
 #include "sim/machine/machine.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <variant>
+#include <vector>
 
 namespace pp5 {
 namespace {
+
+// What a recorded frame computed: its pictures and the shape of its work, as one comparable string.
+std::string computed(const RecordedScenario& recording) {
+    const RecordedFrame& frame = recording.frames().front();
+    std::string digest;
+    for (const Image* image : {&frame.crude_image, &frame.refined_image})
+        for (const glm::vec4& p : image->pixels)
+            digest += std::to_string(p.r) + std::to_string(p.g) + std::to_string(p.b) + std::to_string(p.a);
+    for (const Phase& phase : frame.frame->work.phases) {
+        digest += " " + phase.name;
+        if (const auto* pp = std::get_if<PpPhase>(&phase.work)) {
+            for (const PpPhase::Pass& pass : pp->passes)
+                for (const PpRunCounts& c : pass.work.counts) digest += " " + std::to_string(c.enabled_pp_operations);
+        } else if (const auto* gp = std::get_if<GpPhase>(&phase.work)) {
+            digest += fmt::format(" {} {} {} {} {}", gp->steps.size(), gp->items.size(), gp->tasks.size(), gp->groups,
+                                  gp->batches.size());
+        }
+    }
+    return digest;
+}
+
+// A value of `spec` other than its default that the parameter accepts, trying the plausible range's
+// ends first; nothing when there is none.
+std::vector<std::string> other_values(const ParamSpec& spec) {
+    std::vector<std::string> out;
+    if (spec.type == ParamType::Boolean) return {std::get<bool>(spec.default_value) ? "false" : "true"};
+    if (spec.type == ParamType::Text) {
+        if (spec.choices.empty()) return {"other words"};
+        for (const std::string& choice : spec.choices)
+            if (choice != std::get<std::string>(spec.default_value)) out.push_back(choice);
+        return out;
+    }
+    const bool integer = spec.type == ParamType::Integer;
+    const double def = integer ? static_cast<double>(std::get<std::int64_t>(spec.default_value))
+                               : std::get<double>(spec.default_value);
+    std::vector<double> candidates;
+    if (spec.plausible) candidates = {spec.plausible->high, spec.plausible->low};
+    candidates.insert(candidates.end(), {def * 2 + 1, def / 2, spec.max.value_or(def), spec.min.value_or(def)});
+    for (double v : candidates) {
+        const ParamValue value = integer ? ParamValue(static_cast<std::int64_t>(std::llround(v))) : ParamValue(v);
+        if (value != spec.default_value && spec.check(value).empty())
+            out.push_back(integer ? std::to_string(std::get<std::int64_t>(value)) : fmt::format("{}", v));
+    }
+    return out;
+}
+
+// Every parameter that declares it only changes timing (so calibration, sweeps and the browser tool
+// re-time recorded work instead of rendering again) leaves the pictures and the recorded work of a
+// frame as they were, at another value it accepts.
+TEST(TimingModel, ParametersDeclaredTimingOnlyChangeNothingAFrameComputes) {
+    const test::CalibrationFiles files = test::write_calibration_files("timing_only");
+    const Scenario scenario = load_scenario(files.scenario);
+    const MachineConfig base = load_run_config(files.machine.string(), {});
+    const std::string expected = computed(RecordedScenario(scenario, base, 1));
+    std::size_t checked = 0;
+    for (const ParamGroup* group : base.groups()) {
+        for (const ParamSpec& spec : group->specs()) {
+            if (!spec.timing_only) continue;
+            const std::string key = group->prefix() + "." + spec.name;
+            EXPECT_TRUE(is_timing_parameter(key)) << key;
+            bool recorded = false;
+            for (const std::string& value : other_values(spec)) {
+                try {
+                    const RecordedScenario other(scenario, load_run_config(files.machine.string(), {key + "=" + value}), 1);
+                    EXPECT_EQ(computed(other), expected) << key << " = " << value;
+                    recorded = true;
+                    break;
+                } catch (const InputError&) {
+                    // The machine cannot hold the work at that value (a cache past the GP's memory): try another.
+                }
+            }
+            EXPECT_TRUE(recorded) << key << ": no other value could be tried";
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, 90u);
+    EXPECT_FALSE(is_timing_parameter("renderer.pp_columns"));
+    EXPECT_FALSE(is_timing_parameter("levoy.jitter_samples"));
+    EXPECT_FALSE(is_timing_parameter("no.such_key"));
+}
 
 TEST(TimingModel, RetimingEqualsRenderingOnTheRetimedMachine) {
     const test::CalibrationFiles files = test::write_calibration_files("retime");
