@@ -15,7 +15,6 @@
 
 namespace pp5 {
 
-
 MachineConfig recording_machine(const TargetSet& targets) {
     std::optional<MachineConfig> first;
     for (const Target& t : targets.targets) {

@@ -142,8 +142,7 @@ RenderSession::RenderSession(const Scenario& scenario, const MachineConfig& conf
     }
 }
 
-FrameTiming RenderSession::retime_on(const MachineConfig& timing,
-                                                const std::vector<const FrameWork*>& replay) {
+FrameTiming RenderSession::retime_on(const MachineConfig& timing, const std::vector<const FrameWork*>& replay) {
     check_only_timing_differs(config_, timing, "the frame must be rendered again");
     timing_machine_.reset();  // it refers to the configuration replaced next
     timing_config_ = timing;
@@ -233,10 +232,9 @@ SessionFrame RenderSession::render(FrameSpec frame) {
     if (with_reference) kernel_stats["reference"] = reference_stats(reference_counts);
     if (!pass_fidelity.empty()) kernel_stats["fidelity_by_pass"] = std::move(pass_fidelity);
     if (on_machine)
-        kernel_stats["utilisation"] = {
-            {"gps", out.timing.activity.gps},
-            {"renderers", out.timing.activity.renderers},
-            {"ring", out.timing.activity.ring}};
+        kernel_stats["utilisation"] = {{"gps", out.timing.activity.gps},
+                                       {"renderers", out.timing.activity.renderers},
+                                       {"ring", out.timing.activity.ring}};
     std::optional<ImageDifference> fidelity;
     if (reference_image) fidelity = compare_images(image, *reference_image);
     const std::string image_name = fmt::format("frame_{:04}.{}", index, extension_);

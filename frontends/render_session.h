@@ -33,7 +33,7 @@ struct FrameImage {
 
 struct SessionFrame {
     std::size_t index = 0;
-    FrameTiming timing;  // with the components' activity over the frame
+    FrameTiming timing;                     // with the components' activity over the frame
     std::vector<FrameImage> images;         // the passes (on the machine), difference images, then the frame
     nlohmann::json record;                  // the frame's record in stats.json
     std::unique_ptr<KernelFrame> recorded;  // the kernel's record (its images moved into `images`)

@@ -18,10 +18,13 @@
 
 #include <array>
 #include <compare>
-#include <span>
 #include <vector>
 
 namespace pp5 {
+
+// A sample point lies in the polygon's one-voxel sheet when its plane distance, in the QEE's fixed
+// point, is at most this.
+inline constexpr std::int64_t kPolygonSheetHalfWidth = std::int64_t{1} << (kQeeShift - 1);
 
 // What a polygon's program depends on besides the machine: the subvoxel translations, the edges and the
 // widths of the fields its values need over a volume of `dims` voxels. Polygons of one shape share one
@@ -46,16 +49,6 @@ PpProgram build_polygon_program(const PreparedPolygon& polygon, int samples, glm
 // each edge function (kQeeShift fraction bits, in voxels), then red, green, blue and opacity as codes.
 std::vector<QeeCoefficients> polygon_expressions(const PreparedPolygon& polygon, const std::vector<glm::dvec3>& offsets,
                                                  const SlotFrame& frame, const VoxelRecordLayout& layout);
-
-// The PPs of a slot that the polygon's program must run on (PpArray::run_candidates), ascending, into
-// `out`: those whose voxel, moved by some subvoxel translation, lies within half a voxel of the plane
-// as the QEE computes it from `expressions`. Every other PP fails each translation's first test, the
-// plane's, and so the count test after them: a bystander of the program (sim/pixel_processors/pp_program.h),
-// which the hardware still runs but which changes nothing. Exact: found from the same integers the QEE
-// evaluates, row by row (a row whose values could wrap in their field is taken whole).
-void polygon_candidates(const PreparedPolygon& polygon, int samples, const PpProgram& program,
-                        std::span<const QeeCoefficients> expressions, const PpArrayShape& shape,
-                        std::vector<int>& out);
 
 // Whether a slot may hold a voxel the polygon reaches: its voxels' box against the polygon's box grown
 // by one voxel. Slots that fail are not run (the controller skips them).

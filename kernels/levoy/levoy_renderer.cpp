@@ -1,6 +1,7 @@
 #include "kernels/levoy/levoy_renderer.h"
 
 #include "kernels/levoy/geometry_programs.h"
+#include "kernels/levoy/polygon_candidates.h"
 #include "kernels/levoy/ray_cast_work.h"
 #include "kernels/levoy/ray_caster.h"
 #include "sim/core/input_error.h"
@@ -10,10 +11,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <map>
-#include <memory>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <memory>
 #include <numeric>
 #include <stdexcept>
 
@@ -182,7 +183,8 @@ Phase LevoyRenderer::scan_convert() {
     for (std::size_t k = 0; k < polygons_.size(); ++k) {
         const PreparedPolygon& polygon = polygons_[k];
         if (polygon.degenerate) continue;
-        const PolygonProgramShape shape = polygon_program_shape(polygon, settings_.jitter_samples, dims_, inputs.layout);
+        const PolygonProgramShape shape =
+            polygon_program_shape(polygon, settings_.jitter_samples, dims_, inputs.layout);
         std::shared_ptr<const PpProgram>& shared = programs[shape];
         if (!shared) shared = std::make_shared<const PpProgram>(build_polygon_program(shape, inputs));
         const PpProgram& program = *shared;

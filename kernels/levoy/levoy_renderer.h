@@ -58,7 +58,7 @@ struct RayCastReport : RayCastCounts {
     std::vector<Tick> pass_end;  // when each refinement pass's last tile reached the frame buffer
     std::uint64_t cache_hits = 0;
     std::uint64_t cache_misses = 0;
-    std::uint64_t fetch_requests = 0;  // to renderers, a block of voxels each
+    std::uint64_t fetch_requests = 0;    // to renderers, a block of voxels each
     std::uint64_t blocks_refreshed = 0;  // asked for again, in refresh messages, after the PPs reshaded
     std::uint64_t context_switches = 0;
     Tick gp_busy = 0;

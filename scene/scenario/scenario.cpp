@@ -3,13 +3,13 @@
 #include "scene/volume/datasets.h"
 #include "scene/volume/host_memory.h"
 #include "scene/volume/phantoms.h"
-#include "sim/core/toml_table.h"
 #include "scene/volume/resample.h"
 #include "scene/volume/volume_io.h"
 #include "sim/core/input_error.h"
 #include "sim/core/named_file.h"
 #include "sim/core/spelling.h"
 #include "sim/core/toml_file.h"
+#include "sim/core/toml_table.h"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>

@@ -132,9 +132,9 @@ void TomlTable::finish() const {
         for (std::size_t i = 0; i < known_.size(); ++i)
             listed += (i == 0 ? "" : i + 1 == known_.size() ? " and " : ", ") + known_[i];
         const std::string where = path_.empty() ? "the file" : path_;
-        fail(std::string(k.str()), fmt::format("unknown field; {} has {}{}", where,
-                                               listed.empty() ? "no fields" : listed,
-                                               hint_.empty() ? "" : " (" + hint_ + ")"));
+        fail(std::string(k.str()),
+             fmt::format("unknown field; {} has {}{}", where, listed.empty() ? "no fields" : listed,
+                         hint_.empty() ? "" : " (" + hint_ + ")"));
     }
 }
 

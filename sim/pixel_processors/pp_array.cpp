@@ -276,7 +276,7 @@ void validate(const PpProgram& program, const PpSlotContext& context, int local_
 #endif
 template <bool Listed>
 [[gnu::always_inline]] inline PpRunCounts PpArray::execute(const PpProgram& program, const PpSlotContext& context,
-                                                          std::span<const int> listed) {
+                                                           std::span<const int> listed) {
     // `total` PPs own backing store; `lanes` of them run (all, or the listed ones, whose fields are kept
     // in list order).
     const auto total = static_cast<std::size_t>(size());
@@ -499,9 +499,10 @@ PpRunCounts PpArray::run_candidates(const PpProgram& program, const PpSlotContex
     }
     for (std::size_t i = 0; i < candidates.size(); ++i) {
         if (candidates[i] < 0 || candidates[i] >= size() || (i > 0 && candidates[i] <= candidates[i - 1])) {
-            throw std::invalid_argument(fmt::format("PP program {}: candidate {} is PP {}; candidates must be "
-                                                    "distinct PPs of the {}, in ascending order",
-                                                    program.name, i, candidates[i], size()));
+            throw std::invalid_argument(
+                fmt::format("PP program {}: candidate {} is PP {}; candidates must be "
+                            "distinct PPs of the {}, in ascending order",
+                            program.name, i, candidates[i], size()));
         }
     }
     PpRunCounts counts = execute<true>(program, context, candidates);

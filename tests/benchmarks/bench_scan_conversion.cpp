@@ -25,8 +25,8 @@ std::vector<pp5::PolygonSpec> sphere_mesh(int triangles) {
     const int bands = std::max(2, static_cast<int>(std::sqrt(triangles / 2.0)));
     const auto point = [&](int i, int j) {
         const double theta = M_PI * i / bands, phi = 2.0 * M_PI * j / bands;
-        return glm::vec3(128.0) + 90.0f * glm::vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
-                                                    std::cos(theta));
+        return glm::vec3(128.0) +
+               90.0f * glm::vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
     };
     std::vector<pp5::PolygonSpec> mesh;
     for (int i = 0; i < bands; ++i)
@@ -46,8 +46,8 @@ void BM_ScanConvertSphere(benchmark::State& state) {
     pp5::Machine machine(config);
     pp5::LevoyRenderer renderer(machine, volume, pp5::LevoySettings::from(config),
                                 pp5::LevoyImageSettings{128, 128, 1.0f, 0.95f, glm::vec3(0.0f)});
-    const std::vector<pp5::PolygonSpec> mesh = state.range(0) > 0 ? sphere_mesh(static_cast<int>(state.range(0)))
-                                                                   : std::vector<pp5::PolygonSpec>{};
+    const std::vector<pp5::PolygonSpec> mesh =
+        state.range(0) > 0 ? sphere_mesh(static_cast<int>(state.range(0))) : std::vector<pp5::PolygonSpec>{};
     pp5::LevoyFrameInputs in;
     in.camera.eye = glm::vec3(127.5f, -600.0f, 127.5f);
     in.camera.target = glm::vec3(127.5f);

@@ -1,9 +1,9 @@
 // Host time for `pp5sim serve` to answer what a class does on the 512x512 MR head (the default
 // scenario's volume, Debian's mricron-data): a light move (the PPs reshade, the GPs cast), an orbit
-// (the GPs cast), a region move (the PPs reclassify), a change of GP count (a re-time of the recorded frame, no rendering), and the PSNR
-// read-out the page asks for after a light move (the reference renderer, deferred). Each iteration is
-// one change applied to the interactive view, as the HTTP handler applies it; counters give the
-// changed frame's simulated milliseconds.
+// (the GPs cast), a region move (the PPs reclassify), a change of GP count (a re-time of the recorded frame, no
+// rendering), and the PSNR read-out the page asks for after a light move (the reference renderer, deferred). Each
+// iteration is one change applied to the interactive view, as the HTTP handler applies it; counters give the changed
+// frame's simulated milliseconds.
 
 #include "frontends/serve/interactive_view.h"
 #include "kernels/registry/run_config.h"

@@ -4,6 +4,7 @@
 
 #include "kernels/levoy/geometry_programs.h"
 #include "kernels/levoy/levoy_renderer.h"
+#include "kernels/levoy/polygon_candidates.h"
 #include "kernels/levoy/tests/levoy_test_support.h"
 #include "scene/render/polygon.h"
 #include "scene/volume/phantoms.h"
@@ -273,7 +274,8 @@ TEST(ScanConversion, RunningOnlyTheCandidatesChangesNothing) {
         const glm::vec3 a(coordinate(rng), coordinate(rng) * 0.6f, coordinate(rng) * 0.25f);
         if (kind == 0) {  // in the plane z = const, through voxel centres
             const float z = std::round(a.z);
-            p.vertices = {{a.x, a.y, z}, {a.x + 9.0f, a.y + 1.0f, z}, {a.x + 2.0f, a.y + 8.0f, z}, {a.x - 1, a.y + 5, z}};
+            p.vertices = {
+                {a.x, a.y, z}, {a.x + 9.0f, a.y + 1.0f, z}, {a.x + 2.0f, a.y + 8.0f, z}, {a.x - 1, a.y + 5, z}};
         } else if (kind == 1) {  // tiny
             p.vertices = {a, a + glm::vec3(0.7f, 0.2f, 0.1f), a + glm::vec3(0.1f, 0.8f, 0.4f)};
         } else {
@@ -290,7 +292,8 @@ TEST(ScanConversion, RunningOnlyTheCandidatesChangesNothing) {
         const PpProgram program = build_polygon_program(polygon, samples, dims, inputs);
         const std::vector<glm::dvec3> offsets = subvoxel_offsets(samples);
         // A slice through the polygon's middle.
-        const int z = std::clamp(static_cast<int>(std::round((polygon.lower.z + polygon.upper.z) / 2.0f)), 0, dims.z - 1);
+        const int z =
+            std::clamp(static_cast<int>(std::round((polygon.lower.z + polygon.upper.z) / 2.0f)), 0, dims.z - 1);
         for (const glm::ivec3 origin : {glm::ivec3(0, 0, z), glm::ivec3(32, 16, z), glm::ivec3(0, 16, trial % 9)}) {
             const std::vector<QeeCoefficients> expressions =
                 polygon_expressions(polygon, offsets, SlotFrame{origin, true}, inputs.layout);
@@ -309,7 +312,8 @@ TEST(ScanConversion, RunningOnlyTheCandidatesChangesNothing) {
             const PpRunCounts want = whole.run(program, context);
             const PpRunCounts got = listed.run_candidates(program, context, candidates);
             for (int pp = 0; pp < whole.size(); ++pp) {
-                ASSERT_EQ(listed.read_backing(pp, 0, 64), whole.read_backing(pp, 0, 64)) << "trial " << trial << " PP " << pp;
+                ASSERT_EQ(listed.read_backing(pp, 0, 64), whole.read_backing(pp, 0, 64))
+                    << "trial " << trial << " PP " << pp;
                 changed += whole.read_backing(pp, 0, 64) != before[static_cast<std::size_t>(pp)] ? 1 : 0;
             }
             ASSERT_EQ(got.enabled_pp_operations, want.enabled_pp_operations) << "trial " << trial;

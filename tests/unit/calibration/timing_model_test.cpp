@@ -24,13 +24,12 @@ std::string computed(const RecordedScenario& recording) {
     const RecordedFrame& frame = recording.frames().front();
     std::string digest;
     for (const Image* image : {&frame.crude_image, &frame.refined_image})
-        for (const glm::vec4& p : image->pixels)
-            digest += std::to_string(p.r) + std::to_string(p.g) + std::to_string(p.b) + std::to_string(p.a);
+        for (const glm::vec4& p : image->pixels) digest += fmt::format("{} {} {} {};", p.r, p.g, p.b, p.a);
     for (const Phase& phase : frame.frame->work.phases) {
-        digest += " " + phase.name;
+        digest += fmt::format(" {}", phase.name);
         if (const auto* pp = std::get_if<PpPhase>(&phase.work)) {
             for (const PpPhase::Pass& pass : pp->passes)
-                for (const PpRunCounts& c : pass.work.counts) digest += " " + std::to_string(c.enabled_pp_operations);
+                for (const PpRunCounts& c : pass.work.counts) digest += fmt::format(" {}", c.enabled_pp_operations);
         } else if (const auto* gp = std::get_if<GpPhase>(&phase.work)) {
             digest += fmt::format(" {} {} {} {} {}", gp->steps.size(), gp->items.size(), gp->tasks.size(), gp->groups,
                                   gp->batches.size());
@@ -81,7 +80,8 @@ TEST(TimingModel, ParametersDeclaredTimingOnlyChangeNothingAFrameComputes) {
             bool recorded = false;
             for (const std::string& value : other_values(spec)) {
                 try {
-                    const RecordedScenario other(scenario, load_run_config(files.machine.string(), {key + "=" + value}), 1);
+                    const RecordedScenario other(scenario, load_run_config(files.machine.string(), {key + "=" + value}),
+                                                 1);
                     EXPECT_EQ(computed(other), expected) << key << " = " << value;
                     recorded = true;
                     break;

@@ -2,9 +2,9 @@
 // what it reads comes back typed and checked, and whatever it neither read nor was told to allow is
 // refused, naming the file, the field's dotted path, and what the table may hold.
 
+#include "sim/core/toml_table.h"
 #include "sim/core/input_error.h"
 #include "sim/core/toml_file.h"
-#include "sim/core/toml_table.h"
 
 #include <gtest/gtest.h>
 
@@ -27,7 +27,8 @@ InputError refusal(Read read) {
 
 TEST(TomlTable, ReadsTypedValuesAndRefusesWhatItNeitherReadNorAllowed) {
     const toml::table root = read_toml_text(
-        "title = 'x'\nsize = 3\n[image]\nwidth = 4\nwidht = 5\n[[rows]]\nname = 'a'\n[[rows]]\nname = 'b'\nnmae = 'c'\n",
+        "title = 'x'\nsize = 3\n[image]\nwidth = 4\nwidht = 5\n[[rows]]\nname = 'a'\n[[rows]]\nname = 'b'\nnmae = "
+        "'c'\n",
         "file.toml");
     TomlTable top(&root, "", "file.toml", "see the manual");
     EXPECT_EQ(top.text("title"), "x");
@@ -42,7 +43,8 @@ TEST(TomlTable, ReadsTypedValuesAndRefusesWhatItNeitherReadNorAllowed) {
     EXPECT_EQ(misspelt.reason(), "unknown field; image has width and height (see the manual)");
 
     std::vector<std::string> names;
-    const InputError row = refusal([&] { top.table_array("rows", [&](TomlTable& r) { names.push_back(r.required_text("name")); }); });
+    const InputError row =
+        refusal([&] { top.table_array("rows", [&](TomlTable& r) { names.push_back(r.required_text("name")); }); });
     EXPECT_EQ(names, (std::vector<std::string>{"a", "b"}));
     EXPECT_EQ(row.field(), "rows[1].nmae");
     top.allow({"image"});
