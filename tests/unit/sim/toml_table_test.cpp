@@ -5,6 +5,7 @@
 #include "sim/core/toml_table.h"
 #include "sim/core/input_error.h"
 #include "sim/core/toml_file.h"
+#include "tests/support/input_errors.h"
 
 #include <gtest/gtest.h>
 
@@ -12,18 +13,6 @@
 
 namespace pp5 {
 namespace {
-
-// The InputError `read` throws.
-template <class Read>
-InputError refusal(Read read) {
-    try {
-        read();
-    } catch (const InputError& e) {
-        return e;
-    }
-    ADD_FAILURE() << "nothing was refused";
-    return InputError("", "", "");
-}
 
 TEST(TomlTable, ReadsTypedValuesAndRefusesWhatItNeitherReadNorAllowed) {
     const toml::table root = read_toml_text(
@@ -37,14 +26,14 @@ TEST(TomlTable, ReadsTypedValuesAndRefusesWhatItNeitherReadNorAllowed) {
     TomlTable image = top.sub("image");
     EXPECT_EQ(image.integer("width", 1, 100), 4);
     image.allow({"height"});
-    const InputError misspelt = refusal([&] { image.finish(); });
+    const InputError misspelt = test::input_error_from([&] { image.finish(); });
     EXPECT_EQ(misspelt.file(), "file.toml");
     EXPECT_EQ(misspelt.field(), "image.widht");
     EXPECT_EQ(misspelt.reason(), "unknown field; image has width and height (see the manual)");
 
     std::vector<std::string> names;
-    const InputError row =
-        refusal([&] { top.table_array("rows", [&](TomlTable& r) { names.push_back(r.required_text("name")); }); });
+    const InputError row = test::input_error_from(
+        [&] { top.table_array("rows", [&](TomlTable& r) { names.push_back(r.required_text("name")); }); });
     EXPECT_EQ(names, (std::vector<std::string>{"a", "b"}));
     EXPECT_EQ(row.field(), "rows[1].nmae");
     top.allow({"image"});
@@ -55,14 +44,15 @@ TEST(TomlTable, RefusesWrongTypesAndValuesOutOfRangeNamingTheField) {
     const toml::table root =
         read_toml_text("n = 'three'\nbig = 11\nnan = nan\nv = [1, 2]\nlist = ['a', 1]\nflag = 1\nt = 3\n", "f.toml");
     TomlTable top(&root, "", "f.toml");
-    EXPECT_EQ(refusal([&] { top.integer("n", 0, 10); }).reason(), "expected an integer");
-    EXPECT_EQ(refusal([&] { top.integer("big", 0, 10); }).reason(), "11 is outside the allowed range [0, 10]");
-    EXPECT_EQ(refusal([&] { top.number("nan", 0, 10); }).reason(), "must be a finite number");
-    EXPECT_EQ(refusal([&] { top.triple("v", 0, 10); }).reason(), "expected an array of three numbers");
-    EXPECT_EQ(refusal([&] { top.text_list("list"); }).field(), "list");
-    EXPECT_EQ(refusal([&] { top.boolean("flag"); }).reason(), "expected true or false");
-    EXPECT_EQ(refusal([&] { top.sub("t"); }).reason(), "expected a table");
-    EXPECT_EQ(refusal([&] { top.required_text("missing"); }).reason(), "is missing");
+    EXPECT_EQ(test::input_error_from([&] { top.integer("n", 0, 10); }).reason(), "expected an integer");
+    EXPECT_EQ(test::input_error_from([&] { top.integer("big", 0, 10); }).reason(),
+              "11 is outside the allowed range [0, 10]");
+    EXPECT_EQ(test::input_error_from([&] { top.number("nan", 0, 10); }).reason(), "must be a finite number");
+    EXPECT_EQ(test::input_error_from([&] { top.triple("v", 0, 10); }).reason(), "expected an array of three numbers");
+    EXPECT_EQ(test::input_error_from([&] { top.text_list("list"); }).field(), "list");
+    EXPECT_EQ(test::input_error_from([&] { top.boolean("flag"); }).reason(), "expected true or false");
+    EXPECT_EQ(test::input_error_from([&] { top.sub("t"); }).reason(), "expected a table");
+    EXPECT_EQ(test::input_error_from([&] { top.required_text("missing"); }).reason(), "is missing");
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 
 #include "scene/volume/volume.h"
 #include "sim/core/input_error.h"
+#include "tests/support/input_errors.h"
 #include "tests/support/temp_dir.h"
 #include "tests/support/volume_files.h"
 
@@ -57,17 +58,5 @@ std::vector<T> cast_all(const std::vector<float>& values) {
 }
 
 inline std::vector<float> samples_of(const Volume& v) { return {v.samples().begin(), v.samples().end()}; }
-
-// Runs `load` and returns the InputError it throws; fails the test if it throws nothing.
-template <class Fn>
-InputError input_error_from(Fn&& load) {
-    try {
-        load();
-    } catch (const InputError& e) {
-        return e;
-    }
-    ADD_FAILURE() << "expected an InputError";
-    return InputError("", "", "no error");
-}
 
 }  // namespace pp5::test
