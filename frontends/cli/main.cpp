@@ -60,6 +60,7 @@ std::string usage_error(const CLI::App& app, const CLI::ParseError& e, int argc,
 }  // namespace
 
 int main(int argc, char** argv) {
+    pp5::keep_freed_memory_for_reuse();
     CLI::App app{"pp5sim: a cycle-approximate simulator of the Pixel-planes 5 volume rendering workstation"};
     app.require_subcommand(1);
     app.set_version_flag("--version", std::string("pp5sim ") + PP5SIM_VERSION);

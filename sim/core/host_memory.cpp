@@ -4,6 +4,9 @@
 
 #include <fmt/format.h>
 #include <sys/resource.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 #include <unistd.h>
 
 #include <algorithm>
@@ -113,6 +116,17 @@ ScopedActivity::ScopedActivity(std::string what)
 ScopedActivity::~ScopedActivity() {
     // The innermost scope unwinds first: keep its name, not an enclosing one's.
     if (std::uncaught_exceptions() > exceptions_at_start_ && unwound_activity.empty()) unwound_activity = what_;
+}
+
+void keep_freed_memory_for_reuse() {
+#if defined(__GLIBC__)
+    // 32 MiB is the largest threshold glibc accepts on 64-bit hosts. Setting either turns off glibc's
+    // own adjustment, which raises the threshold only after a block was handed back, and trims freely.
+    constexpr int kLargestHeapBlock = 32 << 20;
+    constexpr int kFreeKept = 1 << 30;
+    mallopt(M_MMAP_THRESHOLD, kLargestHeapBlock);
+    mallopt(M_TRIM_THRESHOLD, kFreeKept);
+#endif
 }
 
 std::string out_of_memory_message() {

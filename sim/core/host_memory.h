@@ -24,6 +24,14 @@ double host_memory_bytes();
 // Throws InputError(file, field, "<what> needs N GB ...") when `bytes` exceed half of host_memory().
 void check_fits_host_memory(const std::string& file, const std::string& field, double bytes, const std::string& what);
 
+// Asks the C library to keep the memory a frame frees for the next frame instead of handing it back
+// to the system: every frame allocates its recorded work and scratch buffers afresh, tens of megabytes,
+// and memory returned and taken again is zeroed page by page by the kernel (a third of a fixed-light
+// frame's host time on ch2 at 512x512). Blocks up to 32 MiB then come from the heap, and the heap gives
+// back only what it holds free beyond 1 GiB. For programs that render frame after frame (the CLI, the
+// benchmarks); a library leaves its host process's allocator alone. Does nothing off glibc.
+void keep_freed_memory_for_reuse();
+
 // What the CLI says when an allocation fails all the same: what was being built (the innermost
 // ScopedActivity the failure unwound on this thread), how much the process may use, and why.
 std::string out_of_memory_message();
