@@ -44,6 +44,18 @@ std::int64_t exact_quotient(std::int64_t a, std::int64_t b) {
     return q;
 }
 
+// pp_isqrt without its loops, so that it vectorises: floor(sqrt(x)), 0 for x <= 0. The double estimate
+// is exact below 2^52 but for a value a hair under a perfect square, which one correction each way
+// mends; every value the builder lets a field hold fits 48 bits. A disabled PP's stale value may be
+// anything: its result, discarded, stays defined (unsigned products, a square root of at most 2^63).
+std::int64_t isqrt_branch_free(std::int64_t x) {
+    const std::int64_t v = std::max<std::int64_t>(x, 0);
+    const auto r = static_cast<std::uint64_t>(std::sqrt(static_cast<double>(v)));
+    const auto u = static_cast<std::uint64_t>(v);
+    const std::uint64_t down = r - (r * r > u ? 1 : 0);
+    return static_cast<std::int64_t>(down + ((down + 1) * (down + 1) <= u ? 1 : 0));
+}
+
 // Arithmetic in uint64, where overflow is defined: a PP that is disabled may hold a stale value from
 // an earlier program, and its (discarded) result must not be undefined behaviour.
 std::int64_t add64(std::int64_t a, std::int64_t b) {
@@ -388,9 +400,7 @@ template <bool Listed>
                     break;
                 }
                 case PpOp::Sqrt:
-                    // Stored values fit 48 bits, so pp_isqrt's checks cannot overflow.
-                    for (std::size_t p = 0; p < n; ++p)
-                        if (en[p]) dst[p] = wrap(pp_isqrt(a[p]));
+                    for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return isqrt_branch_free(a[p]); });
                     break;
                 case PpOp::Lookup: {
                     const auto& entries = program.tables[static_cast<std::size_t>(in.table)].entries;
