@@ -155,6 +155,28 @@ TEST(PpArithmetic, SquareRootOfEverySixteenBitValue) {
         });
 }
 
+// The widest operands a field may hold, where a square root in double precision is no longer
+// exact by itself: perfect squares, one below and one above, up to 2^48 - 1.
+TEST(PpArithmetic, SquareRootOfWideValuesAroundPerfectSquares) {
+    std::vector<std::int64_t> inputs = {0, 1, 2, 3, (std::int64_t{1} << 48) - 1};
+    for (std::int64_t root = 2; root < (std::int64_t{1} << 24); root = root * 3 / 2 + 1)
+        for (std::int64_t d : {-1, 0, 1}) inputs.push_back(root * root + d);
+    for (std::int64_t root : {(std::int64_t{1} << 24) - 1, (std::int64_t{1} << 24) - 2})
+        for (std::int64_t d : {-1, 0, 1}) inputs.push_back(root * root + d);
+    PpArray array(static_cast<int>(inputs.size()), 1, 208, 64);
+    for (std::size_t p = 0; p < inputs.size(); ++p)
+        array.write_backing(static_cast<int>(p), 0, 48, static_cast<std::uint64_t>(inputs[p]));
+    PpProgramBuilder b("wide roots", 208);
+    const PpField root = b.sqrt("root", b.load("a", 0, 48, false));
+    array.run(b.finish(), PpSlotContext{});
+    const auto roots = array.field_values(root);
+    for (std::size_t p = 0; p < inputs.size(); ++p) {
+        const std::int64_t r = roots[p];
+        EXPECT_TRUE(r >= 0 && r * r <= inputs[p] && (r + 1) * (r + 1) > inputs[p])
+            << "sqrt(" << inputs[p] << ") gave " << r;
+    }
+}
+
 TEST(PpArithmetic, LookupOfEveryIndex) {
     PpTable table{"squares", {}};
     for (int i = 0; i < 256; ++i) table.entries.push_back((i * i) % 1000 - 500);
