@@ -11,6 +11,7 @@
 #include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 namespace pp5::cli {
@@ -63,8 +64,12 @@ int run_params(const ParamsOptions& options) {
     }
     fmt::print("Kernels ([scenario] kernel = \"...\"); each adds its parameter groups below:\n");
     for (const Kernel* kernel : kernels()) {
+        std::vector<std::string> prefixes;  // a prefix may hold several groups (voxel_store.*)
+        for (const ParamGroup* g : kernel->param_groups())
+            if (std::find(prefixes.begin(), prefixes.end(), g->prefix()) == prefixes.end())
+                prefixes.push_back(g->prefix());
         std::string groups;
-        for (const ParamGroup* g : kernel->param_groups()) groups += (groups.empty() ? "" : ", ") + g->prefix() + ".*";
+        for (const std::string& prefix : prefixes) groups += (groups.empty() ? "" : ", ") + prefix + ".*";
         fmt::print("  {:<10} {}{}\n", kernel->name(), kernel->description(), groups.empty() ? "" : " [" + groups + "]");
     }
     fmt::print("\n");

@@ -208,7 +208,8 @@ public:
                "ray casting with voxel requests over the ring";
     }
     std::vector<const ParamGroup*> param_groups() const override {
-        return {&VoxelStoreSettings::params(), &LevoySettings::params(), &levoy_cost_params()};
+        return {&VoxelStoreSettings::placement_params(), &VoxelStoreSettings::layout_params(), &LevoySettings::params(),
+                &levoy_cost_params()};
     }
     bool runs_on_machine() const override { return true; }
     // A pass for each halving of the first pass's spacing, down to one pixel.

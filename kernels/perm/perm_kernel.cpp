@@ -347,7 +347,7 @@ public:
                "passes over the records first), each cell's record fetched over the ring through the GP cache";
     }
     std::vector<const ParamGroup*> param_groups() const override {
-        return {&PermSettings::params(), &VoxelStoreSettings::params(), &perm_cost_params()};
+        return {&PermSettings::params(), &VoxelStoreSettings::layout_params(), &perm_cost_params()};
     }
     bool runs_on_machine() const override { return true; }
     void check(const Scenario& scenario) const override {

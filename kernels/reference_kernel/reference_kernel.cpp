@@ -1,6 +1,5 @@
 #include "kernels/reference_kernel/reference_kernel.h"
 
-#include "scene/reference/reference_costs.h"
 #include "scene/reference/reference_renderer.h"
 #include "scene/scenario/scenario_inputs.h"
 
@@ -46,7 +45,9 @@ public:
     std::string name() const override { return "reference"; }
     std::string description() const override { return "the host floating-point renderer alone (no simulated time)"; }
     std::string timing_summary() const override { return "none: the host reference renderer; simulated time is 0"; }
-    std::vector<const ParamGroup*> param_groups() const override { return {&reference_cost_params()}; }
+    // Its frames take no simulated time; what its loop costs a processor (gp_cost.reference.*) prices
+    // `pp5sim host-check`'s runs, and is declared with the run configuration (run_config.cpp).
+    std::vector<const ParamGroup*> param_groups() const override { return {}; }
     bool runs_on_machine() const override { return false; }
     KernelFeatures features() const override { return {.polygons = true, .regions = true}; }
     void check(const Scenario&) const override {}

@@ -272,7 +272,8 @@ public:
                "operations";
     }
     std::vector<const ParamGroup*> param_groups() const override {
-        return {&VoxelStoreSettings::params(), &WilsonSettings::params(), &wilson_cost_params()};
+        return {&VoxelStoreSettings::placement_params(), &VoxelStoreSettings::layout_params(),
+                &WilsonSettings::params(), &wilson_cost_params()};
     }
     bool runs_on_machine() const override { return true; }
     std::size_t most_pictures_per_frame(const MachineConfig&) const override {

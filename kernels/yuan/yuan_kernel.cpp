@@ -163,7 +163,8 @@ public:
                "drawn by each renderer in depth order from its region programs' operations";
     }
     std::vector<const ParamGroup*> param_groups() const override {
-        return {&VoxelStoreSettings::params(), &YuanSettings::params(), &yuan_cost_params()};
+        return {&VoxelStoreSettings::placement_params(), &VoxelStoreSettings::layout_params(), &YuanSettings::params(),
+                &yuan_cost_params()};
     }
     bool runs_on_machine() const override { return true; }
     std::size_t most_pictures_per_frame(const MachineConfig&) const override {

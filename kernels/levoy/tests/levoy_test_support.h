@@ -15,7 +15,8 @@ namespace pp5::test {
 inline MachineConfig levoy_config(std::initializer_list<std::string_view> base,
                                   std::initializer_list<std::string_view> overrides) {
     std::vector<const ParamGroup*> groups = Machine::param_groups();
-    groups.push_back(&VoxelStoreSettings::params());
+    groups.push_back(&VoxelStoreSettings::placement_params());
+    groups.push_back(&VoxelStoreSettings::layout_params());
     groups.push_back(&LevoySettings::params());
     groups.push_back(&levoy_cost_params());
     MachineConfig config(groups);

@@ -40,18 +40,25 @@ void refuse_unless_placed(const VoxelPlacement& placement) {
 
 }  // namespace
 
-const ParamGroup& VoxelStoreSettings::params() {
+const ParamGroup& VoxelStoreSettings::placement_params() {
     static const ParamGroup group = [] {
-        ParamGroup g("voxel_store",
-                     "The volume in the renderers' backing stores: where each voxel goes, the bits of its fields");
+        ParamGroup g("voxel_store", "Where the renderers' backing stores hold each voxel");
         g.text("placement", "bricks", {"bricks", "slices"},
                "Which renderer, PP and slot holds each voxel: solid bricks per renderer, or z-slices dealt round-robin",
-               Provenance::Default, "pp5sim: Levoy gives each PP 64 voxels but not their arrangement")
-            .integer("value_bits", 8, "bits", 1, 16, "Bits of each voxel's scalar value in the backing store",
-                     Provenance::Default,
-                     "pp5sim: one byte, as the 8-bit volumes are; Levoy 1989 gives 8 bytes a voxel for value, "
-                     "gradient, colour and "
-                     "opacity together, not how they divide")
+               Provenance::Default, "pp5sim: Levoy gives each PP 64 voxels but not their arrangement");
+        return g;
+    }();
+    return group;
+}
+
+const ParamGroup& VoxelStoreSettings::layout_params() {
+    static const ParamGroup group = [] {
+        ParamGroup g("voxel_store", "The bits of each voxel's fields in the renderers' backing stores");
+        g.integer("value_bits", 8, "bits", 1, 16, "Bits of each voxel's scalar value in the backing store",
+                  Provenance::Default,
+                  "pp5sim: one byte, as the 8-bit volumes are; Levoy 1989 gives 8 bytes a voxel for value, "
+                  "gradient, colour and "
+                  "opacity together, not how they divide")
             .integer("gradient_bits", 8, "bits", 2, 16, "Bits of each signed gradient component", Provenance::Default,
                      "pp5sim: one byte each fills Levoy's 8-byte budget")
             .integer("color_bits", 8, "bits", 1, 16, "Bits of each shaded colour channel", Provenance::Default,

@@ -44,7 +44,10 @@ struct VoxelStoreSettings {
     PlacementPolicy placement = PlacementPolicy::Bricks;
     VoxelRecordLayout layout;
 
-    static const ParamGroup& params();
+    // Two groups under one prefix, so that a kernel that lays its own records out in the PPs (PERM)
+    // declares only the widths it takes.
+    static const ParamGroup& placement_params();
+    static const ParamGroup& layout_params();
     static VoxelStoreSettings from(const MachineConfig& config);
 };
 
