@@ -7,6 +7,7 @@
 #include "kernels/registry/run_config.h"
 #include "sim/core/input_error.h"
 #include "sim/machine/machine.h"
+#include "tests/support/param_values.h"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -18,6 +19,8 @@
 
 namespace pp5 {
 namespace {
+
+using test::other_values;
 
 // What a recorded frame computed: its pictures and the shape of its work, as one comparable string.
 std::string computed(const RecordedScenario& recording) {
@@ -36,31 +39,6 @@ std::string computed(const RecordedScenario& recording) {
         }
     }
     return digest;
-}
-
-// A value of `spec` other than its default that the parameter accepts, trying the plausible range's
-// ends first; nothing when there is none.
-std::vector<std::string> other_values(const ParamSpec& spec) {
-    std::vector<std::string> out;
-    if (spec.type == ParamType::Boolean) return {std::get<bool>(spec.default_value) ? "false" : "true"};
-    if (spec.type == ParamType::Text) {
-        if (spec.choices.empty()) return {"other words"};
-        for (const std::string& choice : spec.choices)
-            if (choice != std::get<std::string>(spec.default_value)) out.push_back(choice);
-        return out;
-    }
-    const bool integer = spec.type == ParamType::Integer;
-    const double def = integer ? static_cast<double>(std::get<std::int64_t>(spec.default_value))
-                               : std::get<double>(spec.default_value);
-    std::vector<double> candidates;
-    if (spec.plausible) candidates = {spec.plausible->high, spec.plausible->low};
-    candidates.insert(candidates.end(), {def * 2 + 1, def / 2, spec.max.value_or(def), spec.min.value_or(def)});
-    for (double v : candidates) {
-        const ParamValue value = integer ? ParamValue(static_cast<std::int64_t>(std::llround(v))) : ParamValue(v);
-        if (value != spec.default_value && spec.check(value).empty())
-            out.push_back(integer ? std::to_string(std::get<std::int64_t>(value)) : fmt::format("{}", v));
-    }
-    return out;
 }
 
 // Every parameter that declares it only changes timing (so calibration, sweeps and the browser tool
