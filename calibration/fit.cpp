@@ -2,6 +2,7 @@
 
 #include "calibration/fit_detail.h"
 #include "calibration/identifiability.h"
+#include "calibration/machine_fit.h"
 
 #include "sim/core/input_error.h"
 #include "sim/core/parallel.h"
@@ -25,17 +26,10 @@ namespace {
 using fit_detail::key_of;
 using fit_detail::kScaleCount;
 using fit_detail::kScales;
+using fit_detail::MachineFit;
 using fit_detail::number;
 using fit_detail::percent;
 using fit_detail::ScaleSpec;
-
-// Residuals are in units of their source's uncertainty; beyond about two of those the Cauchy loss
-// discounts a target (an estimate 65% off, a measurement 22% off).
-constexpr double kLossScale = 2.0;
-
-double residual(const Target& t, double simulated) {
-    return std::log(simulated / t.reported) / relative_uncertainty(t.exactness);
-}
 
 CalibrationScales scales_from(const std::map<std::string, double>& values, const std::string& machine) {
     CalibrationScales s;
@@ -45,155 +39,6 @@ CalibrationScales scales_from(const std::map<std::string, double>& values, const
     }
     return s;
 }
-
-// One machine's fit: its fitted targets and which scales are free.
-class MachineFit {
-public:
-    MachineFit(const CalibrationModel& model, std::string machine, std::vector<const Target*> targets,
-               CalibrationScales start, std::vector<int> free, std::vector<ScaleBounds> bounds)
-        : model_(model),
-          machine_(std::move(machine)),
-          targets_(std::move(targets)),
-          start_(start),
-          free_(std::move(free)),
-          bounds_(std::move(bounds)) {}
-
-    // The solver works in the scales' logarithms: the residuals are log ratios, and a scale multiplies
-    // a cost, so in log space the problem is close to linear and the Levenberg-Marquardt steps land.
-    CalibrationScales scales(const double* log_x) const {
-        CalibrationScales s = start_;
-        for (std::size_t i = 0; i < free_.size(); ++i) s.*kScales[free_[i]].member = std::exp(log_x[i]);
-        return s;
-    }
-    std::vector<double> log_start() const {
-        std::vector<double> x;
-        for (int j : free_) x.push_back(std::log(start_.*kScales[j].member));
-        return x;
-    }
-    std::vector<double> residuals(const CalibrationScales& s) const {
-        ++simulations_;
-        const std::vector<double> simulated = model_.simulate(machine_, s, targets_);
-        std::vector<double> r;
-        for (std::size_t i = 0; i < targets_.size(); ++i) r.push_back(residual(*targets_[i], simulated[i]));
-        return r;
-    }
-    // The least-squares problem over `x`: robust for fitting, plain for the covariance at the solution
-    // (a robust loss's down-weighting would otherwise inflate the standard errors of a poor fit twice).
-    std::unique_ptr<ceres::Problem> problem(std::vector<double>& x, bool robust) const {
-        auto problem = std::make_unique<ceres::Problem>();
-        problem->AddResidualBlock(new Residuals(*this, static_cast<int>(x.size())),
-                                  robust ? new ceres::CauchyLoss(kLossScale) : nullptr, x.data());
-        for (std::size_t i = 0; i < x.size(); ++i) {
-            problem->SetParameterLowerBound(x.data(), static_cast<int>(i),
-                                            std::log(bounds_[static_cast<std::size_t>(free_[i])].lower));
-            problem->SetParameterUpperBound(x.data(), static_cast<int>(i),
-                                            std::log(bounds_[static_cast<std::size_t>(free_[i])].upper));
-        }
-        return problem;
-    }
-
-    // Solves from `x` (updated in place).
-    ceres::Solver::Summary solve(std::vector<double>& x, int max_iterations) const {
-        const std::unique_ptr<ceres::Problem> robust = problem(x, true);
-        ceres::Solver::Options options;
-        options.linear_solver_type = ceres::DENSE_QR;
-        options.max_num_iterations = max_iterations;
-        // Stop once the scales settle to four significant digits: every simulation is a whole frame,
-        // and the fitted scales' standard errors are tens of percent, so more digits only cost time.
-        options.function_tolerance = 1e-5;
-        options.parameter_tolerance = 1e-3;
-        options.logging_type = ceres::SILENT;
-        options.minimizer_progress_to_stdout = false;
-        options.num_threads = 1;  // one residual block, whose Jacobian runs its simulations side by side
-        // With bounds, Ceres follows every trust-region step with a projected Armijo line search. Its
-        // default cubic interpolation wants the gradient at each trial point, which here is a whole
-        // Jacobian (2n + 1 simulations); a quadratic through the start's value and slope and the trial's
-        // value needs one simulation a trial. Past a few trials on this noisy, event-driven cost the
-        // search only shrinks the step towards nothing: the trust region does that job for less.
-        options.line_search_interpolation_type = ceres::QUADRATIC;
-        options.max_num_line_search_step_size_iterations = 4;
-        ceres::Solver::Summary summary;
-        ceres::Solve(options, robust.get(), &summary);
-        return summary;
-    }
-
-    const std::vector<const Target*>& targets() const { return targets_; }
-    const std::vector<int>& free() const { return free_; }
-    const std::string& machine() const { return machine_; }
-    // The same fit (machine, start, free scales, bounds) over other rows, on `model`.
-    MachineFit on(const CalibrationModel& model, std::vector<const Target*> targets) const {
-        return MachineFit(model, machine_, std::move(targets), start_, free_, bounds_);
-    }
-    int simulations() const { return simulations_.load(); }
-
-private:
-    // The targets' residuals and their central-difference Jacobian. Each evaluation is a whole
-    // simulation, and the 2n + 1 of a Jacobian are independent: they run side by side, so a fit uses
-    // every core and still gives the same numbers at any thread count.
-    class Residuals final : public ceres::CostFunction {
-    public:
-        Residuals(const MachineFit& fit, int scales) : fit_(fit) {
-            set_num_residuals(static_cast<int>(fit.targets_.size()));
-            mutable_parameter_block_sizes()->push_back(scales);
-        }
-        bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
-            const std::size_t n = static_cast<std::size_t>(parameter_block_sizes().front());
-            const std::vector<double> x(parameters[0], parameters[0] + n);
-            const bool want_jacobian = jacobians != nullptr && jacobians[0] != nullptr;
-            // Point 0 is x; points 2i+1 and 2i+2 step scale i up and down.
-            std::vector<std::vector<double>> points(want_jacobian ? 2 * n + 1 : 1, x);
-            std::vector<double> steps(n);
-            for (std::size_t i = 0; want_jacobian && i < n; ++i) {
-                // Costs are whole picoseconds and events discrete, so the cost jumps a little from one
-                // scale to the next: a step of 5% spans those jumps and gives the slope they sit on.
-                steps[i] = kLogStep;
-                points[2 * i + 1][i] += steps[i];
-                points[2 * i + 2][i] -= steps[i];
-            }
-            // Ceres often asks about the same point twice or three times running (its cost, then its
-            // Jacobian; a Jacobian, then the cost again): the simulations it needs were run already.
-            std::vector<std::vector<double>> values(points.size());
-            {
-                const std::lock_guard<std::mutex> lock(last_mutex_);
-                if (last_x_ == x)
-                    for (std::size_t p = 0; p < values.size() && p < last_values_.size(); ++p)
-                        values[p] = last_values_[p];
-            }
-            pp5::parallel_for(std::size_t{0}, points.size(), [&](std::size_t p) {
-                if (values[p].empty()) values[p] = fit_.residuals(fit_.scales(points[p].data()));
-            });
-            {
-                const std::lock_guard<std::mutex> lock(last_mutex_);
-                if (last_x_ != x || values.size() >= last_values_.size()) last_values_ = values;
-                last_x_ = x;
-            }
-            const std::size_t m = values.front().size();
-            for (std::size_t r = 0; r < m; ++r) {
-                residuals[r] = values.front()[r];
-                for (std::size_t i = 0; want_jacobian && i < n; ++i)
-                    jacobians[0][r * n + i] = (values[2 * i + 1][r] - values[2 * i + 2][r]) / (2.0 * steps[i]);
-            }
-            for (const std::vector<double>& v : values)
-                if (!std::all_of(v.begin(), v.end(), [](double e) { return std::isfinite(e); })) return false;
-            return true;
-        }
-
-    private:
-        static constexpr double kLogStep = 0.05;
-        const MachineFit& fit_;
-        mutable std::mutex last_mutex_;
-        mutable std::vector<double> last_x_;  // the last point evaluated, and the residuals of its points
-        mutable std::vector<std::vector<double>> last_values_;
-    };
-
-    const CalibrationModel& model_;
-    std::string machine_;
-    std::vector<const Target*> targets_;
-    CalibrationScales start_;
-    std::vector<int> free_;
-    std::vector<ScaleBounds> bounds_;          // every scale's, in kScales' order
-    mutable std::atomic<int> simulations_{0};  // the targets simulated so far (a Jacobian's run side by side)
-};
 
 double pearson(const std::vector<double>& a, const std::vector<double>& b) {
     const double n = static_cast<double>(a.size());
