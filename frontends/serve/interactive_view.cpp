@@ -3,6 +3,7 @@
 #include "calibration/timing_model.h"
 #include "frontends/compare_kernels.h"
 #include "frontends/lecture_pictures.h"
+#include "frontends/serve/view_request.h"
 #include "kernels/registry/registry.h"
 #include "scene/scenario/scenario_inputs.h"
 #include "sim/core/input_error.h"
@@ -14,14 +15,18 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <set>
 #include <stdexcept>
 
 namespace pp5 {
 
 namespace {
 
-const char* const kRequest = "request";
+using view_request::kRequest;
+using view_request::only_keys;
+using view_request::read_camera_change;
+using view_request::read_light_change;
+using view_request::read_region_change;
+using view_request::refuse;
 
 // A recorder with no trace-event window, keeping the slices of the frame being timed: a 512x512 frame
 // of the MR head makes about (measured in the tests) a few hundred thousand.
@@ -31,62 +36,7 @@ std::unique_ptr<TraceRecorder> timeline_recorder() {
     return recorder;
 }
 
-[[noreturn]] void refuse(const std::string& field, const std::string& reason) {
-    throw InputError(kRequest, field, reason);
-}
-
-void only_keys(const nlohmann::json& object, const std::string& field, const std::set<std::string>& allowed) {
-    if (!object.is_object()) refuse(field, "expected an object");
-    for (const auto& [key, value] : object.items()) {
-        if (allowed.count(key) == 0) {
-            std::string names;
-            for (const std::string& a : allowed) names += (names.empty() ? "" : ", ") + a;
-            refuse(field.empty() ? key : field + "." + key, "unknown field (expected one of " + names + ")");
-        }
-    }
-}
-
-double number(const nlohmann::json& value, const std::string& field, double low, double high) {
-    if (!value.is_number()) refuse(field, "expected a number");
-    const double v = value.get<double>();
-    if (!std::isfinite(v) || v < low || v > high) refuse(field, fmt::format("must lie in [{}, {}]", low, high));
-    return v;
-}
-
-glm::vec3 vector3(const nlohmann::json& value, const std::string& field, double low, double high) {
-    if (!value.is_array() || value.size() != 3) refuse(field, "expected three numbers [x, y, z]");
-    glm::vec3 v;
-    for (int i = 0; i < 3; ++i)
-        v[i] =
-            static_cast<float>(number(value[static_cast<std::size_t>(i)], fmt::format("{}[{}]", field, i), low, high));
-    return v;
-}
-
 nlohmann::json to_json(glm::vec3 v) { return {v.x, v.y, v.z}; }
-
-// [{"direction": [x, y, z], "intensity": s}, ...]: the lights that stay put while the key light moves.
-std::vector<StationaryLight> stationary_lights(const nlohmann::json& value) {
-    if (!value.is_array())
-        refuse("light.stationary", "expected a list of {\"direction\": [x, y, z], \"intensity\": s}");
-    if (value.size() > kMaxStationaryLights)
-        refuse("light.stationary", fmt::format("at most {} stationary lights", kMaxStationaryLights));
-    std::vector<StationaryLight> lights;
-    for (std::size_t i = 0; i < value.size(); ++i) {
-        const std::string field = fmt::format("light.stationary[{}]", i);
-        only_keys(value[i], field, {"direction", "intensity"});
-        if (!value[i].contains("direction")) refuse(field + ".direction", "is missing");
-        StationaryLight light;
-        light.direction = vector3(value[i]["direction"], field + ".direction", -1e3, 1e3);
-        if (glm::length(light.direction) < 1e-6f)
-            refuse(field + ".direction", "a direction towards the light cannot be zero");
-        light.direction = glm::normalize(light.direction);
-        if (value[i].contains("intensity"))
-            light.intensity =
-                static_cast<float>(number(value[i]["intensity"], field + ".intensity", 0.0, kMaxLightIntensity));
-        lights.push_back(light);
-    }
-    return lights;
-}
 
 // The parameters the page puts in front of a class, with their values and whether changing one only
 // re-times the frame.
@@ -144,77 +94,19 @@ void InteractiveView::apply(const nlohmann::json& change) {
     FrameSpec next = current_;
     next.label = "change";
     next.camera_changed = next.lighting_changed = next.classification_changed = next.region_changed = false;
-    const glm::vec3 dims(session_->volume().dims());
 
     if (change.contains("camera")) {
-        const auto& c = change["camera"];
-        only_keys(c, "camera", {"azimuth", "elevation", "zoom"});
-        if (c.contains("azimuth"))
-            next.camera.azimuth_degrees =
-                static_cast<float>(std::remainder(number(c["azimuth"], "camera.azimuth", -1e6, 1e6), 360.0));
-        if (c.contains("elevation"))
-            next.camera.elevation_degrees = static_cast<float>(number(c["elevation"], "camera.elevation", -89.0, 89.0));
-        if (c.contains("zoom")) next.camera.zoom = static_cast<float>(number(c["zoom"], "camera.zoom", 0.1, 20.0));
+        read_camera_change(change["camera"], next.camera);
         next.camera_changed = !(next.camera.azimuth_degrees == current_.camera.azimuth_degrees &&
                                 next.camera.elevation_degrees == current_.camera.elevation_degrees &&
                                 next.camera.zoom == current_.camera.zoom);
     }
     if (change.contains("light")) {
-        const auto& l = change["light"];
-        only_keys(l, "light", {"direction", "headlight", "stationary"});
-        if (l.contains("headlight")) {
-            if (!l["headlight"].is_boolean()) refuse("light.headlight", "expected true or false");
-            next.lighting.light_follows_camera = l["headlight"].get<bool>();
-        }
-        if (l.contains("direction")) {
-            const glm::vec3 d = vector3(l["direction"], "light.direction", -1e3, 1e3);
-            if (glm::length(d) < 1e-6f) refuse("light.direction", "a direction towards the light cannot be zero");
-            next.lighting.light_direction = glm::normalize(d);
-            if (!l.contains("headlight")) next.lighting.light_follows_camera = false;
-        }
-        if (l.contains("stationary")) next.lighting.stationary_lights = stationary_lights(l["stationary"]);
+        read_light_change(change["light"], next.lighting);
         next.lighting_changed = !(next.lighting == current_.lighting);
     }
     if (change.contains("region")) {
-        const auto& r = change["region"];
-        if (r.is_null()) {
-            next.region.reset();
-        } else {
-            only_keys(r, "region",
-                      {"shape", "center", "half_size", "scale_inside", "scale_outside", "transition", "cap"});
-            RegionOfInterest region = current_.region.value_or(RegionOfInterest{});
-            if (!current_.region) {
-                // A new region starts as a cut-away cube in the middle of the volume.
-                region.center = 0.5f * (dims - 1.0f);
-                region.half_size = glm::vec3(0.15f * std::min({dims.x, dims.y, dims.z}));
-                region.scale_inside = 0.0f;
-                region.transition = 2.0f;
-            }
-            if (r.contains("shape")) {
-                if (r["shape"] == "box") region.shape = RegionOfInterest::Shape::Box;
-                else if (r["shape"] == "ellipsoid") region.shape = RegionOfInterest::Shape::Ellipsoid;
-                else refuse("region.shape", "must be \"box\" or \"ellipsoid\"");
-            }
-            const double reach = 2.0 * std::max({dims.x, dims.y, dims.z});
-            if (r.contains("center")) region.center = vector3(r["center"], "region.center", -reach, reach);
-            if (r.contains("half_size")) region.half_size = vector3(r["half_size"], "region.half_size", 0.5, reach);
-            if (r.contains("scale_inside"))
-                region.scale_inside = static_cast<float>(number(r["scale_inside"], "region.scale_inside", 0.0, 16.0));
-            if (r.contains("scale_outside"))
-                region.scale_outside =
-                    static_cast<float>(number(r["scale_outside"], "region.scale_outside", 0.0, 16.0));
-            if (r.contains("transition")) {
-                region.transition = static_cast<float>(number(r["transition"], "region.transition", 0.0, 100.0));
-                if (region.transition > 0.0f && region.transition < 0.01f)
-                    refuse("region.transition", "is 0 (a hard edge) or at least 0.01 voxels");
-            }
-            if (r.contains("cap")) {
-                if (!r["cap"].is_boolean()) refuse("region.cap", "expected true or false");
-                region.cap = r["cap"].get<bool>();
-            }
-            validate_region(region, kRequest, "region");
-            next.region = region;
-        }
+        next.region = read_region_change(change["region"], current_.region, session_->volume().dims());
         next.region_changed = next.region != current_.region;
     }
 
