@@ -1,5 +1,7 @@
 #include "kernels/shared/pp_volume/shading_programs.h"
 
+#include "kernels/shared/pp_volume/program_parts.h"
+
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -12,171 +14,15 @@ namespace pp5 {
 
 namespace {
 
-// Fixed-point fractions of one: 256 stands for 1.0 in opacities, dot products and light factors.
-constexpr int kOneShift = 8;
-constexpr std::int64_t kOne = std::int64_t{1} << kOneShift;
-
-std::int64_t fixed(double x, int shift) {
-    return static_cast<std::int64_t>(std::llround(x * static_cast<double>(std::int64_t{1} << shift)));
-}
-
-// The inputs every program starts from: the value and the three gradient codes of the slot's voxel.
-struct VoxelInputs {
-    PpField value;
-    std::array<PpField, 3> gradient;
-};
-
-VoxelInputs load_inputs(PpProgramBuilder& b, const VoxelRecordLayout& layout) {
-    VoxelInputs in;
-    in.value = b.load("value", layout.value_offset(), layout.value_bits, false);
-    static const char* names[3] = {"gx", "gy", "gz"};
-    for (int axis = 0; axis < 3; ++axis)
-        in.gradient[axis] = b.load(names[axis], layout.gradient_offset(axis), layout.gradient_bits, true);
-    return in;
-}
-
-// 4 |v| for a vector of three fields: the square root of the sum of squares, taken with two extra
-// fraction bits so small gradients keep their precision.
-PpField magnitude_times_four(PpProgramBuilder& b, const std::array<PpField, 3>& v) {
-    PpField sum = b.mul("g2x", v[0], v[0]);
-    for (int axis = 1; axis < 3; ++axis) {
-        const PpField square = b.mul("g2", v[axis], v[axis]);
-        const PpField next = b.add("g2sum", sum, square);
-        b.release(square);
-        b.release(sum);
-        sum = next;
-    }
-    const PpField scaled = b.mul_const("g2x16", sum, 16);
-    b.release(sum);
-    const PpField magnitude = b.sqrt("gmag4", scaled);
-    b.release(scaled);
-    return magnitude;
-}
-
-// A table over every value code: entry(f) for the value each code stands for.
-template <class Entry>
-PpTable value_table(const std::string& name, const PpField& value, const VoxelQuantization& q, Entry&& entry) {
-    PpTable table{name, {}};
-    const std::size_t size = std::size_t{1} << value.bits;
-    table.entries.resize(size);
-    for (std::size_t code = 0; code < size; ++code)
-        table.entries[code] = entry(q.value_of_code(static_cast<double>(code)));
-    return table;
-}
-
-// Opacity of one isovalue contour (Levoy 1988, eq. 3) in 1/256ths. With D = 16 |v - v_f| (the value
-// distance in 1/16 codes) and R = 16 (codes per value unit) r |g|, the opacity is
-// alpha_v (1 - D / R) where D <= R, and 0 elsewhere; D = R = 0 (a flat region at the isovalue) gives
-// alpha_v, as in the floating-point rule.
-PpField isovalue_opacity(PpProgramBuilder& b, const IsovalueContour& contour, PpField value16, PpField gmag4,
-                         const VoxelQuantization& q) {
-    const std::int64_t target16 = fixed((contour.value - q.value_offset) * q.value_scale, 4);
-    const PpField distance = b.abs_diff_const("iso_distance", value16, target16);
-    // |g| = gmag4 / (4 gradient_scale), so 16 value_scale r |g| = gmag4 (4 r value_scale / gradient_scale).
-    constexpr int kShift = 12;
-    const PpField reach = b.mul_const(
-        "iso_reach", gmag4, fixed(4.0 * contour.thickness * q.value_scale / q.gradient_scale, kShift), kShift);
-
-    const PpField ratio = b.set_const("iso_ratio", 0, kOneShift + 1, false);
-    b.enable_if(reach, PpCompare::Greater, 0);
-    const PpField quotient = b.div("iso_quotient", distance, reach, kOneShift, kOneShift + 1);
-    b.assign(ratio, quotient);
-    b.release(quotient);
-    b.enable_all();
-
-    const PpField margin = b.sub("iso_margin", reach, distance);
-    b.release(distance);
-    b.release(reach);
-    const PpField opacity = b.set_const("iso_opacity", 0, kOneShift + 1, false);
-    b.enable_if(margin, PpCompare::GreaterEqual, 0);
-    const PpField falloff = b.abs_diff_const("iso_falloff", ratio, kOne);  // 256 - ratio, as ratio <= 256 here
-    const PpField scaled = b.mul_const("iso_scaled", falloff, fixed(contour.opacity, kOneShift), kOneShift);
-    b.assign(opacity, scaled);
-    b.release(scaled);
-    b.release(falloff);
-    b.enable_all();
-    b.release(margin);
-    b.release(ratio);
-    return opacity;
-}
-
-// Opacity in 1/256ths from the classification.
-PpField opacity_256(PpProgramBuilder& b, const Classification& c, const VoxelInputs& in, const VoxelQuantization& q) {
-    switch (c.kind) {
-        case ClassificationKind::PiecewiseLinear: {
-            PpTable table =
-                value_table("opacity", in.value, q, [&](float f) { return fixed(c.opacity(f, 0.0f), kOneShift); });
-            return b.lookup("opacity256", in.value, std::move(table), kOneShift + 1, false);
-        }
-        case ClassificationKind::RegionBoundaries: {
-            // alpha = |g| w(f), with w the interpolated point opacities: a table of w scaled by
-            // 1 / (4 gradient_scale) times the magnitude the PPs compute.
-            const PpField gmag4 = magnitude_times_four(b, in.gradient);
-            PpTable table = value_table("boundary_weight", in.value, q, [&](float f) {
-                return fixed(static_cast<double>(c.opacity(f, 1.0f)) / (4.0 * q.gradient_scale), 2 * kOneShift);
-            });
-            std::int64_t largest = 0;
-            for (auto e : table.entries) largest = std::max(largest, e);
-            const PpField weight = b.lookup("boundary_weight", in.value, std::move(table),
-                                            std::max(1, pp_bits_for_range(0, largest)), false);
-            const PpField product = b.mul("boundary_product", gmag4, weight, kOneShift);
-            b.release(weight);
-            b.release(gmag4);
-            const PpField opacity = b.min_const("opacity256", product, kOne);
-            b.release(product);
-            return opacity;
-        }
-        case ClassificationKind::IsovalueContours:
-        default: {
-            if (c.contours.empty()) return b.set_const("opacity256", 0, kOneShift + 1, false);
-            const PpField gmag4 = magnitude_times_four(b, in.gradient);
-            const PpField value16 = b.mul_const("value16", in.value, 16);
-            // Several contours combine as 1 - prod(1 - alpha_n).
-            PpField transparency;
-            for (const IsovalueContour& contour : c.contours) {
-                const PpField alpha = isovalue_opacity(b, contour, value16, gmag4, q);
-                if (c.contours.size() == 1) {
-                    b.release(value16);
-                    b.release(gmag4);
-                    return alpha;
-                }
-                const PpField clear = b.abs_diff_const("iso_clear", alpha, kOne);
-                b.release(alpha);
-                if (!transparency.valid()) {
-                    transparency = clear;
-                } else {
-                    const PpField next = b.mul("transparency", transparency, clear, kOneShift);
-                    b.release(transparency);
-                    b.release(clear);
-                    transparency = next;
-                }
-            }
-            b.release(value16);
-            b.release(gmag4);
-            const PpField opacity = b.abs_diff_const("opacity256", transparency, kOne);
-            b.release(transparency);
-            return opacity;
-        }
-    }
-}
-
-// (x + 1/2) >> shift: a fixed-point product rounded to nearest.
-PpField rounded_shift(PpProgramBuilder& b, const std::string& name, PpField x, int shift) {
-    const PpField biased = b.add_const(name + "_biased", x, std::int64_t{1} << (shift - 1));
-    b.release(x);
-    const PpField result = b.move(name, biased, shift);
-    b.release(biased);
-    return result;
-}
-
-// Scale a 0..256 fraction to a code of 0..max_code, rounded.
-PpField to_code(PpProgramBuilder& b, const std::string& name, PpField fraction256, std::int64_t max_code) {
-    const PpField scaled = b.mul_const(name + "_scaled", fraction256, max_code);
-    const PpField code = rounded_shift(b, name, scaled, kOneShift);
-    const PpField clamped = b.min_const(name + "_clamped", code, max_code);
-    b.release(code);
-    return clamped;
-}
+using program_parts::fixed;
+using program_parts::kOne;
+using program_parts::kOneShift;
+using program_parts::load_inputs;
+using program_parts::magnitude_times_four;
+using program_parts::rounded_shift;
+using program_parts::to_code;
+using program_parts::value_table;
+using program_parts::VoxelInputs;
 
 // min(1, (numerator << shift) / denominator) in 1/256ths where the numerator is positive, and 0
 // where it is not: a voxel with no gradient (zero over zero) has no normal and gets no direct light.
@@ -363,17 +209,6 @@ PpField depth_cued(PpProgramBuilder& b, PpField lit, const PhongLighting& lighti
 }
 
 }  // namespace
-
-PpProgram build_classification_program(const Classification& classification, const PpProgramInputs& inputs) {
-    PpProgramBuilder b("classify", inputs.local_memory_bits);
-    const VoxelInputs in = load_inputs(b, inputs.layout);
-    const PpField opacity = opacity_256(b, classification, in, inputs.quantization);
-    const std::int64_t max_code = (std::int64_t{1} << inputs.layout.opacity_bits) - 1;
-    const PpField code = to_code(b, "opacity", opacity, max_code);
-    b.release(opacity);
-    b.store(code, inputs.layout.opacity_offset(), inputs.layout.opacity_bits);
-    return b.finish();
-}
 
 PpProgram build_shading_program(const ColorMap& color_map, const PhongLighting& lighting, const ShadingView& view,
                                 const PpProgramInputs& inputs, const GradientRewrite& rewrite) {

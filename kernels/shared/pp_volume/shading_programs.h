@@ -1,8 +1,9 @@
 #pragma once
 // Levoy's classification and Phong shading written as pixel-processor programs: fixed-point, at the
 // widths the PPs would use, over the value and gradient each PP holds for one voxel slot. The
-// floating-point originals are scene/render/classification.h and shading.h; the comments in the
-// .cpp say where each fixed-point step comes from and what it rounds.
+// floating-point originals are scene/render/classification.h and shading.h; the comments in
+// classification_program.cpp, shading_programs.cpp and program_parts.cpp say where each fixed-point
+// step comes from and what it rounds.
 //
 // Both programs read the slot's record (voxel_record.h) and write their results back into it:
 //   classification: value, gradient -> opacity (changes only with the classification)
