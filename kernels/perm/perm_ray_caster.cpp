@@ -31,7 +31,80 @@ struct TileResult {
     PermCastCounts counts;
 };
 
+// The picture's square tiles, row-major: a GP task casts one tile's rays.
+struct TileGrid {
+    int edge, across, width, height;
+
+    ScreenRect rect(int t) const {
+        const int x0 = (t % across) * edge, y0 = (t / across) * edge;
+        return {static_cast<std::uint16_t>(x0), static_cast<std::uint16_t>(y0),
+                static_cast<std::uint16_t>(std::min(width, x0 + edge) - x0),
+                static_cast<std::uint16_t>(std::min(height, y0 + edge) - y0)};
+    }
+};
+
+// The GPs' work: a task per tile, an item per ray, a step per cell's record fetched through `blocks`
+// (none: the records are the GP's own and no step fetches), the pixels last.
+GpPhase record_tiles(const std::vector<TileResult>& results, const TileGrid& grid,
+                     std::shared_ptr<const BlockDirectory> blocks, bool pp_shaded) {
+    GpPhase work;
+    work.groups = 1;
+    work.assignment = TaskAssignment::Static;
+    const bool fetches = blocks != nullptr;
+    work.blocks = std::move(blocks);
+    constexpr int kRowSkew = 7;  // as Levoy's kernel: each row of tile keys skewed, so a GP's tiles spread out
+    const auto step = [&](std::uint32_t samples, std::uint32_t empty, std::uint32_t leaped, std::uint32_t cued,
+                          std::uint32_t block, bool setup) {
+        GpStep s{static_cast<std::uint32_t>(work.ops.size()), 0, fetches ? block : kNoFetch};
+        if (setup) append_ops(work.ops, kPermRaySetup, 1);
+        append_ops(work.ops, pp_shaded ? kPermShadedSample : kPermSample, samples);
+        append_ops(work.ops, kPermDepthCue, cued);
+        append_ops(work.ops, kPermEmptySample, empty);
+        append_ops(work.ops, kPermLeapedSample, leaped);
+        s.op_count = static_cast<std::uint32_t>(work.ops.size()) - s.first_op;
+        work.steps.push_back(s);
+    };
+    for (std::size_t t = 0; t < results.size(); ++t) {
+        const TileResult& result = results[t];
+        const int tile = static_cast<int>(t);
+        GpTask task;
+        task.key = static_cast<std::uint32_t>(tile + kRowSkew * (tile / grid.across));
+        task.screen = grid.rect(tile);
+        task.first_item = static_cast<std::uint32_t>(work.items.size());
+        for (const RayRecord& r : result.rays) {
+            GpItem item{static_cast<std::uint32_t>(work.steps.size()), 0};
+            bool setup = true;
+            for (const RayRecord::Touch& touch : r.touches) {
+                step(touch.samples, touch.empty, touch.leaped, touch.cued, touch.block, setup);
+                setup = false;
+                ++item.step_count;
+            }
+            step(r.tail_samples, r.tail_empty, r.tail_leaped, r.tail_cued, kNoFetch, setup);
+            ++item.step_count;
+            work.items.push_back(item);
+        }
+        task.item_count = static_cast<std::uint32_t>(result.rays.size());
+        task.first_finish_op = static_cast<std::uint32_t>(work.ops.size());
+        append_ops(work.ops, kPermPixel, result.rays.size());
+        task.finish_op_count = static_cast<std::uint32_t>(work.ops.size()) - task.first_finish_op;
+        task.pixels = static_cast<std::uint32_t>(result.rays.size());
+        work.tasks.push_back(task);
+    }
+    return work;
+}
+
 }  // namespace
+
+PermCastCounts& PermCastCounts::operator+=(const PermCastCounts& c) {
+    rays += c.rays;
+    rays_terminated += c.rays_terminated;
+    samples += c.samples;
+    empty_samples += c.empty_samples;
+    leaped_samples += c.leaped_samples;
+    cell_fetches += c.cell_fetches;
+    carried_lookups += c.carried_lookups;
+    return *this;
+}
 
 PermRayCaster::PermRayCaster(const PermStructure& structure, glm::vec3 spacing, const PermSettings& settings,
                              std::function<std::uint32_t(glm::ivec3)> renderer_of_cell, const PermRecordShading* shaded)
@@ -156,60 +229,9 @@ PermFrame PermRayCaster::cast(const Classification& classification, const ColorM
     });
 
     // The recorded work, tile by tile.
-    GpPhase& work = out.work;
-    work.groups = 1;
-    work.assignment = TaskAssignment::Static;
-    work.blocks = cue ? cued_records_ : records_;
-    constexpr int kRowSkew = 7;  // as Levoy's kernel: each row of tile keys skewed, so a GP's tiles spread out
-    const auto step = [&](std::uint32_t samples, std::uint32_t empty, std::uint32_t leaped, std::uint32_t cued,
-                          std::uint32_t block, bool setup) {
-        GpStep s{static_cast<std::uint32_t>(work.ops.size()), 0, records_ ? block : kNoFetch};
-        if (setup) append_ops(work.ops, kPermRaySetup, 1);
-        append_ops(work.ops, shaded_ != nullptr ? kPermShadedSample : kPermSample, samples);
-        append_ops(work.ops, kPermDepthCue, cued);
-        append_ops(work.ops, kPermEmptySample, empty);
-        append_ops(work.ops, kPermLeapedSample, leaped);
-        s.op_count = static_cast<std::uint32_t>(work.ops.size()) - s.first_op;
-        work.steps.push_back(s);
-    };
-    for (int t = 0; t < tiles; ++t) {
-        TileResult& result = results[static_cast<std::size_t>(t)];
-        GpTask task;
-        task.key = static_cast<std::uint32_t>(t + kRowSkew * (t / tiles_x));
-        {
-            const int x0 = (t % tiles_x) * tile, y0 = (t / tiles_x) * tile;
-            task.screen = {static_cast<std::uint16_t>(x0), static_cast<std::uint16_t>(y0),
-                           static_cast<std::uint16_t>(std::min(cs.width, x0 + tile) - x0),
-                           static_cast<std::uint16_t>(std::min(cs.height, y0 + tile) - y0)};
-        }
-        task.first_item = static_cast<std::uint32_t>(work.items.size());
-        for (const RayRecord& r : result.rays) {
-            GpItem item{static_cast<std::uint32_t>(work.steps.size()), 0};
-            bool setup = true;
-            for (const RayRecord::Touch& touch : r.touches) {
-                step(touch.samples, touch.empty, touch.leaped, touch.cued, touch.block, setup);
-                setup = false;
-                ++item.step_count;
-            }
-            step(r.tail_samples, r.tail_empty, r.tail_leaped, r.tail_cued, kNoFetch, setup);
-            ++item.step_count;
-            work.items.push_back(item);
-        }
-        task.item_count = static_cast<std::uint32_t>(result.rays.size());
-        task.first_finish_op = static_cast<std::uint32_t>(work.ops.size());
-        append_ops(work.ops, kPermPixel, result.rays.size());
-        task.finish_op_count = static_cast<std::uint32_t>(work.ops.size()) - task.first_finish_op;
-        task.pixels = static_cast<std::uint32_t>(result.rays.size());
-        work.tasks.push_back(task);
-        const PermCastCounts& c = result.counts;
-        out.counts.rays += c.rays;
-        out.counts.rays_terminated += c.rays_terminated;
-        out.counts.samples += c.samples;
-        out.counts.empty_samples += c.empty_samples;
-        out.counts.leaped_samples += c.leaped_samples;
-        out.counts.cell_fetches += c.cell_fetches;
-        out.counts.carried_lookups += c.carried_lookups;
-    }
+    const TileGrid grid{tile, tiles_x, cs.width, cs.height};
+    out.work = record_tiles(results, grid, records_ ? (cue ? cued_records_ : records_) : nullptr, shaded_ != nullptr);
+    for (const TileResult& result : results) out.counts += result.counts;
     return out;
 }
 

@@ -35,6 +35,8 @@ struct PermCastCounts {
     std::uint64_t leaped_samples = 0;
     std::uint64_t cell_fetches = 0;     // cells a ray entered (fetches through the GP's cache)
     std::uint64_t carried_lookups = 0;  // paper rule: a digit carried into the next axis
+
+    PermCastCounts& operator+=(const PermCastCounts& other);
 };
 
 struct PermCastSettings {
