@@ -177,137 +177,173 @@ SweepResult merge_sweep_shards(const std::vector<std::pair<std::string, nlohmann
     return merged;
 }
 
+namespace {
+
+// The axis a sweep's plots run along (the header's plot_x, else its first axis): its values, as numbers
+// when every value is one, otherwise in order, by name.
+struct PlotAxis {
+    std::string key;
+    std::vector<std::string> values;
+    std::vector<double> positions;
+    bool numeric = true;
+};
+
+PlotAxis plot_axis(const nlohmann::json& header) {
+    PlotAxis axis;
+    axis.key = header.value("plot_x", std::string());
+    if (axis.key.empty()) axis.key = header["axes"][0]["key"].get<std::string>();
+    for (const auto& a : header["axes"])
+        if (a["key"] == axis.key) axis.values = a["values"].get<std::vector<std::string>>();
+    for (const std::string& v : axis.values) {
+        char* end = nullptr;
+        const double x = std::strtod(v.c_str(), &end);
+        axis.numeric = axis.numeric && end != v.c_str() && *end == '\0' && std::isfinite(x);
+        axis.positions.push_back(axis.numeric ? x : static_cast<double>(axis.positions.size()));
+    }
+    if (!axis.numeric)
+        for (std::size_t i = 0; i < axis.positions.size(); ++i) axis.positions[i] = static_cast<double>(i);
+    return axis;
+}
+
+// The figure a scenario's plot shows: the header's plot_metric, else its kernel's first metric; the
+// frame's simulated time when kernels vary (they name their figures differently) or have none.
+std::string plot_metric(const nlohmann::json& header, const std::string& scenario, bool kernel_varies) {
+    std::string metric = header.value("plot_metric", std::string());
+    if (!metric.empty()) return metric;
+    if (kernel_varies) return "simulated_seconds";
+    const Kernel* kernel = find_kernel(header["kernels"].value(scenario, std::string()));
+    return kernel != nullptr && !kernel->metrics().empty() ? kernel->metrics().front().name : "simulated_seconds";
+}
+
+std::optional<std::size_t> column_index(const SweepResult& result, const std::string& name) {
+    for (std::size_t i = 0; i < result.columns.size(); ++i)
+        if (result.columns[i].name == name) return i;
+    return std::nullopt;
+}
+
+// One line per setting of the other axes, in the order first met: each grid point's metric averaged
+// over its frames, and with --uncertainty (columns `low` and `high`) its band as error bars.
+std::vector<PlotSeries> metric_lines(const SweepResult& result, const std::string& scenario, const PlotAxis& axis,
+                                     std::size_t c, std::optional<std::size_t> low, std::optional<std::size_t> high) {
+    const nlohmann::json& header = result.header;
+    std::size_t grid = 1;
+    for (const auto& a : header["axes"]) grid *= a["values"].size();
+    std::map<std::string, PlotSeries> lines;  // by the other axes' values
+    std::vector<std::string> order;
+    for (const SweepPointResult& p : result.points) {
+        if (p.point.scenario != scenario || !p.error.empty()) continue;
+        if (p.point.index % (grid + header["points"].size()) >= grid)
+            continue;  // explicit points are not on the grid's lines
+        std::string title, x;
+        for (const auto& [k, v] : p.point.parameters) {
+            if (k == axis.key) x = v;
+            else title += (title.empty() ? "" : ", ") + k + " = " + v;
+        }
+        double sum = 0, sum_low = 0, sum_high = 0;
+        std::size_t n = 0;
+        bool banded = low && high;
+        for (const SweepFrameResult& f : p.frames)
+            if (f.values[c]) {
+                sum += *f.values[c], ++n;
+                banded = banded && f.values[*low] && f.values[*high];
+                if (banded) sum_low += *f.values[*low], sum_high += *f.values[*high];
+            }
+        const auto at = std::find(axis.values.begin(), axis.values.end(), x);
+        if (n == 0 || at == axis.values.end()) continue;
+        if (!lines.count(title)) {
+            order.push_back(title);
+            std::string shown = title.empty() ? scenario : title;
+            std::replace(shown.begin(), shown.end(), '_', ' ');  // gnuplot reads _ as a subscript
+            const int point_type = 5 + 2 * static_cast<int>(order.size() % 4);
+            lines[title] = PlotSeries{
+                shown, {}, {}, fmt::format("{} pt {} lw 2", banded ? "yerrorlines" : "linespoints", point_type),
+                {},    {}};
+        }
+        PlotSeries& line = lines[title];
+        line.x.push_back(axis.positions[static_cast<std::size_t>(at - axis.values.begin())]);
+        line.y.push_back(sum / static_cast<double>(n));
+        if (banded) {
+            line.y_low.push_back(sum_low / static_cast<double>(n));
+            line.y_high.push_back(sum_high / static_cast<double>(n));
+        }
+    }
+    std::vector<PlotSeries> ordered;
+    for (const std::string& t : order) ordered.push_back(std::move(lines[t]));
+    return ordered;
+}
+
+// The x axis's range and tics: a logarithmic axis when numbers span a factor of 8 or more, names at
+// their positions when the values are not numbers.
+void set_x_axis(PlotSpec& spec, const PlotAxis& axis) {
+    const std::vector<double>& xs = axis.positions;
+    if (axis.numeric && xs.size() > 1) {
+        const auto [lo, hi] = std::minmax_element(xs.begin(), xs.end());
+        spec.log_x = *lo > 0 && *hi / *lo >= 8;
+        const double pad = 0.05 * (*hi - *lo);
+        spec.extra_commands.push_back(spec.log_x ? fmt::format("set xrange [{}:{}]", *lo / 1.25, *hi * 1.25)
+                                                 : fmt::format("set xrange [{}:{}]", *lo - pad, *hi + pad));
+        if (spec.log_x) {
+            std::string tics;
+            for (std::size_t i = 0; i < xs.size(); ++i)
+                tics += fmt::format("{}\"{}\" {}", i ? ", " : "", axis.values[i], xs[i]);
+            spec.extra_commands.push_back("set xtics (" + tics + ")");
+        }
+    } else if (!axis.numeric) {
+        std::string tics;
+        for (std::size_t i = 0; i < axis.values.size(); ++i)
+            tics += fmt::format("{}\"{}\" {}", i ? ", " : "", axis.values[i], i);
+        spec.extra_commands.push_back("set xtics (" + tics + ")");
+    }
+}
+
+// "sweep_<scenario>" with every character but letters, digits, - and _ replaced; names that differ
+// only in the characters replaced ("a b", "a_b") get a number each after the first.
+std::string unique_plot_name(const std::string& scenario, std::set<std::string>& taken) {
+    std::string name = "sweep_" + scenario;
+    for (char& ch : name)
+        if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_') ch = '_';
+    const std::string base = name;
+    for (int copy = 2; !taken.insert(name).second; ++copy) name = fmt::format("{}_{}", base, copy);
+    return name;
+}
+
+}  // namespace
+
 std::vector<std::pair<std::string, PlotSpec>> sweep_plots(const SweepResult& result) {
     std::vector<std::pair<std::string, PlotSpec>> plots;
     std::set<std::string> plot_names;
     const nlohmann::json& header = result.header;
     if (header["axes"].empty()) return plots;
-    std::string x_key = header.value("plot_x", std::string());
-    if (x_key.empty()) x_key = header["axes"][0]["key"].get<std::string>();
-    std::vector<std::string> x_values, other_keys;
-    for (const auto& axis : header["axes"]) {
-        if (axis["key"] == x_key) x_values = axis["values"].get<std::vector<std::string>>();
-        else other_keys.push_back(axis["key"].get<std::string>());
-    }
-    // Numbers along x when every value is one; otherwise the values in order, by name.
-    std::vector<double> xs;
-    bool numeric = true;
-    for (const std::string& v : x_values) {
-        char* end = nullptr;
-        const double x = std::strtod(v.c_str(), &end);
-        numeric = numeric && end != v.c_str() && *end == '\0' && std::isfinite(x);
-        xs.push_back(numeric ? x : static_cast<double>(xs.size()));
-    }
-    if (!numeric)
-        for (std::size_t i = 0; i < xs.size(); ++i) xs[i] = static_cast<double>(i);
-    const std::size_t grid = [&] {
-        std::size_t n = 1;
-        for (const auto& axis : header["axes"]) n *= axis["values"].size();
-        return n;
-    }();
+    const PlotAxis axis = plot_axis(header);
     const std::vector<std::string> keys = parameter_keys(header);
     const bool kernel_varies = std::find(keys.begin(), keys.end(), kSweepKernelKey) != keys.end();
     for (const auto& scenario_json : header["scenarios"]) {
         const std::string scenario = scenario_json.get<std::string>();
-        std::string metric = header.value("plot_metric", std::string());
-        // Kernels name their figures differently; the frame's simulated time is every kernel's.
-        if (metric.empty() && kernel_varies) metric = "simulated_seconds";
-        if (metric.empty()) {
-            const Kernel* kernel = find_kernel(header["kernels"].value(scenario, std::string()));
-            metric =
-                kernel != nullptr && !kernel->metrics().empty() ? kernel->metrics().front().name : "simulated_seconds";
-        }
-        const auto column = std::find_if(result.columns.begin(), result.columns.end(),
-                                         [&](const SweepColumn& c) { return c.name == metric; });
-        if (column == result.columns.end()) continue;
-        const auto c = static_cast<std::size_t>(column - result.columns.begin());
+        const std::string metric = plot_metric(header, scenario, kernel_varies);
+        const std::optional<std::size_t> c = column_index(result, metric);
+        if (!c) continue;
         // With --uncertainty, the metric's band: error bars over the frames' mean band.
-        const auto index_of = [&](const std::string& name) -> std::optional<std::size_t> {
-            for (std::size_t i = 0; i < result.columns.size(); ++i)
-                if (result.columns[i].name == name) return i;
-            return std::nullopt;
-        };
-        const std::optional<std::size_t> low = index_of(metric + "_low"), high = index_of(metric + "_high");
-        std::map<std::string, PlotSeries> lines;  // by the other axes' values
-        std::vector<std::string> order;
-        for (const SweepPointResult& p : result.points) {
-            if (p.point.scenario != scenario || !p.error.empty()) continue;
-            if (p.point.index % (grid + header["points"].size()) >= grid)
-                continue;  // explicit points are not on the grid's lines
-            std::string title, x;
-            for (const auto& [k, v] : p.point.parameters) {
-                if (k == x_key) x = v;
-                else title += (title.empty() ? "" : ", ") + k + " = " + v;
-            }
-            double sum = 0, sum_low = 0, sum_high = 0;
-            std::size_t n = 0;
-            bool banded = low && high;
-            for (const SweepFrameResult& f : p.frames)
-                if (f.values[c]) {
-                    sum += *f.values[c], ++n;
-                    banded = banded && f.values[*low] && f.values[*high];
-                    if (banded) sum_low += *f.values[*low], sum_high += *f.values[*high];
-                }
-            const auto at = std::find(x_values.begin(), x_values.end(), x);
-            if (n == 0 || at == x_values.end()) continue;
-            if (!lines.count(title)) {
-                order.push_back(title);
-                std::string shown = title.empty() ? scenario : title;
-                std::replace(shown.begin(), shown.end(), '_', ' ');  // gnuplot reads _ as a subscript
-                const int point_type = 5 + 2 * static_cast<int>(order.size() % 4);
-                lines[title] = PlotSeries{
-                    shown, {}, {}, fmt::format("{} pt {} lw 2", banded ? "yerrorlines" : "linespoints", point_type),
-                    {},    {}};
-            }
-            PlotSeries& line = lines[title];
-            line.x.push_back(xs[static_cast<std::size_t>(at - x_values.begin())]);
-            line.y.push_back(sum / static_cast<double>(n));
-            if (banded) {
-                line.y_low.push_back(sum_low / static_cast<double>(n));
-                line.y_high.push_back(sum_high / static_cast<double>(n));
-            }
-        }
+        const std::optional<std::size_t> low = column_index(result, metric + "_low"),
+                                         high = column_index(result, metric + "_high");
+        std::vector<PlotSeries> lines = metric_lines(result, scenario, axis, *c, low, high);
         if (lines.empty()) continue;
         PlotSpec spec;
-        std::string shown_metric = metric, shown_x = x_key;
+        std::string shown_metric = metric, shown_x = axis.key;
         std::replace(shown_metric.begin(), shown_metric.end(), '_', ' ');
         std::replace(shown_x.begin(), shown_x.end(), '_', ' ');
         spec.title =
             fmt::format("{}: {} against {} (mean over frames{})", header["name"].get<std::string>(), shown_metric,
                         shown_x, low && high ? ", with its 95% band over the guesses' ranges" : "");
         spec.x_label = shown_x;
-        spec.y_label = fmt::format("{} [{}]", shown_metric, column->unit);
-        if (numeric && xs.size() > 1) {
-            const auto [lo, hi] = std::minmax_element(xs.begin(), xs.end());
-            spec.log_x = *lo > 0 && *hi / *lo >= 8;
-            const double pad = 0.05 * (*hi - *lo);
-            spec.extra_commands.push_back(spec.log_x ? fmt::format("set xrange [{}:{}]", *lo / 1.25, *hi * 1.25)
-                                                     : fmt::format("set xrange [{}:{}]", *lo - pad, *hi + pad));
-            if (spec.log_x) {
-                std::string tics;
-                for (std::size_t i = 0; i < xs.size(); ++i)
-                    tics += fmt::format("{}\"{}\" {}", i ? ", " : "", x_values[i], xs[i]);
-                spec.extra_commands.push_back("set xtics (" + tics + ")");
-            }
-        } else if (!numeric) {
-            std::string tics;
-            for (std::size_t i = 0; i < x_values.size(); ++i)
-                tics += fmt::format("{}\"{}\" {}", i ? ", " : "", x_values[i], i);
-            spec.extra_commands.push_back("set xtics (" + tics + ")");
-        }
+        spec.y_label = fmt::format("{} [{}]", shown_metric, result.columns[*c].unit);
+        set_x_axis(spec, axis);
         // Many lines: the legend goes beside the plot, so it hides no data.
-        if (order.size() > 5) {
+        if (lines.size() > 5) {
             spec.extra_commands.push_back("set key outside right top font \",9\"");
             spec.width = 1300;
         }
-        for (const std::string& t : order) spec.series.push_back(std::move(lines[t]));
-        std::string name = "sweep_" + scenario;
-        for (char& ch : name)
-            if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_') ch = '_';
-        // Names that differ only in the characters replaced ("a b", "a_b") get a number each after the first.
-        const std::string base = name;
-        for (int copy = 2; !plot_names.insert(name).second; ++copy) name = fmt::format("{}_{}", base, copy);
-        plots.emplace_back(name, std::move(spec));
+        spec.series = std::move(lines);
+        plots.emplace_back(unique_plot_name(scenario, plot_names), std::move(spec));
     }
     return plots;
 }
