@@ -294,6 +294,74 @@ void apply_timing(LevoyFrameReport& report, const LevoyFrameTiming& timing) {
         report.passes[p].end_ps = timing.ray_cast.pass_end[p] - report.start_ps;
 }
 
+LevoyRenderer::FrameChanges LevoyRenderer::what_changes(const LevoyFrameInputs& frame) {
+    FrameChanges c;
+    // Shade only for a view the colours depend on; otherwise keep the view they were shaded for.
+    c.view = make_shading_view(frame.camera, dims_, spacing_);
+    if (shaded_for_ && !shading_depends_on_view(frame.lighting)) c.view = *shaded_for_;
+    // A moved region of interest needs fresh opacities (classification) but no new colours, unless it
+    // caps (its transition zone's colours follow it), or stopped capping.
+    c.region_moved = frame.region != region_;
+    c.capping = frame.region && frame.region->cap;
+    c.classify = first_frame_ || frame.classification_changed || c.region_moved;
+    c.reshade = first_frame_ || frame.classification_changed || frame.lighting_changed || shaded_for_ != c.view ||
+                (c.region_moved && (c.capping || (region_ && region_->cap)));
+    if (!polygons_.empty() && (c.classify || c.reshade || polygons_changed_))
+        c.classify = c.reshade = true;  // matte into fresh voxels
+    polygons_changed_ = false;
+    return c;
+}
+
+// The pyramid of the fresh opacities (with `unscaled`'s, before a region scaled them), kept only if
+// its cells differ; then the machine rebuilds it: the PPs mark emptiness (inserted before the
+// passes after `emptiness_at`), the GPs build the levels.
+void LevoyRenderer::rebuild_pyramid(const ShadedCodes* unscaled, const std::optional<PpPassWork>& emptiness,
+                                    std::size_t emptiness_at, LevoyFrameReport& report) {
+    FrameWork& machine_work = report.work.machine;
+    BinaryPyramid fresh = BinaryPyramid::from_opacity(shaded_, unscaled);
+    if (!first_frame_ && fresh.same_cells(pyramid_)) return;
+    pyramid_ = std::move(fresh);
+    depth_for_.reset();
+    // Without skipping the GPs never consult the pyramid, so the machine builds none.
+    if (!emptiness) return;
+    report.pyramid_rebuilt = true;
+    // The level-0 bits are part of the build a lone processor charges per cell.
+    machine_work.phases.insert(machine_work.phases.begin() + static_cast<std::ptrdiff_t>(emptiness_at),
+                               Phase{"emptiness", PpPhase{{PpPhase::Pass{*emptiness, 0, {}}}}});
+    machine_work.phases.push_back(pyramid_phase());
+}
+
+Phase LevoyRenderer::voxel_pass(const char* name, const PpPassWork& pass, LevoyOp per_voxel,
+                                std::uint64_t per_voxel_count) const {
+    const std::uint64_t voxels =
+        static_cast<std::uint64_t>(dims_.x) * static_cast<std::uint64_t>(dims_.y) * static_cast<std::uint64_t>(dims_.z);
+    PpPhase phase{{PpPhase::Pass{pass, 0, {}}}};
+    add_op(phase.passes.front().on_one_processor, per_voxel, voxels * per_voxel_count);
+    return Phase{name, std::move(phase)};
+}
+
+void LevoyRenderer::record_shading(const LevoyFrameInputs& frame, const FrameChanges& changes, FrameWork& work) {
+    // A lone processor shades a voxel once per light it computes: the stationary lights' terms cost it
+    // what the key light's do, in their own pass when kept, else in every shading.
+    const std::uint64_t stationary_lights = frame.lighting.stationary_lights.size();
+    const bool stationary_kept = settings_.store.layout.stationary_light_bits > 0;
+    const std::uint64_t lights_per_shading = 1 + (stationary_kept ? 0 : stationary_lights);
+    const PpFrameWork pp = pixel_processors_.compute(frame.classification, frame.colors, frame.lighting, changes.view,
+                                                     changes.classify, changes.reshade && !changes.capping);
+    if (pp.classification)
+        work.phases.push_back(voxel_pass("classification", *pp.classification, kVoxelClassification));
+    const auto stationary_pass = [&](const PpPassWork& pass) {
+        work.phases.push_back(voxel_pass("stationary_lights", pass, kVoxelShading, stationary_lights));
+    };
+    if (pp.stationary_lights) stationary_pass(*pp.stationary_lights);
+    if (pp.shading) work.phases.push_back(voxel_pass("shading", *pp.shading, kVoxelShading, lights_per_shading));
+    if (changes.reshade && changes.capping) {
+        const CappedShading capped = capped_shading(frame, changes.view, changes.region_moved);
+        if (capped.stationary_lights) stationary_pass(*capped.stationary_lights);
+        work.phases.push_back(voxel_pass("shading", capped.shading, kVoxelShading, lights_per_shading));
+    }
+}
+
 LevoyFrameReport LevoyRenderer::record(const LevoyFrameInputs& frame) {
     LevoyFrameReport report;
     LevoyFrameWork& work = report.work;
@@ -301,50 +369,11 @@ LevoyFrameReport LevoyRenderer::record(const LevoyFrameInputs& frame) {
     machine_work.op_kinds = levoy_op_kinds();
     machine_work.image_width = image_.width;
     machine_work.image_height = image_.height;
-    const std::uint64_t voxels =
-        static_cast<std::uint64_t>(dims_.x) * static_cast<std::uint64_t>(dims_.y) * static_cast<std::uint64_t>(dims_.z);
-    // A PP pass over every voxel, and what one processor would do for it instead.
-    const auto voxel_pass = [&](const char* name, const PpPassWork& pass, LevoyOp per_voxel,
-                                std::uint64_t per_voxel_count = 1) {
-        PpPhase phase{{PpPhase::Pass{pass, 0, {}}}};
-        add_op(phase.passes.front().on_one_processor, per_voxel, voxels * per_voxel_count);
-        return Phase{name, std::move(phase)};
-    };
-    // A lone processor shades a voxel once per light it computes: the stationary lights' terms cost it
-    // what the key light's do, in their own pass when kept, else in every shading.
-    const std::uint64_t stationary_lights = frame.lighting.stationary_lights.size();
-    const bool stationary_kept = settings_.store.layout.stationary_light_bits > 0;
-    const std::uint64_t lights_per_shading = 1 + (stationary_kept ? 0 : stationary_lights);
-
     // Function first: what this frame changes, and the work that follows from it.
-    // Shade only for a view the colours depend on; otherwise keep the view they were shaded for.
-    ShadingView view = make_shading_view(frame.camera, dims_, spacing_);
-    if (shaded_for_ && !shading_depends_on_view(frame.lighting)) view = *shaded_for_;
-    // A moved region of interest needs fresh opacities (classification) but no new colours, unless it
-    // caps (its transition zone's colours follow it), or stopped capping.
-    const bool region_changed = frame.region != region_;
-    const bool capping = frame.region && frame.region->cap;
-    bool classify = first_frame_ || frame.classification_changed || region_changed;
-    bool reshade = first_frame_ || frame.classification_changed || frame.lighting_changed || shaded_for_ != view ||
-                   (region_changed && (capping || (region_ && region_->cap)));
-    if (!polygons_.empty() && (classify || reshade || polygons_changed_))
-        classify = reshade = true;  // matte into fresh voxels
-    polygons_changed_ = false;
-    const PpFrameWork pp = pixel_processors_.compute(frame.classification, frame.colors, frame.lighting, view, classify,
-                                                     reshade && !capping);
-    if (pp.classification)
-        machine_work.phases.push_back(voxel_pass("classification", *pp.classification, kVoxelClassification));
-    const auto stationary_pass = [&](const PpPassWork& pass) {
-        machine_work.phases.push_back(voxel_pass("stationary_lights", pass, kVoxelShading, stationary_lights));
-    };
-    if (pp.stationary_lights) stationary_pass(*pp.stationary_lights);
-    if (pp.shading)
-        machine_work.phases.push_back(voxel_pass("shading", *pp.shading, kVoxelShading, lights_per_shading));
-    if (reshade && capping) {
-        const CappedShading capped = capped_shading(frame, view, region_changed);
-        if (capped.stationary_lights) stationary_pass(*capped.stationary_lights);
-        machine_work.phases.push_back(voxel_pass("shading", capped.shading, kVoxelShading, lights_per_shading));
-    }
+    const FrameChanges changes = what_changes(frame);
+    const ShadingView& view = changes.view;
+    const bool classify = changes.classify, reshade = changes.reshade;
+    record_shading(frame, changes, machine_work);
     // Fresh opacities may empty or fill voxels: the PPs mark each voxel's emptiness before the region
     // scales them (the pyramid is of the classification's opacities), charged only if the pyramid is rebuilt.
     std::optional<PpPassWork> emptiness;
@@ -379,21 +408,7 @@ LevoyFrameReport LevoyRenderer::record(const LevoyFrameInputs& frame) {
         machine_work.refresh_blocks_per_message = static_cast<std::uint32_t>(settings_.refresh_blocks_per_message);
         machine_work.invalidate_gp_caches = !first_frame_ && !settings_.refresh_caches;
     }
-    if (classify) {
-        BinaryPyramid fresh = BinaryPyramid::from_opacity(shaded_, unscaled ? &*unscaled : nullptr);
-        if (first_frame_ || !fresh.same_cells(pyramid_)) {
-            pyramid_ = std::move(fresh);
-            depth_for_.reset();
-            // Without skipping the GPs never consult the pyramid, so the machine builds none.
-            if (emptiness) {
-                report.pyramid_rebuilt = true;
-                // The level-0 bits are part of the build a lone processor charges per cell.
-                machine_work.phases.insert(machine_work.phases.begin() + static_cast<std::ptrdiff_t>(emptiness_at),
-                                           Phase{"emptiness", PpPhase{{PpPhase::Pass{*emptiness, 0, {}}}}});
-                machine_work.phases.push_back(pyramid_phase());
-            }
-        }
-    }
+    if (classify) rebuild_pyramid(unscaled ? &*unscaled : nullptr, emptiness, emptiness_at, report);
     report.pyramid_cells_occupied = pyramid_.occupied_cells(0);
     // Depths are recorded only where the pyramid finds them: without skipping the buffer stays empty.
     report.depth_buffer_used = settings_.depth_buffer && settings_.pyramid_skipping && depth_for_ == frame.camera;

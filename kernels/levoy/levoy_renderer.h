@@ -171,6 +171,19 @@ public:
     const VoxelBlocks& blocks() const { return blocks_; }
 
 private:
+    // What a frame changes: the view its colours are shaded for, and which PP passes it needs.
+    struct FrameChanges {
+        ShadingView view;
+        bool classify = false, reshade = false, capping = false, region_moved = false;
+    };
+    FrameChanges what_changes(const LevoyFrameInputs& frame);
+    void rebuild_pyramid(const ShadedCodes* unscaled, const std::optional<PpPassWork>& emptiness,
+                         std::size_t emptiness_at, LevoyFrameReport& report);
+    // A PP pass over every voxel, and what one processor would do for it instead.
+    Phase voxel_pass(const char* name, const PpPassWork& pass, LevoyOp per_voxel,
+                     std::uint64_t per_voxel_count = 1) const;
+    // The classification and shading passes the frame's changes call for, into `work`.
+    void record_shading(const LevoyFrameInputs& frame, const FrameChanges& changes, FrameWork& work);
     Phase scan_convert();
     struct CappedShading {
         std::optional<PpPassWork> stationary_lights;
