@@ -1,5 +1,7 @@
 #include "kernels/levoy/levoy_costs.h"
 
+#include "kernels/shared/pp_volume/voxel_store_costs.h"
+
 namespace pp5 {
 
 const ParamGroup& levoy_cost_params() {
@@ -24,14 +26,8 @@ const ParamGroup& levoy_cost_params() {
               "bilinear interpolation: three linear interpolations in three channels");
         flops("refinement_test_flops", 24, "Decide whether to subdivide a square from its corner colours",
               "six corner pairs in three channels: a subtract and a compare each is 36; with early exit about 24");
-        // Work that Pixel-planes 5 gives its PPs, done by a lone processor (the `uniprocessor` machine kind).
-        flops("voxel_classification_flops", 8,
-              "Classify one voxel on a processor without PPs: opacity from value and gradient",
-              "a table look-up, the gradient magnitude's scale and a multiply: about 8");
-        flops("voxel_shading_flops", 40, "Phong-shade one voxel on a processor without PPs",
-              "normalise the gradient (about 12 with a reciprocal square root), the diffuse dot product and "
-              "clamp (6), three colour multiply-adds with the ambient term (9), and the opacity-weighted colour (4); "
-              "with the look-ups, about 40");
+        // Work that Pixel-planes 5 gives its PPs, done by a lone processor (the `uniprocessor` machine kind;
+        // classifying and shading a voxel cost what gp_cost.voxel_store.* says, whichever kernel asks).
         flops("voxel_region_flops", 12,
               "Scale one voxel's opacity by the volume-of-interest tool on a processor without PPs",
               "the distance to a box or ellipsoid (about 9) and the scale across the transition (3)");
@@ -60,8 +56,8 @@ std::vector<GpOpKind> levoy_op_kinds() {
         {"levoy.refinement_test", {key("refinement_test_flops")}},
         {"levoy.pixel_fill", {key("pixel_fill_flops")}},
         {"levoy.pyramid_build_cell", {key("pyramid_build_cycles_per_cell")}},
-        {"levoy.voxel_classification", {key("voxel_classification_flops")}},
-        {"levoy.voxel_shading", {key("voxel_shading_flops")}},
+        {"levoy.voxel_classification", {kVoxelClassificationCost}},
+        {"levoy.voxel_shading", {kVoxelShadingCost}},
         {"levoy.voxel_region", {key("voxel_region_flops")}},
         {"levoy.polygon_point_test", {key("polygon_point_test_flops")}},
         {"levoy.voxel_matte", {key("voxel_matte_flops")}},

@@ -2,6 +2,7 @@
 
 #include "kernels/levoy/levoy_costs.h"
 #include "kernels/shared/pp_volume/pp_shading.h"
+#include "kernels/shared/pp_volume/voxel_store_costs.h"
 #include "scene/scenario/scenario_inputs.h"
 #include "sim/core/input_error.h"
 
@@ -209,7 +210,7 @@ public:
     }
     std::vector<const ParamGroup*> param_groups() const override {
         return {&VoxelStoreSettings::placement_params(), &VoxelStoreSettings::layout_params(), &LevoySettings::params(),
-                &levoy_cost_params()};
+                &levoy_cost_params(), &voxel_store_cost_params()};
     }
     bool runs_on_machine() const override { return true; }
     // A pass for each halving of the first pass's spacing, down to one pixel.

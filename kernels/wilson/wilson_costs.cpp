@@ -1,5 +1,8 @@
 #include "kernels/wilson/wilson_costs.h"
 
+#include "kernels/shared/pp_volume/voxel_store_costs.h"
+#include "kernels/shared/screen_regions/screen_region_costs.h"
+
 namespace pp5 {
 
 const ParamGroup& wilson_cost_params() {
@@ -9,9 +12,6 @@ const ParamGroup& wilson_cost_params() {
         g.all_timing_only();  // it changes when work happens, never what is computed
         const auto flops = [&g](const char* name, double def, const char* doc, const char* count) {
             g.real(name, def, "flops", 0, 1e6, doc, Provenance::Default, count).hand_counted();
-        };
-        const auto cycles = [&g](const char* name, double def, const char* doc, const char* count) {
-            g.real(name, def, "cycles", 0, 1e7, doc, Provenance::Default, count).hand_counted();
         };
         flops("texel_correction_flops", 20, "Correct one texel's opacity for the distance a ray travels between slices",
               "the path length (3), a logarithm and an exponential by table and polynomial (15), the store (2)");
@@ -28,8 +28,6 @@ const ParamGroup& wilson_cost_params() {
               "the shift to the origin (4 x 10), the corners and box (28)");
         flops("region_shift_flops", 40, "Move one quad's four quadratics to a further region's origin",
               "4 x 10 multiply-adds");
-        cycles("coefficient_convert_cycles", 2, "Convert one coefficient to the QEE's fixed point",
-               "a scale and a float-to-integer");
         flops("slice_setup_flops", 30, "Make one slice's setup expressions (the cell-index quadratics) for one region",
               "three linear functions shifted to the region's origin and scaled");
         flops("point_flops", 35, "Transform, classify, shade, correct and size one point",
@@ -39,12 +37,6 @@ const ParamGroup& wilson_cost_params() {
               "bounds (4)");
         flops("sheet_pixel_flops", 10, "Composite one point into one pixel of a GP's block (gp_sheets)",
               "(1 - a) times four channels and four adds, a clamp");
-        cycles("bin_cycles", 10, "Place one primitive in one region's batch", "a region look-up and a pointer bump");
-        cycles("pack_cycles_per_word", 2, "Pack one word of a batch for the ring", "a store and a pointer bump");
-        flops("voxel_classification_flops", 8, "Classify one low-resolution voxel on a processor without PPs",
-              "a table look-up, the gradient magnitude's scale and a multiply");
-        flops("voxel_shading_flops", 40, "Phong-shade one low-resolution voxel on a processor without PPs",
-              "as Levoy's");
         flops("quad_pixel_flops", 12, "Interpolate one pixel of a quad on a processor without PPs",
               "four channels stepped incrementally (8), bounds and loop (4)");
         flops("composite_pixel_flops", 10, "Composite one pixel of a slice on a processor without PPs",
@@ -64,14 +56,14 @@ std::vector<GpOpKind> wilson_op_kinds() {
         {"wilson.quad_parallel", {key("quad_parallel_flops")}},
         {"wilson.quad_perspective", {key("quad_perspective_flops")}},
         {"wilson.region_shift", {key("region_shift_flops")}},
-        {"wilson.coefficient", {key("coefficient_convert_cycles")}},
+        {"wilson.coefficient", {kCoefficientConvertCost}},
         {"wilson.slice_setup", {key("slice_setup_flops")}},
         {"wilson.point", {key("point_flops")}},
         {"wilson.sheet_pixel", {key("sheet_pixel_flops")}},
-        {"wilson.bin", {key("bin_cycles")}},
-        {"wilson.pack_word", {key("pack_cycles_per_word")}},
-        {"wilson.voxel_classification", {key("voxel_classification_flops")}},
-        {"wilson.voxel_shading", {key("voxel_shading_flops")}},
+        {"wilson.bin", {kBinCost}},
+        {"wilson.pack_word", {kPackWordCost}},
+        {"wilson.voxel_classification", {kVoxelClassificationCost}},
+        {"wilson.voxel_shading", {kVoxelShadingCost}},
         {"wilson.quad_pixel", {key("quad_pixel_flops")}},
         {"wilson.composite_pixel", {key("composite_pixel_flops")}},
         {"wilson.point_pixel", {key("point_pixel_flops")}},

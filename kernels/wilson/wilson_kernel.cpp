@@ -1,7 +1,9 @@
 #include "kernels/wilson/wilson_kernel.h"
 
 #include "kernels/shared/pp_volume/pp_shading.h"
+#include "kernels/shared/pp_volume/voxel_store_costs.h"
 #include "kernels/shared/screen_regions/region_machine.h"
+#include "kernels/shared/screen_regions/screen_region_costs.h"
 #include "kernels/wilson/hybrid_slicer.h"
 #include "kernels/wilson/hybrid_volume.h"
 #include "kernels/wilson/wilson_costs.h"
@@ -272,8 +274,12 @@ public:
                "operations";
     }
     std::vector<const ParamGroup*> param_groups() const override {
-        return {&VoxelStoreSettings::placement_params(), &VoxelStoreSettings::layout_params(),
-                &WilsonSettings::params(), &wilson_cost_params()};
+        return {&VoxelStoreSettings::placement_params(),
+                &VoxelStoreSettings::layout_params(),
+                &WilsonSettings::params(),
+                &wilson_cost_params(),
+                &voxel_store_cost_params(),
+                &screen_region_cost_params()};
     }
     bool runs_on_machine() const override { return true; }
     std::size_t most_pictures_per_frame(const MachineConfig&) const override {

@@ -1,5 +1,8 @@
 #include "kernels/yuan/yuan_costs.h"
 
+#include "kernels/shared/pp_volume/voxel_store_costs.h"
+#include "kernels/shared/screen_regions/screen_region_costs.h"
+
 namespace pp5 {
 
 const ParamGroup& yuan_cost_params() {
@@ -25,20 +28,13 @@ const ParamGroup& yuan_cost_params() {
               "index normalisation at the centre (12), axes and box (25), colour and opacity (10)");
         flops("region_shift_flops", 10, "Move one primitive's quadratic to a further region's origin",
               "the shift of F, D and E: about 10 multiply-adds");
-        cycles("coefficient_convert_cycles", 2, "Convert one coefficient to the QEE's fixed point",
-               "a scale and a float-to-integer");
         flops("point_setup_flops", 16,
               "Set up one point for the renderers: its screen position, area and four paraboloid weights",
               "the projection (4), the area (1), four channel weights (4) and the paraboloid's terms (7)");
         flops("sheet_pixel_flops", 14, "Filter one point into one pixel of the GP's band sheet",
               "the squared distance (4), the paraboloid weight (2), four multiply-adds");
-        cycles("bin_cycles", 10, "Place one primitive in one region's batch", "a region look-up and a pointer bump");
-        cycles("pack_cycles_per_word", 2, "Pack one word of a batch for the ring", "a store and a pointer bump");
-        // Work Pixel-planes 5 gives its PPs, done by a lone processor (the `uniprocessor` machine kind).
-        flops("voxel_classification_flops", 8, "Classify one voxel on a processor without PPs",
-              "a table look-up, the gradient magnitude's scale and a multiply");
-        flops("voxel_shading_flops", 40, "Phong-shade one voxel on a processor without PPs",
-              "the same count as Levoy's: normalise, diffuse, three colour multiply-adds, the opacity weight");
+        // Work Pixel-planes 5 gives its PPs, done by a lone processor (the `uniprocessor` machine kind;
+        // classifying and shading a voxel cost what gp_cost.voxel_store.* says, whichever kernel asks).
         flops("splat_pixel_flops", 20, "Draw one pixel of a splat on a processor without PPs",
               "the index quadratic stepped incrementally (3), the table look-up, alpha w (1), (1 - A) alpha (2), "
               "three colour multiply-adds and the opacity (8), bounds and loop (6)");
@@ -58,13 +54,13 @@ std::vector<GpOpKind> yuan_op_kinds() {
         {"yuan.voxel", {key("voxel_transform_flops"), key("voxel_split_flops"), key("voxel_sort_cycles")}},
         {"yuan.splat_setup", {key("splat_setup_flops")}},
         {"yuan.region_shift", {key("region_shift_flops")}},
-        {"yuan.coefficient", {key("coefficient_convert_cycles")}},
+        {"yuan.coefficient", {kCoefficientConvertCost}},
         {"yuan.point_setup", {key("point_setup_flops")}},
         {"yuan.sheet_pixel", {key("sheet_pixel_flops")}},
-        {"yuan.bin", {key("bin_cycles")}},
-        {"yuan.pack_word", {key("pack_cycles_per_word")}},
-        {"yuan.voxel_classification", {key("voxel_classification_flops")}},
-        {"yuan.voxel_shading", {key("voxel_shading_flops")}},
+        {"yuan.bin", {kBinCost}},
+        {"yuan.pack_word", {kPackWordCost}},
+        {"yuan.voxel_classification", {kVoxelClassificationCost}},
+        {"yuan.voxel_shading", {kVoxelShadingCost}},
         {"yuan.splat_pixel", {key("splat_pixel_flops")}},
         {"yuan.point_pixel", {key("point_pixel_flops")}},
         {"yuan.composite_pixel", {key("composite_pixel_flops")}},

@@ -1,7 +1,9 @@
 #include "kernels/yuan/yuan_kernel.h"
 
 #include "kernels/shared/pp_volume/pp_shading.h"
+#include "kernels/shared/pp_volume/voxel_store_costs.h"
 #include "kernels/shared/screen_regions/region_machine.h"
+#include "kernels/shared/screen_regions/screen_region_costs.h"
 #include "kernels/yuan/hybrid_splatter.h"
 #include "kernels/yuan/yuan_costs.h"
 #include "scene/reference/shading_view.h"
@@ -163,8 +165,12 @@ public:
                "drawn by each renderer in depth order from its region programs' operations";
     }
     std::vector<const ParamGroup*> param_groups() const override {
-        return {&VoxelStoreSettings::placement_params(), &VoxelStoreSettings::layout_params(), &YuanSettings::params(),
-                &yuan_cost_params()};
+        return {&VoxelStoreSettings::placement_params(),
+                &VoxelStoreSettings::layout_params(),
+                &YuanSettings::params(),
+                &yuan_cost_params(),
+                &voxel_store_cost_params(),
+                &screen_region_cost_params()};
     }
     bool runs_on_machine() const override { return true; }
     std::size_t most_pictures_per_frame(const MachineConfig&) const override {
