@@ -38,6 +38,17 @@ constexpr std::uint64_t kRefreshFirst = 1ull << 32;
 // A frame-buffer message that is a renderer's region read-out (the renderer's index below it), not a task's pixels.
 constexpr std::uint64_t kReadout = 1ull << 63;
 
+// What a GP phase reports of the components' counters, summed over them: its counts are the
+// difference between their values as it ends and as it begins, so the components keep the one set
+// of books.
+struct MachineCounters {
+    std::uint64_t items = 0, cache_hits = 0, cache_misses = 0, fetch_requests = 0, blocks_refreshed = 0,
+                  context_switches = 0, events = 0;
+    Tick gp_busy = 0, gp_wait = 0, renderer_busy = 0, ring_busy = 0;
+
+    static MachineCounters of(Machine& machine);
+};
+
 class GpPhaseRun;
 
 // One GP's share of a GP phase.
@@ -210,9 +221,7 @@ public:
     std::size_t frame_buffer_station = 0;
     std::size_t host_station = 0;
     int pixel_bits = 24;
-    Tick renderer_busy_before = 0;
-    Tick ring_busy_before = 0;
-    std::uint64_t events_before = 0;
+    MachineCounters at_start;  // the components' counters as the phase began
 };
 
 // The whole frame: phases one after another in one event loop.

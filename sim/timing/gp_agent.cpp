@@ -44,7 +44,6 @@ Tick GpAgent::send_refresh(Tick start) {
         outstanding_.emplace(block, static_cast<int>(parts.size()));
         refreshing_.insert(block);
         ++gp_.blocks_refreshed;
-        ++run_.timing.gp.blocks_refreshed;
     }
     // Each renderer's list goes in messages of a few blocks, the first blocks of every list first.
     RingNetwork& ring = run_.machine.ring();
@@ -58,13 +57,11 @@ Tick GpAgent::send_refresh(Tick start) {
             const std::size_t count = std::min(per_message, lists[r].size() - first);
             t += gp_.costs().message_send;
             gp_.busy_ps += static_cast<std::uint64_t>(gp_.costs().message_send);
-            run_.timing.gp.gp_busy += gp_.costs().message_send;
             ring.send(run_.machine.events(), t,
                       RingMessage{MessageKind::FetchRequest, station_, ring.position(StationKind::Renderer, r),
                                   static_cast<std::uint64_t>(count) * run_.phase.fetch_request_bits, false},
                       *run_.renderers[r], pack(Signal::Arrival, gp_.index(), kRefreshBatch - 1 - first));
             ++gp_.fetch_requests;
-            ++run_.timing.gp.fetch_requests;
         }
         if (!any) break;
     }
@@ -132,7 +129,6 @@ void GpAgent::perform(Tick now) {
                           RingMessage{MessageKind::FetchRequest, station_, to, run_.phase.fetch_request_bits, false},
                           *run_.renderers[part.renderer], pack(Signal::Arrival, gp_.index(), action_value_));
                 ++gp_.fetch_requests;
-                ++run_.timing.gp.fetch_requests;
             }
             break;
         case Action::Send: {
@@ -262,7 +258,6 @@ bool GpAgent::advance(int index, Tick& t) {
             if (step.block != kNoFetch) {
                 t += costs.cache_lookup;
                 if (!cache_->lookup(step.block)) {
-                    ++run_.timing.gp.cache_misses;
                     c.waiting = true;
                     c.block = step.block;
                     if (outstanding_.count(step.block) != 0) {  // on its way (asked for, or being refreshed)
@@ -276,7 +271,6 @@ bool GpAgent::advance(int index, Tick& t) {
                     action_value_ = step.block;
                     return true;
                 }
-                ++run_.timing.gp.cache_hits;
             }
         }
         c.delivered = false;
@@ -284,7 +278,6 @@ bool GpAgent::advance(int index, Tick& t) {
     }
     c.active = false;
     ++gp_.items;
-    ++run_.timing.gp.items;
     if (--run_.remaining[c.task] == 0) return finish_task(c.task, t);
     return false;
 }
@@ -294,7 +287,6 @@ void GpAgent::run(Tick now) {
     if (idle_since_ >= 0) {
         const Tick waited = now - idle_since_;
         gp_.wait_ps += static_cast<std::uint64_t>(waited);
-        run_.timing.gp.gp_wait += waited;
         if (trace_ != nullptr && waited > 0) trace_->slice(trace_track_, "waiting", idle_since_, now);
         idle_since_ = -1;
     }
@@ -312,14 +304,12 @@ void GpAgent::run(Tick now) {
             if (last_context_ >= 0 && c != last_context_) {
                 t += gp_.costs().context_switch;
                 ++gp_.context_switches;
-                ++run_.timing.gp.context_switches;
             }
             last_context_ = c;
             if (advance(c, t)) break;
         }
     }
     gp_.busy_ps += static_cast<std::uint64_t>(t - now);
-    run_.timing.gp.gp_busy += t - now;
     if (trace_ != nullptr && t > now) trace_->slice(trace_track_, "computing", now, t);
     if (action_ != Action::None || t > now) {
         schedule_resume(t);

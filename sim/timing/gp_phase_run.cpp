@@ -11,13 +11,27 @@ namespace pp5::engine {
 namespace {
 
 // The renderers' time answering fetches so far, summed.
-Tick renderers_answering(Machine& machine) {
-    Tick total = 0;
-    for (const auto& r : machine.renderers()) total += static_cast<Tick>(r->fetch_busy_ps.value());
-    return total;
-}
-
 }  // namespace
+
+MachineCounters MachineCounters::of(Machine& machine) {
+    MachineCounters c;
+    for (const auto& gp : machine.gps()) {
+        c.items += gp->items.value();
+        c.fetch_requests += gp->fetch_requests.value();
+        c.blocks_refreshed += gp->blocks_refreshed.value();
+        c.context_switches += gp->context_switches.value();
+        c.gp_busy += static_cast<Tick>(gp->busy_ps.value());
+        c.gp_wait += static_cast<Tick>(gp->wait_ps.value());
+        if (const BlockCache* cache = gp->cache_if_built()) {
+            c.cache_hits += cache->hits.value();
+            c.cache_misses += cache->misses.value();
+        }
+    }
+    for (const auto& r : machine.renderers()) c.renderer_busy += static_cast<Tick>(r->fetch_busy_ps.value());
+    c.ring_busy = static_cast<Tick>(machine.ring().busy_ps());
+    c.events = machine.events().events_run();
+    return c;
+}
 
 GpPhaseRun::GpPhaseRun(FrameRun& frame_in, Machine& machine_in, const GpPhase& phase_in,
                        const std::vector<GpOpKind>& kinds, PhaseTiming& timing_in)
@@ -60,9 +74,7 @@ GpPhaseRun::GpPhaseRun(FrameRun& frame_in, Machine& machine_in, const GpPhase& p
 void GpPhaseRun::start(Tick t) {
     timing.start_ps = t;
     timing.end_ps = t;
-    renderer_busy_before = renderers_answering(machine);
-    ring_busy_before = static_cast<Tick>(machine.ring().busy_ps());
-    events_before = machine.events().events_run();
+    at_start = MachineCounters::of(machine);
     timing.group_end_ps.assign(phase.groups, t);  // a group that sends no pixels ends where the phase began
     if (phase.assignment == TaskAssignment::Static) {
         const std::size_t g = gps.size();
@@ -99,9 +111,19 @@ void GpPhaseRun::maybe_complete(Tick now) {
     if (complete || gps_finished < gps.size() || regions_finished < renderers.size() || pixel_messages_in_flight > 0)
         return;
     complete = true;
-    timing.gp.renderer_busy = renderers_answering(machine) - renderer_busy_before;
-    timing.gp.ring_busy = static_cast<Tick>(machine.ring().busy_ps()) - ring_busy_before;
-    timing.gp.events = machine.events().events_run() - events_before;
+    const MachineCounters at_end = MachineCounters::of(machine);
+    GpPhaseCounts& g = timing.gp;
+    g.items = at_end.items - at_start.items;
+    g.cache_hits = at_end.cache_hits - at_start.cache_hits;
+    g.cache_misses = at_end.cache_misses - at_start.cache_misses;
+    g.fetch_requests = at_end.fetch_requests - at_start.fetch_requests;
+    g.blocks_refreshed = at_end.blocks_refreshed - at_start.blocks_refreshed;
+    g.context_switches = at_end.context_switches - at_start.context_switches;
+    g.gp_busy = at_end.gp_busy - at_start.gp_busy;
+    g.gp_wait = at_end.gp_wait - at_start.gp_wait;
+    g.renderer_busy = at_end.renderer_busy - at_start.renderer_busy;
+    g.ring_busy = at_end.ring_busy - at_start.ring_busy;
+    g.events = at_end.events - at_start.events;
     // The phase ends when its last pixels reach the frame buffer (the picture is complete); a phase
     // that sends none ends when its GPs have finished.
     if (timing.gp.pixels_sent == 0 && !std::any_of(phase.regions.begin(), phase.regions.end(),
