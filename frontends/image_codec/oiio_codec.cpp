@@ -19,6 +19,10 @@ OIIO::TypeDesc type_of(const PixelsView& pixels) {
 OIIO::ImageSpec spec_of(const PixelsView& pixels) {
     OIIO::ImageSpec spec(pixels.width, pixels.height, pixels.channels, type_of(pixels));
     if (pixels.channels == 4) spec.channelnames = {"R", "G", "B", "A"};
+    // zlib's fastest level: a frame's pictures are written (and, in serve, sent) every frame, and level
+    // 1 encodes a 512x512 frame in a fraction of the default's time for files 10-30% larger. Other
+    // formats ignore it.
+    spec.attribute("png:compressionLevel", 1);
     return spec;
 }
 
