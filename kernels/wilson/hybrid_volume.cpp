@@ -156,6 +156,62 @@ struct Candidate {
     float error = 0;          // share of the value range
 };
 
+// The error-grid samples where the low-resolution volume errs past the threshold (with the sign rule),
+// the largest s.max_points of them when there are more, in grid order; and the errors' account.
+std::vector<Candidate> choose_points(std::span<const float> original, const Volume& low, glm::ivec3 grid, int k, int g,
+                                     float range, const WilsonSettings& s, PointSelection& sel) {
+    // Errors, plane by plane in parallel; candidates kept in grid order.
+    std::vector<std::vector<Candidate>> per_plane(static_cast<std::size_t>(grid.z));
+    std::vector<double> abs_sums(static_cast<std::size_t>(grid.z), 0.0);
+    std::vector<float> largest(static_cast<std::size_t>(grid.z), 0.0f);
+    std::vector<std::array<std::uint64_t, 5>> paper_counts(static_cast<std::size_t>(grid.z),
+                                                           std::array<std::uint64_t, 5>{});
+    if (range > 0) {
+        pp5::parallel_for(0, grid.z, [&](int z) {
+            auto& out = per_plane[static_cast<std::size_t>(z)];
+            double sum = 0;
+            float most = 0;
+            for (int y = 0; y < grid.y; ++y)
+                for (int x = 0; x < grid.x; ++x) {
+                    const std::size_t i = linear(grid, x, y, z);
+                    const glm::vec3 p = (glm::vec3(x, y, z) + 0.5f) / static_cast<float>(g) - 0.5f;
+                    const float e = (original[i] - reconstruct_low_resolution(low, k, p)) / range;
+                    sum += std::abs(e);
+                    most = std::max(most, std::abs(e));
+                    const float signed_error = s.error_sign == ErrorSign::Positive ? e : std::abs(e);
+                    if (signed_error > s.error_threshold) out.push_back(Candidate{i, e});
+                    for (std::size_t t = 0; t < kPaperThresholds.size(); ++t)
+                        paper_counts[static_cast<std::size_t>(z)][t] += signed_error > kPaperThresholds[t] ? 1 : 0;
+                }
+            abs_sums[static_cast<std::size_t>(z)] = sum;
+            largest[static_cast<std::size_t>(z)] = most;
+        });
+    }
+    std::vector<Candidate> chosen;
+    for (auto& plane : per_plane) chosen.insert(chosen.end(), plane.begin(), plane.end());
+    sel.error_samples = count(grid);
+    sel.above_threshold = chosen.size();
+    for (const Candidate& c : chosen) sel.underestimates += c.error > 0 ? 1 : 0;
+    for (std::size_t z = 0; z < abs_sums.size(); ++z) {
+        for (std::size_t t = 0; t < kPaperThresholds.size(); ++t) sel.at_paper_thresholds[t] += paper_counts[z][t];
+        sel.mean_abs_error += abs_sums[z];
+        sel.largest_error = std::max(sel.largest_error, static_cast<double>(largest[z]));
+    }
+    sel.mean_abs_error /= static_cast<double>(sel.error_samples);
+    if (s.max_points > 0 && chosen.size() > s.max_points) {
+        // The largest errors, ties to the earlier sample; then back into grid (storage) order.
+        std::nth_element(chosen.begin(), chosen.begin() + static_cast<std::ptrdiff_t>(s.max_points), chosen.end(),
+                         [](const Candidate& a, const Candidate& b) {
+                             const float ea = std::abs(a.error), eb = std::abs(b.error);
+                             return ea != eb ? ea > eb : a.index < b.index;
+                         });
+        chosen.resize(s.max_points);
+        std::sort(chosen.begin(), chosen.end(),
+                  [](const Candidate& a, const Candidate& b) { return a.index < b.index; });
+    }
+    return chosen;
+}
+
 }  // namespace
 
 NormalTable::NormalTable() {
@@ -238,57 +294,7 @@ HybridVolume HybridVolume::build(const Volume& v, const WilsonSettings& s, bool 
     h.value_range_ = v.max_value() - v.min_value();
     const float range = h.value_range_;
 
-    // Errors, plane by plane in parallel; candidates kept in grid order.
-    std::vector<std::vector<Candidate>> per_plane(static_cast<std::size_t>(h.grid_.z));
-    std::vector<double> abs_sums(static_cast<std::size_t>(h.grid_.z), 0.0);
-    std::vector<float> largest(static_cast<std::size_t>(h.grid_.z), 0.0f);
-    std::vector<std::array<std::uint64_t, 5>> paper_counts(static_cast<std::size_t>(h.grid_.z),
-                                                           std::array<std::uint64_t, 5>{});
-    if (range > 0) {
-        pp5::parallel_for(0, h.grid_.z, [&](int z) {
-            auto& out = per_plane[static_cast<std::size_t>(z)];
-            double sum = 0;
-            float most = 0;
-            for (int y = 0; y < h.grid_.y; ++y)
-                for (int x = 0; x < h.grid_.x; ++x) {
-                    const std::size_t i = linear(h.grid_, x, y, z);
-                    const glm::vec3 p = (glm::vec3(x, y, z) + 0.5f) / static_cast<float>(g) - 0.5f;
-                    const float e = (original[i] - reconstruct_low_resolution(h.low_, k, p)) / range;
-                    sum += std::abs(e);
-                    most = std::max(most, std::abs(e));
-                    const float signed_error = s.error_sign == ErrorSign::Positive ? e : std::abs(e);
-                    if (signed_error > s.error_threshold) out.push_back(Candidate{i, e});
-                    for (std::size_t t = 0; t < kPaperThresholds.size(); ++t)
-                        paper_counts[static_cast<std::size_t>(z)][t] += signed_error > kPaperThresholds[t] ? 1 : 0;
-                }
-            abs_sums[static_cast<std::size_t>(z)] = sum;
-            largest[static_cast<std::size_t>(z)] = most;
-        });
-    }
-    std::vector<Candidate> chosen;
-    for (auto& plane : per_plane) chosen.insert(chosen.end(), plane.begin(), plane.end());
-    per_plane.clear();
-    PointSelection& sel = h.selection_;
-    sel.error_samples = count(h.grid_);
-    sel.above_threshold = chosen.size();
-    for (const Candidate& c : chosen) sel.underestimates += c.error > 0 ? 1 : 0;
-    for (std::size_t z = 0; z < abs_sums.size(); ++z) {
-        for (std::size_t t = 0; t < kPaperThresholds.size(); ++t) sel.at_paper_thresholds[t] += paper_counts[z][t];
-        sel.mean_abs_error += abs_sums[z];
-        sel.largest_error = std::max(sel.largest_error, static_cast<double>(largest[z]));
-    }
-    sel.mean_abs_error /= static_cast<double>(sel.error_samples);
-    if (s.max_points > 0 && chosen.size() > s.max_points) {
-        // The largest errors, ties to the earlier sample; then back into grid (storage) order.
-        std::nth_element(chosen.begin(), chosen.begin() + static_cast<std::ptrdiff_t>(s.max_points), chosen.end(),
-                         [](const Candidate& a, const Candidate& b) {
-                             const float ea = std::abs(a.error), eb = std::abs(b.error);
-                             return ea != eb ? ea > eb : a.index < b.index;
-                         });
-        chosen.resize(s.max_points);
-        std::sort(chosen.begin(), chosen.end(),
-                  [](const Candidate& a, const Candidate& b) { return a.index < b.index; });
-    }
+    const std::vector<Candidate> chosen = choose_points(original, h.low_, h.grid_, k, g, range, s, h.selection_);
 
     // The records: gradients by central differences of the (interpolated) original at the point.
     const int value_bytes = scalar_size_bytes(v.source_type()) == 1 ? 1 : 2;
