@@ -120,16 +120,17 @@ nlohmann::json FitReport::to_json() const {
             {"host_seconds", host_seconds}};
 }
 
-std::string FitReport::to_markdown() const {
-    std::ostringstream md;
-    md << "# Calibration against " << targets_name << "\n\n";
-    if (!workload.empty()) {
+namespace {
+
+// The workload step: the parameters identified before the fit, from ratios of measured rows.
+void write_workload_step(const FitReport& report, std::ostringstream& md) {
+    if (!report.workload.empty()) {
         md << "## Workload step\n\nParameters the paper does not give, identified before the fit from the ratio of two "
               "measured rows on "
               "one machine (its speed cancels). The fit and every row below use these values.\n\n"
            << "| parameter | identified | machine file | from the ratio | reported | simulated | trials | why "
               "|\n|---|---|---|---|---|---|---|---|\n";
-        for (const IdentifiedWorkload& w : workload) {
+        for (const IdentifiedWorkload& w : report.workload) {
             md << fmt::format("| `{}` | {:.4g}{} | {} | {} / {} | {:.4g} | {:.4g} | {} | {}{} |\n", w.spec.key, w.value,
                               w.at_bound ? " (at bound)" : "", format_param_value(w.machine_value), w.spec.numerator,
                               w.spec.denominator, w.reported_ratio, w.simulated_ratio, w.trials, w.spec.why,
@@ -137,23 +138,33 @@ std::string FitReport::to_markdown() const {
         }
         md << "\n";
     }
+}
+
+// The fitted scales, their standard errors and where their bounds come from.
+void write_parameters(const FitReport& report, std::ostringstream& md) {
     md << "## Parameters\n\n"
        << "| machine | parameter | value | standard error | bounds | status |\n|---|---|---|---|---|---|\n";
-    for (const FittedParameter& p : parameters) {
+    for (const FittedParameter& p : report.parameters) {
         md << fmt::format("| {} | `{}` | {:.4g} | {} | [{:g}, {:g}] | {} |\n", p.machine, p.key, p.value,
                           number(p.standard_error), p.lower, p.upper,
                           p.free ? (p.note.empty() ? "fitted" : "fitted; " + p.note) : p.note);
     }
     md << "\nWhere each fitted scale's bounds come from (the machine file's `<scale>_bounds_why`):\n\n";
-    for (const FittedParameter& p : parameters)
+    for (const FittedParameter& p : report.parameters)
         if (p.free) md << fmt::format("- {} `{}` [{:g}, {:g}]: {}\n", p.machine, p.key, p.lower, p.upper, p.provenance);
-    const bool any_uncalibrated =
-        std::any_of(results.begin(), results.end(), [](const TargetResult& r) { return r.uncalibrated.has_value(); });
+}
+
+// Every row: reported, uncalibrated and simulated with their intervals, its use, its leave-one-out prediction.
+void write_targets(const FitReport& report, std::ostringstream& md) {
+    const bool any_uncalibrated = std::any_of(report.results.begin(), report.results.end(),
+                                              [](const TargetResult& r) { return r.uncalibrated.has_value(); });
     md << "\n## Targets\n\n";
-    if (std::any_of(results.begin(), results.end(), [](const TargetResult& r) { return r.low.has_value(); }))
+    if (std::any_of(report.results.begin(), report.results.end(),
+                    [](const TargetResult& r) { return r.low.has_value(); }))
         md << "Intervals on simulated values cover the fitted scales' uncertainty (their covariance, linearised by "
               "re-timing).";
-    if (std::any_of(results.begin(), results.end(), [](const TargetResult& r) { return r.plausible_low.has_value(); }))
+    if (std::any_of(report.results.begin(), report.results.end(),
+                    [](const TargetResult& r) { return r.plausible_low.has_value(); }))
         md << " Intervals on uncalibrated values cover the documented guesses' plausible ranges (`pp5sim params`), "
               "each spread "
               "evenly over its range, at the processor rates the machine file states (the rates are what the fit's "
@@ -162,7 +173,7 @@ std::string FitReport::to_markdown() const {
     md << "| id | machine | metric | reported | " << (any_uncalibrated ? "uncalibrated | " : "")
        << "simulated [95% interval from the fit] | error | use | leave-one-out prediction |\n"
        << (any_uncalibrated ? "|---|---|---|---|---|---|---|---|---|\n" : "|---|---|---|---|---|---|---|---|\n");
-    for (const TargetResult& r : results) {
+    for (const TargetResult& r : report.results) {
         std::string loo =
             r.leave_one_out ? fmt::format("{} ({})", number(*r.leave_one_out), percent(*r.leave_one_out_error)) : "";
         if (!r.leave_one_out_note.empty()) loo += (loo.empty() ? "" : "; ") + r.leave_one_out_note;
@@ -185,10 +196,10 @@ std::string FitReport::to_markdown() const {
                           r.low && r.high
                               ? fmt::format("{} [{}, {}]", number(r.simulated), number(*r.low), number(*r.high))
                               : number(r.simulated),
-                          percent(r.relative_error), describe(group_of(r.target)), loo);
+                          percent(r.relative_error), describe(report.group_of(r.target)), loo);
     }
     std::size_t banded = 0, inside = 0;
-    for (const TargetResult& r : results)
+    for (const TargetResult& r : report.results)
         if (r.plausible_low && r.plausible_high) {
             ++banded;
             inside += r.target.reported >= *r.plausible_low && r.target.reported <= *r.plausible_high;
@@ -200,49 +211,73 @@ std::string FitReport::to_markdown() const {
             "documented guesses alone cannot account for the difference: the processors' rates (the fit's to find) or "
             "work the model leaves out must.\n",
             inside, banded);
+}
+
+// Each kind of row's errors apart, each machine's degrees of freedom, errors by unit.
+void write_fit_quality(const FitReport& report, std::ostringstream& md) {
     md << "\n## Fit quality\n\nEach kind of row apart: only the predicted rows test the model on figures it never saw. "
           "Rows the "
-          "workload step matched have spent their freedom on its parameters; arithmetic checks, rows matched by "
+          "workload step matched have spent their freedom on its parameters; arithmetic checks, "
+          "rows matched by "
           "construction and "
           "comparisons with another machine test something else.\n\n"
        << "| rows | count | mean abs. error | max abs. error | within 10% | within 25% | r (log) |\n"
        << "|---|---|---|---|---|---|---|\n";
     for (const RowGroup group : kRowGroups) {
-        const ErrorSummary s = summary(group);
+        const ErrorSummary s = report.summary(group);
         if (s.count == 0) continue;
         md << fmt::format("| {} | {} | {:.1f}% | {:.1f}% | {} | {} | {} |\n", describe(group), s.count,
                           100.0 * s.mean_absolute_error, 100.0 * s.max_absolute_error, s.within_10, s.within_25,
                           number(s.log_correlation));
     }
-    if (!freedom.empty()) {
-        md << "\n| machine | fitted rows | free scales | workload parameters | degrees of freedom | reduced chi-square "
+    if (!report.freedom.empty()) {
+        md << "\n| machine | fitted rows | free scales | workload parameters | degrees of freedom "
+              "| reduced chi-square "
               "|\n|---|---|---|---|---|---|\n";
-        for (const MachineFreedom& f : freedom)
+        for (const MachineFreedom& f : report.freedom)
             md << fmt::format("| {} | {} | {} | {} | {} | {} |\n", f.machine, f.rows, f.free_scales,
                               f.workload_parameters, f.degrees_of_freedom(), number(f.reduced_chi_square));
     }
-    const auto units = by_unit();
+    const auto units = report.by_unit();
     if (units.size() > 1) {
-        md << "\nBy the metric's unit (fitted, workload and predicted rows together):\n\n| unit | count | mean abs. "
+        md << "\nBy the metric's unit (fitted, workload and predicted rows together):\n\n| unit | count | mean "
+              "abs. "
               "error | max abs. error | within 10% | within 25% |\n"
            << "|---|---|---|---|---|---|\n";
         for (const auto& [unit, s] : units)
             md << fmt::format("| {} | {} | {:.1f}% | {:.1f}% | {} | {} |\n", unit, s.count,
                               100.0 * s.mean_absolute_error, 100.0 * s.max_absolute_error, s.within_10, s.within_25);
     }
+}
+
+// Rows more than 25% off, then the solver's notes.
+void write_outliers_and_solver(const FitReport& report, std::ostringstream& md) {
     md << "\n## Outliers (more than 25% off)\n\n";
     bool any = false;
-    for (const TargetResult& r : results) {
+    for (const TargetResult& r : report.results) {
         if (std::abs(r.relative_error) <= 0.25) continue;
         any = true;
-        md << fmt::format("- `{}` ({}): reported {} {}, simulated {} ({})\n", r.target.id, describe(group_of(r.target)),
-                          number(r.target.reported), r.target.unit, number(r.simulated), percent(r.relative_error));
+        md << fmt::format("- `{}` ({}): reported {} {}, simulated {} ({})\n", r.target.id,
+                          describe(report.group_of(r.target)), number(r.target.reported), r.target.unit,
+                          number(r.simulated), percent(r.relative_error));
     }
     if (!any) md << "None.\n";
-    if (!notes.empty()) {
+    if (!report.notes.empty()) {
         md << "\n## Solver\n\n";
-        for (const std::string& n : notes) md << "- " << n << "\n";
+        for (const std::string& n : report.notes) md << "- " << n << "\n";
     }
+}
+
+}  // namespace
+
+std::string FitReport::to_markdown() const {
+    std::ostringstream md;
+    md << "# Calibration against " << targets_name << "\n\n";
+    write_workload_step(*this, md);
+    write_parameters(*this, md);
+    write_targets(*this, md);
+    write_fit_quality(*this, md);
+    write_outliers_and_solver(*this, md);
     return md.str();
 }
 
