@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -16,8 +17,63 @@ namespace pp5 {
 using fit_detail::number;
 using fit_detail::percent;
 
+namespace {
+
+nlohmann::json nan_to_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+template <class T>
+nlohmann::json or_null(const std::optional<T>& v) {
+    return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+}
+
+// One row of fit.json: the target, what the fit made of it, and its intervals (null where none).
+nlohmann::json row_json(const FitReport& report, const TargetResult& r) {
+    nlohmann::json row{{"id", r.target.id},
+                       {"source", r.target.source},
+                       {"quote", r.target.quote},
+                       {"scenario", r.target.scenario},
+                       {"frame", r.target.frame},
+                       {"machine", r.target.machine},
+                       {"metric", r.target.metric},
+                       {"divided_by_frame", r.target.divided_by_frame >= 0 ? nlohmann::json(r.target.divided_by_frame)
+                                                                           : nlohmann::json(nullptr)},
+                       {"unit", r.target.unit},
+                       {"reported", r.target.reported},
+                       {"exactness", std::string(to_string(r.target.exactness))},
+                       {"simulated", r.simulated},
+                       {"relative_error", r.relative_error},
+                       {"use", std::string(to_string(r.target.use))},
+                       {"group", std::string(to_string(report.group_of(r.target)))},
+                       {"used_by_workload_step", report.used_by_workload(r.target)}};
+    if (r.target.is_formula()) {
+        row["kernel"] = r.target.kernel;
+        row["formula"] = r.target.formula;
+        row["inputs"] = r.target.inputs;
+        for (const char* unused : {"scenario", "frame", "machine", "metric", "divided_by_frame"}) row.erase(unused);
+    }
+    row["uncalibrated"] = or_null(r.uncalibrated);
+    row["uncalibrated_low"] = or_null(r.plausible_low);
+    row["uncalibrated_high"] = or_null(r.plausible_high);
+    row["simulated_low"] = or_null(r.low);
+    row["simulated_high"] = or_null(r.high);
+    row["leave_one_out"] = or_null(r.leave_one_out);
+    row["leave_one_out_error"] = or_null(r.leave_one_out_error);
+    if (!r.leave_one_out_note.empty()) row["leave_one_out_note"] = r.leave_one_out_note;
+    return row;
+}
+
+nlohmann::json summary_json(const ErrorSummary& s) {
+    return nlohmann::json{{"count", s.count},
+                          {"mean_absolute_relative_error", s.mean_absolute_error},
+                          {"max_absolute_relative_error", s.max_absolute_error},
+                          {"within_10_percent", s.within_10},
+                          {"within_25_percent", s.within_25},
+                          {"log_correlation", nan_to_null(s.log_correlation)}};
+}
+
+}  // namespace
+
 nlohmann::json FitReport::to_json() const {
-    const auto nan_to_null = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
     nlohmann::json params = nlohmann::json::array();
     for (const FittedParameter& p : parameters) {
         params.push_back({{"machine", p.machine},
@@ -32,50 +88,7 @@ nlohmann::json FitReport::to_json() const {
                           {"note", p.note}});
     }
     nlohmann::json rows = nlohmann::json::array();
-    for (const TargetResult& r : results) {
-        nlohmann::json row{
-            {"id", r.target.id},
-            {"source", r.target.source},
-            {"quote", r.target.quote},
-            {"scenario", r.target.scenario},
-            {"frame", r.target.frame},
-            {"machine", r.target.machine},
-            {"metric", r.target.metric},
-            {"divided_by_frame",
-             r.target.divided_by_frame >= 0 ? nlohmann::json(r.target.divided_by_frame) : nlohmann::json(nullptr)},
-            {"unit", r.target.unit},
-            {"reported", r.target.reported},
-            {"exactness", std::string(to_string(r.target.exactness))},
-            {"simulated", r.simulated},
-            {"relative_error", r.relative_error},
-            {"use", std::string(to_string(r.target.use))},
-            {"group", std::string(to_string(group_of(r.target)))},
-            {"used_by_workload_step", used_by_workload(r.target)}};
-        if (r.target.is_formula()) {
-            row["kernel"] = r.target.kernel;
-            row["formula"] = r.target.formula;
-            row["inputs"] = r.target.inputs;
-            for (const char* unused : {"scenario", "frame", "machine", "metric", "divided_by_frame"}) row.erase(unused);
-        }
-        row["uncalibrated"] = r.uncalibrated ? nlohmann::json(*r.uncalibrated) : nlohmann::json(nullptr);
-        row["uncalibrated_low"] = r.plausible_low ? nlohmann::json(*r.plausible_low) : nlohmann::json(nullptr);
-        row["uncalibrated_high"] = r.plausible_high ? nlohmann::json(*r.plausible_high) : nlohmann::json(nullptr);
-        row["simulated_low"] = r.low ? nlohmann::json(*r.low) : nlohmann::json(nullptr);
-        row["simulated_high"] = r.high ? nlohmann::json(*r.high) : nlohmann::json(nullptr);
-        row["leave_one_out"] = r.leave_one_out ? nlohmann::json(*r.leave_one_out) : nlohmann::json(nullptr);
-        row["leave_one_out_error"] =
-            r.leave_one_out_error ? nlohmann::json(*r.leave_one_out_error) : nlohmann::json(nullptr);
-        if (!r.leave_one_out_note.empty()) row["leave_one_out_note"] = r.leave_one_out_note;
-        rows.push_back(row);
-    }
-    const auto summary_json = [&](const ErrorSummary& s) {
-        return nlohmann::json{{"count", s.count},
-                              {"mean_absolute_relative_error", s.mean_absolute_error},
-                              {"max_absolute_relative_error", s.max_absolute_error},
-                              {"within_10_percent", s.within_10},
-                              {"within_25_percent", s.within_25},
-                              {"log_correlation", nan_to_null(s.log_correlation)}};
-    };
+    for (const TargetResult& r : results) rows.push_back(row_json(*this, r));
     nlohmann::json identified = nlohmann::json::array();
     for (const IdentifiedWorkload& w : workload) {
         identified.push_back({{"parameter", w.spec.key},
