@@ -180,9 +180,11 @@ Tick GpAgent::take_in_replies() {
 }
 
 int GpAgent::pick_ready_context() const {
+    // Round robin from the context after the last one run (the first context when none has run).
     const int n = static_cast<int>(contexts_.size());
-    for (int i = 1; i <= n; ++i) {
-        const int c = (last_context_ + i + n) % n;
+    int c = last_context_;
+    for (int i = 0; i < n; ++i) {
+        c = c + 1 >= n ? 0 : c + 1;
         if (contexts_[static_cast<std::size_t>(c)].active && !contexts_[static_cast<std::size_t>(c)].waiting) return c;
     }
     return -1;
