@@ -8,14 +8,7 @@ namespace pp5 {
 
 namespace {
 
-using program_parts::fixed;
-using program_parts::kOne;
-using program_parts::kOneShift;
-using program_parts::load_inputs;
-using program_parts::magnitude_times_four;
-using program_parts::to_code;
-using program_parts::value_table;
-using program_parts::VoxelInputs;
+using namespace program_parts;  // the fixed-point pieces both programs are built from
 
 // Opacity of one isovalue contour (Levoy 1988, eq. 3) in 1/256ths. With D = 16 |v - v_f| (the value
 // distance in 1/16 codes) and R = 16 (codes per value unit) r |g|, the opacity is

@@ -14,15 +14,7 @@ namespace pp5 {
 
 namespace {
 
-using program_parts::fixed;
-using program_parts::kOne;
-using program_parts::kOneShift;
-using program_parts::load_inputs;
-using program_parts::magnitude_times_four;
-using program_parts::rounded_shift;
-using program_parts::to_code;
-using program_parts::value_table;
-using program_parts::VoxelInputs;
+using namespace program_parts;  // the fixed-point pieces both programs are built from
 
 // min(1, (numerator << shift) / denominator) in 1/256ths where the numerator is positive, and 0
 // where it is not: a voxel with no gradient (zero over zero) has no normal and gets no direct light.
