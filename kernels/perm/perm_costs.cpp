@@ -6,33 +6,30 @@ const ParamGroup& perm_cost_params() {
     static const ParamGroup group = [] {
         ParamGroup g("gp_cost.perm", "What each of PERM's ray-casting operations costs on an i860; none is published");
         g.all_timing_only();  // it changes when work happens, never what is computed
-        const auto flops = [&g](const char* name, double def, const char* doc, const char* count) {
-            g.real(name, def, "flops", 0, 1e6, doc, Provenance::Default, count).hand_counted();
-        };
-        const auto cycles = [&g](const char* name, double def, const char* doc, const char* count) {
-            g.real(name, def, "cycles", 0, 1e7, doc, Provenance::Default, count).hand_counted();
-        };
-        flops("ray_setup_flops", 60, "Set one ray up: its direction, where it enters the volume, its first sample",
-              "as Levoy's ray setup");
-        flops("sample_step_flops", 6, "Step to the next sample", "three adds and the loop test, as Levoy's");
-        flops("lookup_flops", 6, "Find the sample's quantized position: the three fractions' QBM-ths",
-              "three subtractions of the floor and three multiplies");
-        cycles("lookup_cycles", 8,
-               "Read the three mapping tables, combine the digits, read the index volume and the record",
-               "three table loads, two multiply-adds of the digits, the index load and the sign decode");
-        flops("classification_flops", 8, "Classify the looked-up value and gradient magnitude",
-              "as Levoy's per-voxel classification");
-        flops("shading_flops", 40, "Phong-shade the sample from the looked-up gradient",
-              "as Levoy's per-voxel shading");
-        flops("compositing_flops", 10, "Composite the sample front to back", "as Levoy's");
-        cycles("index_test_cycles", 4, "Find a sample's cell empty in the index volume",
-               "the cell's index, a load and a compare");
-        cycles("leap_cycles_per_sample", 1, "Leap one sample of empty space through the occupancy distance map",
-               "a distance-map read every few samples and the jump, spread over the samples leapt");
-        flops("depth_cue_flops", 4,
-              "Depth-cue a PP-shaded sample: its depth along the view, then the colour over k1 + k2 d",
-              "a dot product's three multiply-adds and one divide (perm.shading = pp only)");
-        flops("pixel_fill_flops", 18, "Pack one pixel for the frame buffer", "as Levoy's");
+        g.hand_counted_flops("ray_setup_flops", 60,
+                             "Set one ray up: its direction, where it enters the volume, its first sample",
+                             "as Levoy's ray setup");
+        g.hand_counted_flops("sample_step_flops", 6, "Step to the next sample",
+                             "three adds and the loop test, as Levoy's");
+        g.hand_counted_flops("lookup_flops", 6, "Find the sample's quantized position: the three fractions' QBM-ths",
+                             "three subtractions of the floor and three multiplies");
+        g.hand_counted_cycles("lookup_cycles", 8,
+                              "Read the three mapping tables, combine the digits, read the index volume and the record",
+                              "three table loads, two multiply-adds of the digits, the index load and the sign decode");
+        g.hand_counted_flops("classification_flops", 8, "Classify the looked-up value and gradient magnitude",
+                             "as Levoy's per-voxel classification");
+        g.hand_counted_flops("shading_flops", 40, "Phong-shade the sample from the looked-up gradient",
+                             "as Levoy's per-voxel shading");
+        g.hand_counted_flops("compositing_flops", 10, "Composite the sample front to back", "as Levoy's");
+        g.hand_counted_cycles("index_test_cycles", 4, "Find a sample's cell empty in the index volume",
+                              "the cell's index, a load and a compare");
+        g.hand_counted_cycles("leap_cycles_per_sample", 1,
+                              "Leap one sample of empty space through the occupancy distance map",
+                              "a distance-map read every few samples and the jump, spread over the samples leapt");
+        g.hand_counted_flops("depth_cue_flops", 4,
+                             "Depth-cue a PP-shaded sample: its depth along the view, then the colour over k1 + k2 d",
+                             "a dot product's three multiply-adds and one divide (perm.shading = pp only)");
+        g.hand_counted_flops("pixel_fill_flops", 18, "Pack one pixel for the frame buffer", "as Levoy's");
         return g;
     }();
     return group;

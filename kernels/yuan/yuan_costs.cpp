@@ -9,39 +9,39 @@ const ParamGroup& yuan_cost_params() {
     static const ParamGroup group = [] {
         ParamGroup g("gp_cost.yuan", "What each of Yuan's splatting operations costs on an i860; none is published");
         g.all_timing_only();  // it changes when work happens, never what is computed
-        const auto flops = [&g](const char* name, double def, const char* doc, const char* count) {
-            g.real(name, def, "flops", 0, 1e6, doc, Provenance::Default, count).hand_counted();
-        };
-        const auto cycles = [&g](const char* name, double def, const char* doc, const char* count) {
-            g.real(name, def, "cycles", 0, 1e7, doc, Provenance::Default, count).hand_counted();
-        };
-        flops("voxel_transform_flops", 18, "Transform one voxel's centre into eye space",
-              "a 3x3 matrix and a translation");
-        flops("voxel_split_flops", 11, "Find a voxel's magnification and depth band and decide splat or point",
-              "a reciprocal of depth, the projected spacing, the band's floor and a compare");
-        cycles("voxel_sort_cycles", 20, "Append a voxel to its (band, brick) chunk, in depth order within it",
-               "a bucket append and an insertion step on nearly sorted depths");
-        flops("splat_setup_flops", 80,
-              "Set up one splat: cone angle, the six conic coefficients, centre, axes, bounding box, "
-              "the footprint row and the colour constants",
-              "|c|^2 and a reciprocal square root (12), the direction Q (4), cos^2 alpha (3), coefficients (14), the "
-              "index normalisation at the centre (12), axes and box (25), colour and opacity (10)");
-        flops("region_shift_flops", 10, "Move one primitive's quadratic to a further region's origin",
-              "the shift of F, D and E: about 10 multiply-adds");
-        flops("point_setup_flops", 16,
-              "Set up one point for the renderers: its screen position, area and four paraboloid weights",
-              "the projection (4), the area (1), four channel weights (4) and the paraboloid's terms (7)");
-        flops("sheet_pixel_flops", 14, "Filter one point into one pixel of the GP's band sheet",
-              "the squared distance (4), the paraboloid weight (2), four multiply-adds");
+        g.hand_counted_flops("voxel_transform_flops", 18, "Transform one voxel's centre into eye space",
+                             "a 3x3 matrix and a translation");
+        g.hand_counted_flops("voxel_split_flops", 11,
+                             "Find a voxel's magnification and depth band and decide splat or point",
+                             "a reciprocal of depth, the projected spacing, the band's floor and a compare");
+        g.hand_counted_cycles("voxel_sort_cycles", 20,
+                              "Append a voxel to its (band, brick) chunk, in depth order within it",
+                              "a bucket append and an insertion step on nearly sorted depths");
+        g.hand_counted_flops(
+            "splat_setup_flops", 80,
+            "Set up one splat: cone angle, the six conic coefficients, centre, axes, bounding box, "
+            "the footprint row and the colour constants",
+            "|c|^2 and a reciprocal square root (12), the direction Q (4), cos^2 alpha (3), coefficients (14), the "
+            "index normalisation at the centre (12), axes and box (25), colour and opacity (10)");
+        g.hand_counted_flops("region_shift_flops", 10, "Move one primitive's quadratic to a further region's origin",
+                             "the shift of F, D and E: about 10 multiply-adds");
+        g.hand_counted_flops(
+            "point_setup_flops", 16,
+            "Set up one point for the renderers: its screen position, area and four paraboloid weights",
+            "the projection (4), the area (1), four channel weights (4) and the paraboloid's terms (7)");
+        g.hand_counted_flops("sheet_pixel_flops", 14, "Filter one point into one pixel of the GP's band sheet",
+                             "the squared distance (4), the paraboloid weight (2), four multiply-adds");
         // Work Pixel-planes 5 gives its PPs, done by a lone processor (the `uniprocessor` machine kind;
         // classifying and shading a voxel cost what gp_cost.voxel_store.* says, whichever kernel asks).
-        flops("splat_pixel_flops", 20, "Draw one pixel of a splat on a processor without PPs",
-              "the index quadratic stepped incrementally (3), the table look-up, alpha w (1), (1 - A) alpha (2), "
-              "three colour multiply-adds and the opacity (8), bounds and loop (6)");
-        flops("point_pixel_flops", 14, "Filter one point into one pixel on a processor without PPs",
-              "as sheet_pixel_flops");
-        flops("composite_pixel_flops", 10, "Composite one pixel of a band's sheet on a processor without PPs",
-              "(1 - A), a clamp, four multiply-adds and the clear");
+        g.hand_counted_flops(
+            "splat_pixel_flops", 20, "Draw one pixel of a splat on a processor without PPs",
+            "the index quadratic stepped incrementally (3), the table look-up, alpha w (1), (1 - A) alpha (2), "
+            "three colour multiply-adds and the opacity (8), bounds and loop (6)");
+        g.hand_counted_flops("point_pixel_flops", 14, "Filter one point into one pixel on a processor without PPs",
+                             "as sheet_pixel_flops");
+        g.hand_counted_flops("composite_pixel_flops", 10,
+                             "Composite one pixel of a band's sheet on a processor without PPs",
+                             "(1 - A), a clamp, four multiply-adds and the clear");
         return g;
     }();
     return group;

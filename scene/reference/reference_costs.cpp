@@ -7,18 +7,11 @@ const ParamGroup& reference_cost_params() {
         ParamGroup g("gp_cost.reference", "What the reference renderer's ray-casting loop costs on a processor");
         g.all_timing_only();  // it changes when work happens, never what is computed
         const char* same = "the operation count of the same work in Levoy's ray caster (gp_cost.levoy)";
-        g.real("ray_setup_flops", 60, "flops", 0, 1e6,
-               "Set up a ray: origin, direction, entry into and exit from the volume", Provenance::Default, same)
-            .hand_counted()
-            .real("sample_step_flops", 6, "flops", 0, 1e6, "Advance a ray to its next sample", Provenance::Default,
-                  same)
-            .hand_counted()
-            .real("interpolation_flops", 56, "flops", 0, 1e6, "Trilinear interpolation at a sample",
-                  Provenance::Default, same)
-            .hand_counted()
-            .real("compositing_flops", 10, "flops", 0, 1e6, "Composite a sample front to back", Provenance::Default,
-                  same)
-            .hand_counted();
+        g.hand_counted_flops("ray_setup_flops", 60,
+                             "Set up a ray: origin, direction, entry into and exit from the volume", same);
+        g.hand_counted_flops("sample_step_flops", 6, "Advance a ray to its next sample", same);
+        g.hand_counted_flops("interpolation_flops", 56, "Trilinear interpolation at a sample", same);
+        g.hand_counted_flops("compositing_flops", 10, "Composite a sample front to back", same);
         return g;
     }();
     return group;

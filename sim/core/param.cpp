@@ -134,6 +134,16 @@ ParamGroup& ParamGroup::hand_counted() {
     return *this;
 }
 
+ParamGroup& ParamGroup::hand_counted_flops(std::string name, double def, std::string doc, std::string count) {
+    return real(std::move(name), def, "flops", 0, 1e6, std::move(doc), Provenance::Default, std::move(count))
+        .hand_counted();
+}
+
+ParamGroup& ParamGroup::hand_counted_cycles(std::string name, double def, std::string doc, std::string count) {
+    return real(std::move(name), def, "cycles", 0, 1e7, std::move(doc), Provenance::Default, std::move(count))
+        .hand_counted();
+}
+
 ParamGroup& ParamGroup::integer(std::string name, std::int64_t def, std::string unit, double min, double max,
                                 std::string doc, Provenance provenance, std::string source) {
     return add(ParamSpec{std::move(name),

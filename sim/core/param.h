@@ -71,6 +71,10 @@ public:
     ParamGroup& plausible_factor(double low_factor, double high_factor, std::string why);
     // An operation's cost counted by hand from its arithmetic: half to twice the count.
     ParamGroup& hand_counted();
+    // A cost so counted, declared in one call: flops at a processor's rate (0 to 1e6) or cycles at its
+    // clock (0 to 1e7), `count` saying how the default was counted.
+    ParamGroup& hand_counted_flops(std::string name, double def, std::string doc, std::string count);
+    ParamGroup& hand_counted_cycles(std::string name, double def, std::string doc, std::string count);
     // The parameter declared last only changes timing (ParamSpec::timing_only).
     ParamGroup& timing_only();
     // Every parameter of the group, declared before or after, only changes timing.

@@ -7,16 +7,13 @@ const ParamGroup& voxel_store_cost_params() {
         ParamGroup g("gp_cost.voxel_store",
                      "What classifying and shading one voxel costs a processor without PPs; none is published");
         g.all_timing_only();  // it changes when work happens, never what is computed
-        g.real("classification_flops", 8, "flops", 0, 1e6,
-               "Classify one voxel on a processor without PPs: opacity from value and gradient", Provenance::Default,
-               "a table look-up, the gradient magnitude's scale and a multiply: about 8")
-            .hand_counted()
-            .real("shading_flops", 40, "flops", 0, 1e6, "Phong-shade one voxel on a processor without PPs",
-                  Provenance::Default,
-                  "normalise the gradient (about 12 with a reciprocal square root), the diffuse dot product and "
-                  "clamp (6), three colour multiply-adds with the ambient term (9), and the opacity-weighted colour "
-                  "(4); with the look-ups, about 40")
-            .hand_counted();
+        g.hand_counted_flops("classification_flops", 8,
+                             "Classify one voxel on a processor without PPs: opacity from value and gradient",
+                             "a table look-up, the gradient magnitude's scale and a multiply: about 8");
+        g.hand_counted_flops("shading_flops", 40, "Phong-shade one voxel on a processor without PPs",
+                             "normalise the gradient (about 12 with a reciprocal square root), the diffuse dot "
+                             "product and clamp (6), three colour multiply-adds with the ambient term (9), and the "
+                             "opacity-weighted colour (4); with the look-ups, about 40");
         return g;
     }();
     return group;

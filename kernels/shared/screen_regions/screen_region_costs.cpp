@@ -7,15 +7,12 @@ const ParamGroup& screen_region_cost_params() {
         ParamGroup g("gp_cost.screen_regions",
                      "What sending screen-region primitives to the renderers costs a GP; none is published");
         g.all_timing_only();  // it changes when work happens, never what is computed
-        g.real("coefficient_convert_cycles", 2, "cycles", 0, 1e7, "Convert one coefficient to the QEE's fixed point",
-               Provenance::Default, "a scale and a float-to-integer")
-            .hand_counted()
-            .real("bin_cycles", 10, "cycles", 0, 1e7, "Place one primitive in one region's batch", Provenance::Default,
-                  "a region look-up and a pointer bump")
-            .hand_counted()
-            .real("pack_cycles_per_word", 2, "cycles", 0, 1e7, "Pack one word of a batch for the ring",
-                  Provenance::Default, "a store and a pointer bump")
-            .hand_counted();
+        g.hand_counted_cycles("coefficient_convert_cycles", 2, "Convert one coefficient to the QEE's fixed point",
+                              "a scale and a float-to-integer");
+        g.hand_counted_cycles("bin_cycles", 10, "Place one primitive in one region's batch",
+                              "a region look-up and a pointer bump");
+        g.hand_counted_cycles("pack_cycles_per_word", 2, "Pack one word of a batch for the ring",
+                              "a store and a pointer bump");
         return g;
     }();
     return group;
