@@ -17,6 +17,7 @@
 #include <limits>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <set>
 
 namespace pp5 {
@@ -337,6 +338,55 @@ FitReport evaluate_targets(const CalibrationModel& model, const std::map<std::st
 
 namespace {
 
+// Ceres' covariance of the log scales at the solution x, none when the Jacobian is rank-deficient.
+std::optional<std::vector<double>> log_covariance(ceres::Problem& problem, std::vector<double>& x) {
+    ceres::Covariance::Options cov_options;
+    cov_options.algorithm_type = ceres::DENSE_SVD;
+    cov_options.null_space_rank = -1;
+    ceres::Covariance covariance(cov_options);
+    std::vector<double> cov(x.size() * x.size(), std::numeric_limits<double>::quiet_NaN());
+    const std::vector<std::pair<const double*, const double*>> blocks{{x.data(), x.data()}};
+    if (!covariance.Compute(blocks, &problem) || !covariance.GetCovarianceBlock(x.data(), x.data(), cov.data()))
+        return std::nullopt;
+    return cov;
+}
+
+// A free scale's fitted value from its logarithm, its standard error (none: not computable) and what
+// to say about it.
+void set_fitted_value(FittedParameter& p, double log_value, std::optional<double> log_variance) {
+    // The covariance is of the logarithm; to first order the scale's error is the value times it.
+    p.value = std::exp(log_value);
+    p.standard_error = log_variance ? p.value * std::sqrt(*log_variance) : std::numeric_limits<double>::quiet_NaN();
+    p.at_bound = std::abs(p.value - p.lower) < 1e-6 * p.lower || std::abs(p.value - p.upper) < 1e-6 * p.upper;
+    // A scale held by its physical range is a finding about the model, not a fitted value: the
+    // targets want a machine the hardware could not be.
+    if (p.at_bound)
+        p.note = fmt::format(
+            "at its {} bound, a finding: the targets ask for a machine {} than this range allows ({}); its "
+            "standard error means little",
+            p.value <= p.lower * (1 + 1e-6) ? "lower" : "upper", p.value <= p.lower * (1 + 1e-6) ? "faster" : "slower",
+            p.provenance);
+    else if (std::isfinite(p.standard_error) && p.standard_error > 0.5 * p.value)
+        p.note = fmt::format("poorly determined: the standard error is {:.0f}% of the value",
+                             100.0 * p.standard_error / p.value);
+    if (!log_variance)
+        p.note += (p.note.empty() ? "" : "; ") + std::string("covariance not computable (rank-deficient Jacobian)");
+}
+
+std::string freedom_note(const std::string& machine, const MachineFreedom& freedom) {
+    if (freedom.degrees_of_freedom() > 0)
+        return fmt::format(
+            "{}: residual spread (reduced chi-square) {:.3g} on {} degrees of freedom ({} rows, {} free scales, {} "
+            "workload parameters)",
+            machine, freedom.reduced_chi_square, freedom.degrees_of_freedom(), freedom.rows, freedom.free_scales,
+            freedom.workload_parameters);
+    return fmt::format(
+        "{}: no degrees of freedom ({} rows, {} free scales, {} workload parameters): the rows determine the "
+        "parameters exactly, so they test nothing, and the standard errors come from the rows' stated "
+        "uncertainties alone",
+        machine, freedom.rows, freedom.free_scales, freedom.workload_parameters);
+}
+
 // Fits the free scales of one machine to its targets: the solution, each scale's standard error from
 // Ceres' covariance at it (widened when the residuals spread more than their sources' stated
 // uncertainty), and the notes on how the solve went. Returns the fit for the leave-one-out refits.
@@ -356,9 +406,9 @@ std::unique_ptr<MachineFit> fit_machine(const CalibrationModel& model, const std
                     summary.iterations.size(), summary.num_residual_evaluations, summary.final_cost,
                     summary.initial_cost, summary.message));
 
-    // Standard errors: Ceres' covariance at the solution, widened when the residuals spread more than
-    // their sources' stated uncertainty (reduced chi-square above 1). The rows the workload step
-    // matched have spent degrees of freedom on its parameters as well as on the scales.
+    // Standard errors: the covariance widened when the residuals spread more than their sources'
+    // stated uncertainty (reduced chi-square above 1). The rows the workload step matched have spent
+    // degrees of freedom on its parameters as well as on the scales.
     const std::vector<double> r = fit.residuals(fit.scales(x.data()));
     double chi2 = 0;
     for (double v : r) chi2 += v * v;
@@ -370,55 +420,17 @@ std::unique_ptr<MachineFit> fit_machine(const CalibrationModel& model, const std
                            {},
                            {}};
     if (freedom.degrees_of_freedom() > 0) freedom.reduced_chi_square = chi2 / freedom.degrees_of_freedom();
-    const double spread = std::isfinite(freedom.reduced_chi_square) ? freedom.reduced_chi_square : 1.0;
-    ceres::Covariance::Options cov_options;
-    cov_options.algorithm_type = ceres::DENSE_SVD;
-    cov_options.null_space_rank = -1;
-    ceres::Covariance covariance(cov_options);
-    std::vector<double> cov(x.size() * x.size(), std::numeric_limits<double>::quiet_NaN());
-    const std::vector<std::pair<const double*, const double*>> blocks{{x.data(), x.data()}};
-    const bool have_cov =
-        covariance.Compute(blocks, plain.get()) && covariance.GetCovarianceBlock(x.data(), x.data(), cov.data());
-    if (have_cov) {
+    const double widening = std::max(1.0, std::isfinite(freedom.reduced_chi_square) ? freedom.reduced_chi_square : 1.0);
+    const std::optional<std::vector<double>> cov = log_covariance(*plain, x);
+    if (cov) {
         for (const int j : free) freedom.free_keys.push_back(key_of(kScales[j]));
-        for (const double c : cov) freedom.log_covariance.push_back(c * std::max(1.0, spread));
+        for (const double c : *cov) freedom.log_covariance.push_back(c * widening);
     }
     report.freedom.push_back(freedom);
-    for (std::size_t i = 0; i < free.size(); ++i) {
-        FittedParameter& p = params[static_cast<std::size_t>(free[i])];
-        // The covariance is of the logarithm; to first order the scale's error is the value times it.
-        p.value = std::exp(x[i]);
-        p.standard_error = have_cov ? p.value * std::sqrt(cov[i * x.size() + i] * std::max(1.0, spread))
-                                    : std::numeric_limits<double>::quiet_NaN();
-        p.at_bound = std::abs(p.value - p.lower) < 1e-6 * p.lower || std::abs(p.value - p.upper) < 1e-6 * p.upper;
-        // A scale held by its physical range is a finding about the model, not a fitted value: the
-        // targets want a machine the hardware could not be.
-        if (p.at_bound)
-            p.note = fmt::format(
-                "at its {} bound, a finding: the targets ask for a machine {} than this range allows ({}); its "
-                "standard error means little",
-                p.value <= p.lower * (1 + 1e-6) ? "lower" : "upper",
-                p.value <= p.lower * (1 + 1e-6) ? "faster" : "slower", p.provenance);
-        else if (std::isfinite(p.standard_error) && p.standard_error > 0.5 * p.value)
-            p.note = fmt::format("poorly determined: the standard error is {:.0f}% of the value",
-                                 100.0 * p.standard_error / p.value);
-        if (!have_cov)
-            p.note += (p.note.empty() ? "" : "; ") + std::string("covariance not computable (rank-deficient Jacobian)");
-    }
-    report.notes.push_back(
-        freedom.degrees_of_freedom() > 0
-            ? fmt::format("{}: residual spread (reduced chi-square) {:.3g} on {} degrees of freedom ({} rows, {} "
-                          "free scales, {} workload "
-                          "parameters)",
-                          machine, freedom.reduced_chi_square, freedom.degrees_of_freedom(), freedom.rows,
-                          freedom.free_scales, freedom.workload_parameters)
-            : fmt::format(
-                  "{}: no degrees of freedom ({} rows, {} free scales, {} workload parameters): the rows determine "
-                  "the "
-                  "parameters exactly, so they test nothing, and the standard errors come from the rows' stated "
-                  "uncertainties alone",
-                  machine, freedom.rows, freedom.free_scales, freedom.workload_parameters));
-
+    for (std::size_t i = 0; i < free.size(); ++i)
+        set_fitted_value(params[static_cast<std::size_t>(free[i])], x[i],
+                         cov ? std::optional<double>((*cov)[i * x.size() + i] * widening) : std::nullopt);
+    report.notes.push_back(freedom_note(machine, freedom));
     return owned;
 }
 

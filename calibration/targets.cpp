@@ -309,6 +309,83 @@ void read_formula_row(const toml::table& row, const std::string& file, const std
     }
 }
 
+// A frame of the row's scenario, by its index.
+int scenario_frame(const toml::node& node, const Scenario& scenario, const std::string& file, const std::string& field,
+                   const std::string& scenario_name) {
+    const auto index = node.value<std::int64_t>();
+    if (!index || *index < 0 || *index >= static_cast<std::int64_t>(scenario.frames.size()))
+        throw InputError(file, field,
+                         fmt::format("must be a frame of \"{}\": 0 to {}", scenario_name, scenario.frames.size() - 1));
+    return static_cast<int>(*index);
+}
+
+// scenario, frame, machine and metric: a figure the simulator measures on a scenario's frame. The
+// scenario and machine must exist, the frame be one of the scenario's and the metric one its kernel
+// measures.
+void read_simulated_row(const toml::table& row, const std::string& file, const std::string& prefix, Target& t) {
+    t.assumes = text_field(row, file, prefix, "assumes", false);
+    t.scenario = text_field(row, file, prefix, "scenario", true);
+    t.machine = text_field(row, file, prefix, "machine", true);
+    t.metric = text_field(row, file, prefix, "metric", true);
+    read_value_fields(row, file, prefix, t);
+    if (t.use == TargetUse::Check)
+        throw InputError(
+            file, prefix + "use",
+            "\"check\" is for formula rows (a paper's equation recomputed); a simulated row is fit, held-out, "
+            "by-construction or comparison");
+
+    const Scenario scenario = scenario_named(t.scenario, file, prefix);
+    const Kernel* kernel = find_kernel(scenario.kernel);
+    if (kernel == nullptr)
+        throw InputError(file, prefix + "scenario",
+                         "\"" + t.scenario + "\" names an unknown kernel \"" + scenario.kernel + "\"");
+    std::string metrics;
+    for (const KernelMetric& m : kernel->metrics()) {
+        if (m.name == t.metric) t.unit = m.unit;
+        metrics += (metrics.empty() ? "" : ", ") + m.name;
+    }
+    if (t.unit.empty())
+        throw InputError(file, prefix + "metric",
+                         "unknown metric \"" + t.metric + "\" for kernel " + kernel->name() +
+                             (metrics.empty() ? " (it has none)" : "; known: " + metrics));
+    if (const toml::node* frame = row.get("frame"))
+        t.frame = scenario_frame(*frame, scenario, file, prefix + "frame", t.scenario);
+    if (const toml::node* divisor = row.get("divided_by_frame")) {
+        t.divided_by_frame = scenario_frame(*divisor, scenario, file, prefix + "divided_by_frame", t.scenario);
+        if (t.divided_by_frame == t.frame)
+            throw InputError(file, prefix + "divided_by_frame", "must differ from frame (the ratio would be 1)");
+        t.unit = "ratio";
+    }
+    try {
+        (void)resolve_machine_file(t.machine);
+    } catch (const InputError& e) {
+        throw InputError(file, prefix + "machine", std::string("\"") + t.machine + "\": " + e.what());
+    }
+}
+
+// One [[targets]] row. A row simulates a scenario, or (with a formula) recomputes a paper's own equation.
+// Its id must be new to `ids`.
+Target read_target(const toml::table& row, const std::string& file, const std::string& prefix,
+                   std::set<std::string>& ids) {
+    const bool formula_row = row.contains("formula");
+    const std::string where = prefix.substr(0, prefix.size() - 1);
+    TomlTable strict(&row, where, file, formula_row ? "" : "a formula row has kernel, formula and inputs instead");
+    strict.allow({"id", "source", "quote"});
+    if (formula_row) strict.allow({"kernel", "formula", "inputs"});
+    else strict.allow({"scenario", "frame", "machine", "metric", "divided_by_frame", "assumes"});
+    strict.allow({"reported", "exactness", "use"});
+    strict.finish();
+    Target t;
+    t.id = text_field(row, file, prefix, "id", true);
+    if (!ids.insert(t.id).second)
+        throw InputError(file, prefix + "id", "\"" + t.id + "\" is used by an earlier target");
+    t.source = text_field(row, file, prefix, "source", true);
+    t.quote = text_field(row, file, prefix, "quote", false);
+    if (formula_row) read_formula_row(row, file, prefix, t);
+    else read_simulated_row(row, file, prefix, t);
+    return t;
+}
+
 }  // namespace
 
 TargetSet load_targets(const std::filesystem::path& path) {
@@ -316,7 +393,6 @@ TargetSet load_targets(const std::filesystem::path& path) {
     const toml::table root = read_toml_file(file);
     TargetSet set;
     set.file = path;
-    set.name = path.stem().string();
     TomlTable top(&root, "", file);
     top.allow({"targets", "workload", "figures"});  // read row by row below
     TomlTable head = top.sub("calibration");
@@ -333,81 +409,7 @@ TargetSet load_targets(const std::filesystem::path& path) {
         const std::string prefix = fmt::format("targets[{}].", i);
         const toml::table* row = (*rows)[i].as_table();
         if (!row) throw InputError(file, prefix.substr(0, prefix.size() - 1), "must be a table");
-        // A row simulates a scenario, or (with a formula) recomputes a paper's own equation.
-        const bool formula_row = row->contains("formula");
-        TomlTable strict(row, prefix.substr(0, prefix.size() - 1), file,
-                         formula_row ? "" : "a formula row has kernel, formula and inputs instead");
-        strict.allow({"id", "source", "quote"});
-        if (formula_row) strict.allow({"kernel", "formula", "inputs"});
-        else strict.allow({"scenario", "frame", "machine", "metric", "divided_by_frame", "assumes"});
-        strict.allow({"reported", "exactness", "use"});
-        strict.finish();
-        Target t;
-        t.id = text_field(*row, file, prefix, "id", true);
-        if (!ids.insert(t.id).second)
-            throw InputError(file, prefix + "id", "\"" + t.id + "\" is used by an earlier target");
-        t.source = text_field(*row, file, prefix, "source", true);
-        t.quote = text_field(*row, file, prefix, "quote", false);
-        if (formula_row) {
-            read_formula_row(*row, file, prefix, t);
-            set.targets.push_back(std::move(t));
-            continue;
-        }
-        t.assumes = text_field(*row, file, prefix, "assumes", false);
-        t.scenario = text_field(*row, file, prefix, "scenario", true);
-        t.machine = text_field(*row, file, prefix, "machine", true);
-
-        t.metric = text_field(*row, file, prefix, "metric", true);
-
-        read_value_fields(*row, file, prefix, t);
-        if (t.use == TargetUse::Check)
-            throw InputError(
-                file, prefix + "use",
-                "\"check\" is for formula rows (a paper's equation recomputed); a simulated row is fit, held-out, "
-                "by-construction or comparison");
-
-        // The scenario and machine must exist, and the frame be one of the scenario's.
-        const Scenario scenario = scenario_named(t.scenario, file, prefix);
-        // The metric is one the scenario's kernel measures its frames by.
-        const Kernel* kernel = find_kernel(scenario.kernel);
-        if (kernel == nullptr)
-            throw InputError(file, prefix + "scenario",
-                             "\"" + t.scenario + "\" names an unknown kernel \"" + scenario.kernel + "\"");
-        std::string metrics;
-        for (const KernelMetric& m : kernel->metrics()) {
-            if (m.name == t.metric) t.unit = m.unit;
-            metrics += (metrics.empty() ? "" : ", ") + m.name;
-        }
-        if (t.unit.empty())
-            throw InputError(file, prefix + "metric",
-                             "unknown metric \"" + t.metric + "\" for kernel " + kernel->name() +
-                                 (metrics.empty() ? " (it has none)" : "; known: " + metrics));
-        const toml::node* frame = row->get("frame");
-        if (frame) {
-            const auto index = frame->value<std::int64_t>();
-            if (!index || *index < 0 || *index >= static_cast<std::int64_t>(scenario.frames.size()))
-                throw InputError(
-                    file, prefix + "frame",
-                    fmt::format("must be a frame of \"{}\": 0 to {}", t.scenario, scenario.frames.size() - 1));
-            t.frame = static_cast<int>(*index);
-        }
-        if (const toml::node* divisor = row->get("divided_by_frame")) {
-            const auto index = divisor->value<std::int64_t>();
-            if (!index || *index < 0 || *index >= static_cast<std::int64_t>(scenario.frames.size()))
-                throw InputError(
-                    file, prefix + "divided_by_frame",
-                    fmt::format("must be a frame of \"{}\": 0 to {}", t.scenario, scenario.frames.size() - 1));
-            if (*index == t.frame)
-                throw InputError(file, prefix + "divided_by_frame", "must differ from frame (the ratio would be 1)");
-            t.divided_by_frame = static_cast<int>(*index);
-            t.unit = "ratio";
-        }
-        try {
-            (void)resolve_machine_file(t.machine);
-        } catch (const InputError& e) {
-            throw InputError(file, prefix + "machine", std::string("\"") + t.machine + "\": " + e.what());
-        }
-        set.targets.push_back(std::move(t));
+        set.targets.push_back(read_target(*row, file, prefix, ids));
     }
     read_workload(root, file, set);
     read_figures(root, file, set);

@@ -86,91 +86,103 @@ double GuessResponse::variance() const {
     return std::max(0.0, square - mean() * mean());
 }
 
-UncertaintyTable measure_uncertainty(const MachineConfig& config, const std::vector<UncertainParameter>& parameters,
-                                     const FigureEvaluator& figures) {
-    UncertaintyTable table;
-    table.base = figures(config);
-    ++table.retimings;
+namespace {
 
-    // Every guess at the far end of its range first, the re-timings run side by side; then the near end
-    // of the guesses that moved some figure measurably. A guess that did not has its near end drawn on
-    // the straight line through its value and its far end: it adds little to any band either way.
-    struct End {
-        std::size_t parameter;
-        bool high;
-        double value;
-        std::optional<std::vector<double>> figures;
-        std::string refusal;
-    };
-    // Re-times the ends not yet known (a drawn end is).
-    const auto run = [&](std::vector<End>& ends) {
-        std::vector<End*> unknown;
-        for (End& end : ends)
-            if (!end.figures) unknown.push_back(&end);
-        pp5::parallel_for(std::size_t{0}, unknown.size(), [&](std::size_t e) {
-            End& end = *unknown[e];
-            const UncertainParameter& p = parameters[end.parameter];
-            MachineConfig moved = config;
-            try {
-                moved.set(p.key, as_param(p, end.value), "plausible range");
-                end.figures = figures(moved);
-            } catch (const InputError& error) {
-                end.refusal = error.what();
-            } catch (const std::runtime_error& error) {
-                end.refusal = error.what();  // a frame the watchdog stopped: not a machine that could be
-            }
-        });
-        table.retimings += unknown.size();
-    };
-    std::vector<End> ends;
+// One end of a guess's range, re-timed (figures) or drawn, or refused by the machine (refusal).
+struct RangeEnd {
+    std::size_t parameter;
+    bool high;
+    double value;
+    std::optional<std::vector<double>> figures;
+    std::string refusal;
+};
+
+// Re-times the ends not yet known (a drawn end is), side by side.
+void retime(std::vector<RangeEnd>& ends, const MachineConfig& config, const std::vector<UncertainParameter>& parameters,
+            const FigureEvaluator& figures, UncertaintyTable& table) {
+    std::vector<RangeEnd*> unknown;
+    for (RangeEnd& end : ends)
+        if (!end.figures) unknown.push_back(&end);
+    pp5::parallel_for(std::size_t{0}, unknown.size(), [&](std::size_t e) {
+        RangeEnd& end = *unknown[e];
+        const UncertainParameter& p = parameters[end.parameter];
+        MachineConfig moved = config;
+        try {
+            moved.set(p.key, as_param(p, end.value), "plausible range");
+            end.figures = figures(moved);
+        } catch (const InputError& error) {
+            end.refusal = error.what();
+        } catch (const std::runtime_error& error) {
+            end.refusal = error.what();  // a frame the watchdog stopped: not a machine that could be
+        }
+    });
+    table.retimings += unknown.size();
+}
+
+// Each guess's far end: the end of its range further from its value, in the scale its spread is even in.
+std::vector<RangeEnd> far_ends(const std::vector<UncertainParameter>& parameters) {
+    std::vector<RangeEnd> ends;
     for (std::size_t i = 0; i < parameters.size(); ++i) {
         const UncertainParameter& p = parameters[i];
         const bool high_is_far =
             p.high > p.value && scale_of(p, p.high) - scale_of(p, p.value) >= scale_of(p, p.value) - scale_of(p, p.low);
         ends.push_back({i, high_is_far, high_is_far ? p.high : p.low, std::nullopt, {}});
     }
-    run(ends);
-    std::vector<End> near;
-    for (const End& far : ends) {
-        const UncertainParameter& p = parameters[far.parameter];
-        const double other = far.high ? p.low : p.high;
+    return ends;
+}
+
+// The near ends: to be re-timed for a guess whose far end moved some figure measurably (or was
+// refused); drawn on the straight line through its value and its far end for the others.
+std::vector<RangeEnd> near_ends(const std::vector<RangeEnd>& far, const std::vector<UncertainParameter>& parameters,
+                                UncertaintyTable& table) {
+    std::vector<RangeEnd> near;
+    for (const RangeEnd& end : far) {
+        const UncertainParameter& p = parameters[end.parameter];
+        const double other = end.high ? p.low : p.high;
         if (other == p.value) continue;
-        bool measurable = !far.figures;  // a refused far end: the near one must speak for the guess
-        for (std::size_t f = 0; far.figures && !p.per_operation && f < table.base.size(); ++f)
+        bool measurable = !end.figures;  // a refused far end: the near one must speak for the guess
+        for (std::size_t f = 0; end.figures && !p.per_operation && f < table.base.size(); ++f)
             if (std::isfinite(table.base[f]))  // a figure the frame does not have says nothing
                 measurable = measurable ||
-                             !(std::abs((*far.figures)[f] - table.base[f]) <= kMinorChange * std::abs(table.base[f]));
+                             !(std::abs((*end.figures)[f] - table.base[f]) <= kMinorChange * std::abs(table.base[f]));
         if (measurable) {
-            near.push_back({far.parameter, !far.high, other, std::nullopt, {}});
+            near.push_back({end.parameter, !end.high, other, std::nullopt, {}});
             continue;
         }
         std::vector<double> drawn;
-        const double along = (other - p.value) / (far.value - p.value);
+        const double along = (other - p.value) / (end.value - p.value);
         for (std::size_t f = 0; f < table.base.size(); ++f)
-            drawn.push_back(table.base[f] + ((*far.figures)[f] - table.base[f]) * along);
-        near.push_back({far.parameter, !far.high, other, std::move(drawn), {}});
+            drawn.push_back(table.base[f] + ((*end.figures)[f] - table.base[f]) * along);
+        near.push_back({end.parameter, !end.high, other, std::move(drawn), {}});
         ++table.drawn_ends;
     }
-    run(near);
-    ends.insert(ends.end(), near.begin(), near.end());
+    return near;
+}
 
-    // A figure is followed in its logarithm when it and every moved value are positive.
-    table.logarithmic.assign(table.base.size(), true);
-    for (std::size_t f = 0; f < table.base.size(); ++f) {
-        bool positive = table.base[f] > 0.0;
-        for (const End& end : ends)
+// A figure is followed in its logarithm when it and every moved value are positive.
+std::vector<bool> logarithmic_figures(const std::vector<double>& base, const std::vector<RangeEnd>& ends) {
+    std::vector<bool> logarithmic(base.size(), true);
+    for (std::size_t f = 0; f < base.size(); ++f) {
+        bool positive = base[f] > 0.0;
+        for (const RangeEnd& end : ends)
             if (end.figures) positive = positive && (*end.figures)[f] > 0.0;
-        table.logarithmic[f] = positive;
+        logarithmic[f] = positive;
     }
+    return logarithmic;
+}
+
+// Each guess's responses from its two ends. A refused end stops its range at the guess's value, and a
+// guess that moves no figure beyond rounding is left out of the table.
+void record_responses(UncertaintyTable& table, const std::vector<UncertainParameter>& parameters,
+                      const std::vector<RangeEnd>& ends) {
     const auto moved_by = [&](std::size_t f, double value) {
         return table.logarithmic[f] ? std::log(value / table.base[f]) : value - table.base[f];
     };
-
     for (std::size_t i = 0; i < parameters.size(); ++i) {
         UncertainParameter p = parameters[i];
-        const End* low = nullptr;
-        const End* high = nullptr;
-        for (const End& end : ends) {
+        const RangeEnd* low = nullptr;
+        const RangeEnd* high = nullptr;
+        for (const RangeEnd& end : ends) {
             if (end.parameter != i) continue;
             if (!end.figures) {
                 table.refused.push_back(fmt::format("{} = {}: {}", p.key, end.value, end.refusal));
@@ -194,6 +206,24 @@ UncertaintyTable measure_uncertainty(const MachineConfig& config, const std::vec
         table.parameters.push_back(std::move(p));
         table.response.push_back(std::move(responses));
     }
+}
+
+}  // namespace
+
+UncertaintyTable measure_uncertainty(const MachineConfig& config, const std::vector<UncertainParameter>& parameters,
+                                     const FigureEvaluator& figures) {
+    UncertaintyTable table;
+    table.base = figures(config);
+    ++table.retimings;
+    // Every guess at the far end of its range first; then the near end of the guesses that moved some
+    // figure measurably. A guess that did not has its near end drawn: it adds little to any band either way.
+    std::vector<RangeEnd> ends = far_ends(parameters);
+    retime(ends, config, parameters, figures, table);
+    std::vector<RangeEnd> near = near_ends(ends, parameters, table);
+    retime(near, config, parameters, figures, table);
+    ends.insert(ends.end(), std::make_move_iterator(near.begin()), std::make_move_iterator(near.end()));
+    table.logarithmic = logarithmic_figures(table.base, ends);
+    record_responses(table, parameters, ends);
     return table;
 }
 

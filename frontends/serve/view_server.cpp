@@ -80,13 +80,23 @@ struct ViewServer::Impl {
     int port = -1;
 
     Impl(InteractiveView& v, ServeOptions o) : view(v), options(std::move(o)) {
+        set_limits();
+        route_pictures_and_state();
+        route_change();
+        route_failures();
+    }
+
+    void set_limits() {
         server.new_task_queue = [] { return new httplib::ThreadPool(kWorkers); };
         server.set_payload_max_length(options.max_request_bytes);
         server.set_read_timeout(2, 0);  // a client that stops sending mid-request is dropped, not waited for
         server.set_write_timeout(5, 0);
         server.set_keep_alive_max_count(100);
         server.set_pre_routing_handler(screen);
+    }
 
+    // What the page reads: the page itself, the view's state, its pictures and their read-outs.
+    void route_pictures_and_state() {
         server.Get("/", [](const httplib::Request&, httplib::Response& res) {
             no_caching(res);
             res.set_content(view_page(), "text/html; charset=utf-8");
@@ -142,8 +152,11 @@ struct ViewServer::Impl {
             no_caching(res);
             res.set_content(view.pass_png(pass), "image/png");
         });
-        // The body is read here, piece by piece, so that the size limit holds for a chunked body too
-        // (cpp-httplib enforces it only on a Content-Length).
+    }
+
+    // The one request that changes the view. Its body is read here, piece by piece, so that the size
+    // limit holds for a chunked body too (cpp-httplib enforces it only on a Content-Length).
+    void route_change() {
         server.Post("/api/change", [this](const httplib::Request& req, httplib::Response& res,
                                           const httplib::ContentReader& read_body) {
             const std::string type = req.get_header_value("Content-Type");
@@ -175,6 +188,10 @@ struct ViewServer::Impl {
             no_caching(res);
             send_json(res, 200, view.state());
         });
+    }
+
+    // Every refusal and failure answers in the same JSON shape as the routes' own errors.
+    void route_failures() {
         server.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
             if (!res.body.empty()) return;
             if (res.status == 404) send_error(res, 404, "path", "nothing is served at " + req.path);
