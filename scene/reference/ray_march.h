@@ -105,6 +105,88 @@ inline void tally(CompositeStats& stats, const MarchCounts& marched) {
     if (marched.terminated) ++stats.rays_terminated;
 }
 
+// An Amanatides-Woo walk over an occupancy grid's blocks, in voxel coordinates: the block the ray is
+// in, and the t at which it crosses each next face.
+class BlockWalk {
+public:
+    static constexpr float kBlock = static_cast<float>(OccupancyGrid::kBlockSize);
+
+    BlockWalk(const ClippedRay& ray, const OccupancyGrid& grid)
+        : ray_(ray), grid_(grid), blocks_(grid.block_dims()), distances_(grid.distances()) {
+        const std::ptrdiff_t axis_stride[3] = {1, blocks_.x, static_cast<std::ptrdiff_t>(blocks_.x) * blocks_.y};
+        for (int a = 0; a < 3; ++a) {
+            step_dir_[a] = ray.direction[a] > 0.0f ? 1 : (ray.direction[a] < 0.0f ? -1 : 0);
+            index_step_[a] = step_dir_[a] * axis_stride[a];
+            if (step_dir_[a] != 0) t_delta_[a] = kBlock * std::abs(ray.inverse_direction[a]);
+        }
+        enter(glm::clamp(block_at(ray.t_enter), glm::ivec3(0), blocks_ - 1));
+    }
+
+    // The current block's distance, in blocks, from the nearest occupied one (0: it is occupied).
+    int distance() const { return distances_[index_]; }
+
+    // Where the ray leaves the empty cube [block - r, block + r].
+    float cube_exit(int r) const {
+        float t_cube = std::numeric_limits<float>::infinity();
+        for (int a = 0; a < 3; ++a) {
+            if (step_dir_[a] == 0) continue;
+            const int face = step_dir_[a] > 0 ? block_[a] + r + 1 : block_[a] - r;
+            t_cube = std::min(t_cube, face_t(a, face));
+        }
+        return t_cube;
+    }
+
+    // Moves to the block the ray is in at t; false when that lies outside the grid.
+    bool jump_to(float t) {
+        const glm::ivec3 next = block_at(t);
+        if (!glm::all(glm::greaterThanEqual(next, glm::ivec3(0))) || !glm::all(glm::lessThan(next, blocks_)))
+            return false;
+        enter(next);
+        return true;
+    }
+
+    // The face the ray crosses next: its axis, and the t where it crosses (without branches, the
+    // choice being unpredictable).
+    float nearest_face(int& axis) const {
+        const int y_first = t_next_.y < t_next_.x ? 1 : 0;
+        const float t_xy = std::min(t_next_.x, t_next_.y);
+        axis = t_next_.z < t_xy ? 2 : y_first;
+        return std::min(t_xy, t_next_.z);
+    }
+
+    // Steps through the nearest face along axis; false when that leaves the grid.
+    bool step(int axis) {
+        block_[axis] += step_dir_[axis];
+        if (block_[axis] < 0 || block_[axis] >= blocks_[axis]) return false;
+        index_ += index_step_[axis];
+        t_next_[axis] += t_delta_[axis];
+        return true;
+    }
+
+private:
+    float face_t(int axis, int face) const {
+        return (static_cast<float>(face) * kBlock - ray_.origin[axis]) * ray_.inverse_direction[axis];
+    }
+    glm::ivec3 block_at(float t) const { return glm::ivec3(glm::floor((ray_.origin + t * ray_.direction) / kBlock)); }
+    void enter(glm::ivec3 b) {
+        block_ = b;
+        index_ = static_cast<std::ptrdiff_t>(grid_.block_index(b));
+        for (int a = 0; a < 3; ++a)
+            if (step_dir_[a] != 0) t_next_[a] = face_t(a, step_dir_[a] > 0 ? b[a] + 1 : b[a]);
+    }
+
+    const ClippedRay& ray_;
+    const OccupancyGrid& grid_;
+    glm::ivec3 blocks_;
+    const std::uint8_t* distances_;
+    glm::ivec3 step_dir_{0};
+    std::ptrdiff_t index_step_[3] = {0, 0, 0};
+    glm::vec3 t_delta_{std::numeric_limits<float>::infinity()};
+    glm::ivec3 block_{0};
+    std::ptrdiff_t index_ = 0;
+    glm::vec3 t_next_{std::numeric_limits<float>::infinity()};
+};
+
 // Calls visit(k, position) for the ray's samples in order, until it returns true (the ray is opaque).
 // With an occupancy grid, samples in empty blocks are counted and not visited.
 template <class Visit>
@@ -125,74 +207,30 @@ MarchCounts march(const ClippedRay& ray, const OccupancyGrid* grid, Visit&& visi
         return counts;
     }
 
-    // Amanatides-Woo walk over blocks, in voxel coordinates. Samples are placed in blocks only on
-    // entering an occupied block, so empty blocks cost a few compares each; an empty block at distance
-    // D >= 2 from occupied ones lies in an empty cube of radius D-1 blocks, which the ray leaves in one
-    // leap (the samples inside it are skipped exactly like those of single empty blocks).
-    constexpr float kBlock = static_cast<float>(OccupancyGrid::kBlockSize);
-    const glm::ivec3 blocks = grid->block_dims();
-    const std::uint8_t* distances = grid->distances();
-    const std::ptrdiff_t axis_stride[3] = {1, blocks.x, static_cast<std::ptrdiff_t>(blocks.x) * blocks.y};
-    glm::ivec3 step_dir{0};
-    std::ptrdiff_t index_step[3] = {0, 0, 0};
-    glm::vec3 t_delta{std::numeric_limits<float>::infinity()};
-    for (int a = 0; a < 3; ++a) {
-        step_dir[a] = ray.direction[a] > 0.0f ? 1 : (ray.direction[a] < 0.0f ? -1 : 0);
-        index_step[a] = step_dir[a] * axis_stride[a];
-        if (step_dir[a] != 0) t_delta[a] = kBlock * std::abs(ray.inverse_direction[a]);
-    }
-    glm::ivec3 block{0};
-    std::ptrdiff_t index = 0;
-    glm::vec3 t_next{std::numeric_limits<float>::infinity()};
-    // Places the walk in a block: its index and the t at which the ray crosses each next face.
-    auto enter = [&](glm::ivec3 b) {
-        block = b;
-        index = static_cast<std::ptrdiff_t>(grid->block_index(b));
-        for (int a = 0; a < 3; ++a) {
-            if (step_dir[a] == 0) continue;
-            const int face = step_dir[a] > 0 ? b[a] + 1 : b[a];
-            t_next[a] = (static_cast<float>(face) * kBlock - ray.origin[a]) * ray.inverse_direction[a];
-        }
-    };
-    auto block_at = [&](float t) { return glm::ivec3(glm::floor((ray.origin + t * ray.direction) / kBlock)); };
-    auto inside = [&](glm::ivec3 b) {
-        return glm::all(glm::greaterThanEqual(b, glm::ivec3(0))) && glm::all(glm::lessThan(b, blocks));
-    };
-    enter(glm::clamp(block_at(ray.t_enter), glm::ivec3(0), blocks - 1));
+    // Samples are placed in blocks only on entering an occupied block, so empty blocks cost a few
+    // compares each; an empty block at distance D >= 2 from occupied ones lies in an empty cube of
+    // radius D-1 blocks, which the ray leaves in one leap (the samples inside it are skipped exactly
+    // like those of single empty blocks).
+    BlockWalk walk(ray, *grid);
     const float t_last = ray.t_of(ray.sample_count - 1);
-
     int k = 0;                 // the first sample not yet visited or skipped
     float t_in = ray.t_enter;  // where the ray entered the current block
     float t_out = t_in;        // where it leaves it (or the leap ends)
     bool in_occupied = false;
     for (;;) {
-        const int distance = distances[index];
+        const int distance = walk.distance();
         in_occupied = distance == 0;
         if (distance >= 2) {
-            // Leave the empty cube [block - r, block + r], r = distance - 1.
-            const int r = distance - 1;
-            float t_cube = std::numeric_limits<float>::infinity();
-            for (int a = 0; a < 3; ++a) {
-                if (step_dir[a] == 0) continue;
-                const int face = step_dir[a] > 0 ? block[a] + r + 1 : block[a] - r;
-                t_cube =
-                    std::min(t_cube, (static_cast<float>(face) * kBlock - ray.origin[a]) * ray.inverse_direction[a]);
-            }
+            const float t_cube = walk.cube_exit(distance - 1);
             if (t_cube > t_in) {  // always, barring rounding; otherwise take a single step below
                 t_out = t_cube;
-                if (t_cube > t_last) break;
-                const glm::ivec3 next = block_at(t_cube);
-                if (!inside(next)) break;
+                if (t_cube > t_last || !walk.jump_to(t_cube)) break;
                 t_in = t_cube;
-                enter(next);
                 continue;
             }
         }
-        // The nearest face, without branches (the choice is unpredictable).
-        const int y_first = t_next.y < t_next.x ? 1 : 0;
-        const float t_xy = std::min(t_next.x, t_next.y);
-        const int axis = t_next.z < t_xy ? 2 : y_first;
-        t_out = std::min(t_xy, t_next.z);
+        int axis = 0;
+        t_out = walk.nearest_face(axis);
         if (in_occupied) {
             const int k_begin = std::max(k, ray.samples_before(t_in));
             counts.skipped += static_cast<std::uint64_t>(k_begin - k);
@@ -201,10 +239,7 @@ MarchCounts march(const ClippedRay& ray, const OccupancyGrid* grid, Visit&& visi
             k = k_end;
         }
         if (t_out > t_last) break;  // the last sample lies in this block
-        block[axis] += step_dir[axis];
-        if (block[axis] < 0 || block[axis] >= blocks[axis]) break;
-        index += index_step[axis];
-        t_next[axis] += t_delta[axis];
+        if (!walk.step(axis)) break;
         t_in = t_out;
     }
     if (!in_occupied) {
