@@ -80,16 +80,13 @@ PpProgram build_polygon_program(const PreparedPolygon& polygon, int samples, glm
     return build_polygon_program(polygon_program_shape(polygon, samples, dims, inputs.layout), inputs);
 }
 
-PpProgram build_polygon_program(const PolygonProgramShape& shape, const PpProgramInputs& inputs) {
-    const VoxelRecordLayout& layout = inputs.layout;
-    const std::int64_t color_max = (std::int64_t{1} << layout.color_bits) - 1;
-    const std::int64_t opacity_max = (std::int64_t{1} << layout.opacity_bits) - 1;
+namespace {
+
+// Coverage: how many of the translated sample points fall in the polygon's sheet.
+PpField emit_coverage_count(PpProgramBuilder& b, const PolygonProgramShape& shape) {
     const int samples = shape.samples;
     const int edges = static_cast<int>(shape.edge_bits.size());
     const int per_sample = 1 + edges;
-
-    PpProgramBuilder b("scan-convert polygon", inputs.local_memory_bits);
-    // Coverage: how many of the translated sample points fall in the polygon's sheet.
     const PpField count = b.set_const("coverage count", 0, pp_bits_for_range(0, samples), false);
     for (int j = 0; j < samples; ++j) {
         b.enable_all();
@@ -108,29 +105,28 @@ PpProgram build_polygon_program(const PolygonProgramShape& shape, const PpProgra
         b.assign(count, more);
         b.release(more);
     }
-    b.enable_all();
-    b.enable_if(count, PpCompare::Greater, 0);
+    return count;
+}
 
-    // The polygon's opacity at this voxel, times coverage: a_p = alpha (count / J).
-    const int first_color_expression = samples * per_sample;
-    const auto code_at = [&](const char* name, int channel, std::int64_t max_code) {
-        const PpField raw = b.qee(name, first_color_expression + channel,
-                                  shape.code_bits[static_cast<std::size_t>(channel)], true, kQeeShift);
-        const PpField low = b.max_const(name, raw, 0);
-        b.release(raw);
-        const PpField clamped = b.min_const(name, low, max_code);
-        b.release(low);
-        return clamped;
-    };
-    const PpField alpha = code_at("polygon opacity", 3, opacity_max);
-    const PpField weighted = b.mul("opacity x count", alpha, count);
-    b.release(alpha);
-    const PpField samples_field = b.set_const("J", samples);
-    const PpField a_p = b.div("polygon coverage opacity", weighted, samples_field, 0, layout.opacity_bits);
-    b.release(weighted);
-    b.release(samples_field);
+// The polygon's colour or opacity code at this voxel (channel 3 is opacity), clamped to [0, max_code].
+PpField emit_polygon_code(PpProgramBuilder& b, const PolygonProgramShape& shape, const char* name, int channel,
+                          std::int64_t max_code) {
+    const int first_color_expression = shape.samples * (1 + static_cast<int>(shape.edge_bits.size()));
+    const PpField raw = b.qee(name, first_color_expression + channel,
+                              shape.code_bits[static_cast<std::size_t>(channel)], true, kQeeShift);
+    const PpField low = b.max_const(name, raw, 0);
+    b.release(raw);
+    const PpField clamped = b.min_const(name, low, max_code);
+    b.release(low);
+    return clamped;
+}
 
-    // a = a_p + a_v (1 - a_p): the voxel seen through the polygon's coverage.
+// The voxel seen through the polygon's coverage: a = a_p + a_v (1 - a_p), and each colour
+// (c_p a_p + c_v a_v (1 - a_p)) / a, stored over the voxel's own.
+void emit_matte(PpProgramBuilder& b, const PolygonProgramShape& shape, const VoxelRecordLayout& layout,
+                const PpField& a_p) {
+    const std::int64_t color_max = (std::int64_t{1} << layout.color_bits) - 1;
+    const std::int64_t opacity_max = (std::int64_t{1} << layout.opacity_bits) - 1;
     const PpField a_v = b.load("voxel opacity", layout.opacity_offset(), layout.opacity_bits, false);
     const PpField rest = b.set_const("opacity max", opacity_max);
     const PpField clear = b.sub("1 - a_p", rest, a_p);
@@ -146,7 +142,7 @@ PpProgram build_polygon_program(const PolygonProgramShape& shape, const PpProgra
     b.release(sum_a);
     b.enable_if(a, PpCompare::Greater, 0);
     for (int k = 0; k < 3; ++k) {
-        const PpField c_p = code_at("polygon colour", k, color_max);
+        const PpField c_p = emit_polygon_code(b, shape, "polygon colour", k, color_max);
         const PpField c_v = b.load("voxel colour", layout.color_offset(k), layout.color_bits, false);
         const PpField front = b.mul("c_p a_p", c_p, a_p);
         const PpField back = b.mul("c_v a_v (1 - a_p)", c_v, through);
@@ -162,8 +158,29 @@ PpProgram build_polygon_program(const PolygonProgramShape& shape, const PpProgra
     }
     b.store(a, layout.opacity_offset(), layout.opacity_bits);
     b.release(a);
-    b.release(a_p);
     b.release(through);
+}
+
+}  // namespace
+
+PpProgram build_polygon_program(const PolygonProgramShape& shape, const PpProgramInputs& inputs) {
+    const VoxelRecordLayout& layout = inputs.layout;
+    const std::int64_t opacity_max = (std::int64_t{1} << layout.opacity_bits) - 1;
+    PpProgramBuilder b("scan-convert polygon", inputs.local_memory_bits);
+    const PpField count = emit_coverage_count(b, shape);
+    b.enable_all();
+    b.enable_if(count, PpCompare::Greater, 0);
+
+    // The polygon's opacity at this voxel, times coverage: a_p = alpha (count / J).
+    const PpField alpha = emit_polygon_code(b, shape, "polygon opacity", 3, opacity_max);
+    const PpField weighted = b.mul("opacity x count", alpha, count);
+    b.release(alpha);
+    const PpField samples_field = b.set_const("J", shape.samples);
+    const PpField a_p = b.div("polygon coverage opacity", weighted, samples_field, 0, layout.opacity_bits);
+    b.release(weighted);
+    b.release(samples_field);
+    emit_matte(b, shape, layout, a_p);
+    b.release(a_p);
     b.release(count);
     b.enable_all();
     return b.finish();
@@ -212,75 +229,94 @@ double region_reach(const RegionOfInterest& region, glm::ivec3 dims) {
 }
 }  // namespace
 
-PpProgram build_region_program(const RegionOfInterest& region, glm::ivec3 dims, const PpProgramInputs& inputs) {
-    const VoxelRecordLayout& layout = inputs.layout;
-    const std::int64_t opacity_max = (std::int64_t{1} << layout.opacity_bits) - 1;
-    const double reach = region_reach(region, dims);
-    const auto whole = [](double x) { return static_cast<std::int64_t>(std::ceil(x)); };
-    PpProgramBuilder b("region of interest", inputs.local_memory_bits);
+namespace {
+
+std::int64_t whole(double x) { return static_cast<std::int64_t>(std::ceil(x)); }
+
+// A box's distance outside its faces (negative inside), in 1/256 voxel: the largest face distance.
+PpField emit_box_distance(PpProgramBuilder& b, const RegionOfInterest& region, double reach) {
     PpField distance;
-    if (region.shape == RegionOfInterest::Shape::Box) {
-        for (int i = 0; i < 3; ++i) {
-            const PpField q = b.qee("region coordinate", i, pp_bits_for_range(-whole(reach * 256), whole(reach * 256)),
-                                    true, kQeeShift - kDistanceShift);
-            const PpField aq = b.abs_diff_const("|region coordinate|", q, 0);
-            b.release(q);
-            const PpField out = b.add_const("face distance", aq, -std::llround(region.half_size[i] * 256.0));
-            b.release(aq);
-            if (!distance.valid()) {
-                distance = out;
-                continue;
-            }
-            // distance = max(distance, out): copy first (a copy under a partial mask would leave the
-            // disabled PPs' copies unset), then overwrite where the new face is farther.
-            const PpField widened = b.move("distance", distance);
-            const PpField larger = b.sub("face distance - distance", out, distance);
-            b.release(distance);
-            b.enable_if(larger, PpCompare::Greater, 0);
-            b.release(larger);
-            b.assign(widened, out);
-            b.enable_all();
-            b.release(out);
-            distance = widened;
+    for (int i = 0; i < 3; ++i) {
+        const PpField q = b.qee("region coordinate", i, pp_bits_for_range(-whole(reach * 256), whole(reach * 256)),
+                                true, kQeeShift - kDistanceShift);
+        const PpField aq = b.abs_diff_const("|region coordinate|", q, 0);
+        b.release(q);
+        const PpField out = b.add_const("face distance", aq, -std::llround(region.half_size[i] * 256.0));
+        b.release(aq);
+        if (!distance.valid()) {
+            distance = out;
+            continue;
         }
-    } else {
-        const double r_min = std::min({region.half_size.x, region.half_size.y, region.half_size.z});
-        const double s_max = reach * reach / (r_min * r_min);
-        if (s_max * 65536.0 >= std::ldexp(1.0, kMaxPpFieldBits - 2)) {
-            throw InputError("scenario", "region.half_size",
-                             "an ellipsoid this thin (smallest radius " + std::to_string(r_min) +
-                                 " voxels) this far from the volume's voxels is past the PPs' 48-bit fixed point; use "
-                                 "a box or thicken it");
-        }
-        const PpField s =
-            b.qee("ellipsoid quadratic", 0, pp_bits_for_range(-whole(s_max * 65536), whole(s_max * 65536)), true,
-                  kQuadraticShift - 16);
-        const PpField positive = b.max_const("ellipsoid quadratic", s, 0);
-        b.release(s);
-        const PpField root = b.sqrt("ellipsoid radius", positive);  // sqrt(s) x 256
-        b.release(positive);
-        const PpField offset = b.add_const("ellipsoid radius - 1", root, -256);
-        b.release(root);
-        distance = b.mul_const("distance", offset, std::llround(r_min * 256.0), 8);
-        b.release(offset);
+        // distance = max(distance, out): copy first (a copy under a partial mask would leave the
+        // disabled PPs' copies unset), then overwrite where the new face is farther.
+        const PpField widened = b.move("distance", distance);
+        const PpField larger = b.sub("face distance - distance", out, distance);
+        b.release(distance);
+        b.enable_if(larger, PpCompare::Greater, 0);
+        b.release(larger);
+        b.assign(widened, out);
+        b.enable_all();
+        b.release(out);
+        distance = widened;
     }
-    // w: 0 inside, 256 outside, linear across the transition.
-    PpField w;
+    return distance;
+}
+
+// An ellipsoid's distance outside its surface, in 1/256 voxel, measured along its smallest radius:
+// (sqrt(s) - 1) r_min for its quadratic s (1 on the surface).
+PpField emit_ellipsoid_distance(PpProgramBuilder& b, const RegionOfInterest& region, double reach) {
+    const double r_min = std::min({region.half_size.x, region.half_size.y, region.half_size.z});
+    const double s_max = reach * reach / (r_min * r_min);
+    if (s_max * 65536.0 >= std::ldexp(1.0, kMaxPpFieldBits - 2)) {
+        throw InputError("scenario", "region.half_size",
+                         "an ellipsoid this thin (smallest radius " + std::to_string(r_min) +
+                             " voxels) this far from the volume's voxels is past the PPs' 48-bit fixed point; use "
+                             "a box or thicken it");
+    }
+    const PpField s = b.qee("ellipsoid quadratic", 0, pp_bits_for_range(-whole(s_max * 65536), whole(s_max * 65536)),
+                            true, kQuadraticShift - 16);
+    const PpField positive = b.max_const("ellipsoid quadratic", s, 0);
+    b.release(s);
+    const PpField root = b.sqrt("ellipsoid radius", positive);  // sqrt(s) x 256
+    b.release(positive);
+    const PpField offset = b.add_const("ellipsoid radius - 1", root, -256);
+    b.release(root);
+    const PpField distance = b.mul_const("distance", offset, std::llround(r_min * 256.0), 8);
+    b.release(offset);
+    return distance;
+}
+
+// w: 0 inside, 256 outside, linear across the transition.
+PpField emit_transition_weight(PpProgramBuilder& b, const RegionOfInterest& region, const PpField& distance) {
     if (region.transition > 0.0f) {
         const PpField u = b.add_const("distance + transition / 2", distance, std::llround(region.transition * 128.0));
         const PpField ramp = b.mul_const("transition ramp", u, std::llround(65536.0 / region.transition), 16);
         b.release(u);
         const PpField low = b.max_const("transition ramp", ramp, 0);
         b.release(ramp);
-        w = b.min_const("transition weight", low, 256);
+        const PpField w = b.min_const("transition weight", low, 256);
         b.release(low);
-    } else {
-        w = b.set_const("transition weight", 0, 9, false);
-        b.enable_if(distance, PpCompare::Greater, 0);
-        b.assign_const(w, 256);
-        b.enable_all();
+        return w;
     }
+    const PpField w = b.set_const("transition weight", 0, 9, false);
+    b.enable_if(distance, PpCompare::Greater, 0);
+    b.assign_const(w, 256);
+    b.enable_all();
+    return w;
+}
+
+}  // namespace
+
+PpProgram build_region_program(const RegionOfInterest& region, glm::ivec3 dims, const PpProgramInputs& inputs) {
+    const VoxelRecordLayout& layout = inputs.layout;
+    const std::int64_t opacity_max = (std::int64_t{1} << layout.opacity_bits) - 1;
+    const double reach = region_reach(region, dims);
+    PpProgramBuilder b("region of interest", inputs.local_memory_bits);
+    const PpField distance = region.shape == RegionOfInterest::Shape::Box ? emit_box_distance(b, region, reach)
+                                                                          : emit_ellipsoid_distance(b, region, reach);
+    const PpField w = emit_transition_weight(b, region, distance);
     b.release(distance);
+    // The opacity times the factor w moves from scale_inside to scale_outside, clamped to its codes.
     const PpField change =
         b.mul_const("factor change", w, std::llround((region.scale_outside - region.scale_inside) * 256.0), 8);
     b.release(w);
@@ -299,6 +335,102 @@ PpProgram build_region_program(const RegionOfInterest& region, glm::ivec3 dims, 
     return b.finish();
 }
 
+namespace {
+
+constexpr int kAxisShift = 12;  // the box's face normals' components, in 1/4096
+
+// Where a voxel lies against the box's pairs of faces: on which side of the centre along each axis,
+// and whether it is in that pair's band (the transition around a face it is nearest, not beyond the
+// band outside).
+struct CapSides {
+    std::array<PpField, 3> below, in_band;
+};
+
+// The box's face distances and sides, as the region program finds them; then which faces' bands hold
+// the voxel.
+CapSides emit_cap_sides(PpProgramBuilder& b, const RegionOfInterest& region, int first_expression,
+                        std::int64_t coordinate_limit, std::int64_t half_band) {
+    CapSides sides;
+    std::array<PpField, 3> face;
+    for (int i = 0; i < 3; ++i) {
+        const PpField q =
+            b.qee("cap: region coordinate", first_expression + i,
+                  pp_bits_for_range(-coordinate_limit, coordinate_limit), true, kQeeShift - kDistanceShift);
+        sides.below[i] = b.set_const("cap: below the centre", 0, 1, false);
+        b.enable_if(q, PpCompare::Less, 0);
+        b.assign_const(sides.below[i], 1);
+        b.enable_all();
+        const PpField aq = b.abs_diff_const("cap: |region coordinate|", q, 0);
+        b.release(q);
+        face[i] = b.add_const("cap: face distance", aq, -std::llround(region.half_size[i] * 256.0));
+        b.release(aq);
+    }
+    const PpField distance = b.move("cap: distance", face[0]);
+    for (int i = 1; i < 3; ++i) {
+        const PpField larger = b.sub("cap: face distance - distance", face[i], distance);
+        b.enable_if(larger, PpCompare::Greater, 0);
+        b.release(larger);
+        b.assign(distance, face[i]);
+        b.enable_all();
+    }
+    for (int i = 0; i < 3; ++i) {
+        sides.in_band[i] = b.set_const("cap: in the face's band", 0, 1, false);
+        b.enable_if(face[i], PpCompare::Greater, -half_band);
+        b.assign_const(sides.in_band[i], 1);
+        b.enable_all();
+        b.release(face[i]);
+    }
+    b.enable_if(distance, PpCompare::GreaterEqual, half_band);  // beyond the band outside: no cap
+    for (int i = 0; i < 3; ++i) b.assign_const(sides.in_band[i], 0);
+    b.enable_all();
+    b.release(distance);
+    return sides;
+}
+
+// Caps the gradient along the box's axis i where the voxel is in that pair's band: half of the
+// change that makes the gradient's component along the outward normal n = s a (s = -1 below the
+// centre) equal to the value's rise above air, f - f_air.
+void emit_cap_axis(PpProgramBuilder& b, glm::vec3 axis, const PpField& rise, CapSides& sides, int i,
+                   std::array<PpField, 3>& gradient) {
+    const auto component = [&](int k) { return std::llround(static_cast<double>(axis[k]) * (1 << kAxisShift)); };
+    PpField along;  // g.a for this face pair's axis a
+    for (int k = 0; k < 3; ++k) {
+        if (component(k) == 0) continue;
+        along = b.accumulate("cap: gradient along the axis", along,
+                             b.mul_const("cap: gradient along the axis", gradient[static_cast<std::size_t>(k)],
+                                         component(k), kAxisShift));
+    }
+    // Twice the change of g is s (f - f_air) - g.a.
+    const PpField change = b.sub("cap: change", rise, along);
+    const PpField other_side = b.add("cap: change", rise, along);
+    b.release(along);
+    const PpField negated = b.mul_const("cap: change", other_side, -1);
+    b.release(other_side);
+    b.enable_if(sides.below[i], PpCompare::Equal, 1);
+    b.assign(change, negated);
+    b.enable_all();
+    b.release(negated);
+    b.release(sides.below[i]);
+    b.enable_if(sides.in_band[i], PpCompare::Equal, 0);
+    b.assign_const(change, 0);
+    b.enable_all();
+    b.release(sides.in_band[i]);
+    const PpField half = b.mul_const("cap: change / 2", change, 1, 1);
+    b.release(change);
+    for (int k = 0; k < 3; ++k) {
+        if (component(k) == 0) continue;
+        const PpField term = b.mul_const("cap: change along the axis", half, component(k), kAxisShift);
+        PpField& g = gradient[static_cast<std::size_t>(k)];
+        const PpField capped = b.add("cap: gradient", g, term);
+        b.release(term);
+        b.release(g);
+        g = capped;
+    }
+    b.release(half);
+}
+
+}  // namespace
+
 GradientRewrite region_cap(const RegionOfInterest& region, glm::ivec3 dims, const PpProgramInputs& inputs,
                            int first_expression) {
     if (region.shape != RegionOfInterest::Shape::Box || !(region.transition > 0.0f))
@@ -306,88 +438,13 @@ GradientRewrite region_cap(const RegionOfInterest& region, glm::ivec3 dims, cons
     const auto coordinate_limit = static_cast<std::int64_t>(std::ceil(region_reach(region, dims) * 256.0));
     return [region, inputs, first_expression, coordinate_limit](PpProgramBuilder& b, const PpField& value,
                                                                 std::array<PpField, 3>& gradient) {
-        constexpr int kAxisShift = 12;  // the face normals' components, in 1/4096
         const std::int64_t half_band = std::llround(region.transition * 128.0);  // T / 2 in 1/256 voxel
-        // The box's face distances, and on which side of each pair of faces the voxel lies, as the
-        // region program finds them; then which faces' bands hold the voxel.
-        std::array<PpField, 3> face, below, in_band;
-        for (int i = 0; i < 3; ++i) {
-            const PpField q =
-                b.qee("cap: region coordinate", first_expression + i,
-                      pp_bits_for_range(-coordinate_limit, coordinate_limit), true, kQeeShift - kDistanceShift);
-            below[i] = b.set_const("cap: below the centre", 0, 1, false);
-            b.enable_if(q, PpCompare::Less, 0);
-            b.assign_const(below[i], 1);
-            b.enable_all();
-            const PpField aq = b.abs_diff_const("cap: |region coordinate|", q, 0);
-            b.release(q);
-            face[i] = b.add_const("cap: face distance", aq, -std::llround(region.half_size[i] * 256.0));
-            b.release(aq);
-        }
-        const PpField distance = b.move("cap: distance", face[0]);
-        for (int i = 1; i < 3; ++i) {
-            const PpField larger = b.sub("cap: face distance - distance", face[i], distance);
-            b.enable_if(larger, PpCompare::Greater, 0);
-            b.release(larger);
-            b.assign(distance, face[i]);
-            b.enable_all();
-        }
-        for (int i = 0; i < 3; ++i) {
-            in_band[i] = b.set_const("cap: in the face's band", 0, 1, false);
-            b.enable_if(face[i], PpCompare::Greater, -half_band);
-            b.assign_const(in_band[i], 1);
-            b.enable_all();
-            b.release(face[i]);
-        }
-        b.enable_if(distance, PpCompare::GreaterEqual, half_band);  // beyond the band outside: no cap
-        for (int i = 0; i < 3; ++i) b.assign_const(in_band[i], 0);
-        b.enable_all();
-        b.release(distance);
-
+        CapSides sides = emit_cap_sides(b, region, first_expression, coordinate_limit, half_band);
         // f - f_air in gradient codes (value units per voxel times gradient_scale).
         const double codes_per_value =
             static_cast<double>(inputs.quantization.gradient_scale / inputs.quantization.value_scale);
         const PpField rise = b.mul_const("cap: value above air", value, std::llround(codes_per_value * 256.0), 8);
-        for (int i = 0; i < 3; ++i) {
-            const glm::vec3 axis = region.axis(i);
-            const auto component = [&](int k) {
-                return std::llround(static_cast<double>(axis[k]) * (1 << kAxisShift));
-            };
-            PpField along;  // g.a for this face pair's axis a
-            for (int k = 0; k < 3; ++k) {
-                if (component(k) == 0) continue;
-                along = b.accumulate("cap: gradient along the axis", along,
-                                     b.mul_const("cap: gradient along the axis", gradient[static_cast<std::size_t>(k)],
-                                                 component(k), kAxisShift));
-            }
-            // Along n = s a (s = -1 below the centre), twice the change of g is s (f - f_air) - g.a.
-            const PpField change = b.sub("cap: change", rise, along);
-            const PpField other_side = b.add("cap: change", rise, along);
-            b.release(along);
-            const PpField negated = b.mul_const("cap: change", other_side, -1);
-            b.release(other_side);
-            b.enable_if(below[i], PpCompare::Equal, 1);
-            b.assign(change, negated);
-            b.enable_all();
-            b.release(negated);
-            b.release(below[i]);
-            b.enable_if(in_band[i], PpCompare::Equal, 0);
-            b.assign_const(change, 0);
-            b.enable_all();
-            b.release(in_band[i]);
-            const PpField half = b.mul_const("cap: change / 2", change, 1, 1);
-            b.release(change);
-            for (int k = 0; k < 3; ++k) {
-                if (component(k) == 0) continue;
-                const PpField term = b.mul_const("cap: change along the axis", half, component(k), kAxisShift);
-                PpField& g = gradient[static_cast<std::size_t>(k)];
-                const PpField capped = b.add("cap: gradient", g, term);
-                b.release(term);
-                b.release(g);
-                g = capped;
-            }
-            b.release(half);
-        }
+        for (int i = 0; i < 3; ++i) emit_cap_axis(b, region.axis(i), rise, sides, i, gradient);
         b.release(rise);
     };
 }

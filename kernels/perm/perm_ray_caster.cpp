@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace pp5 {
 
@@ -93,6 +94,107 @@ GpPhase record_tiles(const std::vector<TileResult>& results, const TileGrid& gri
     return work;
 }
 
+// What every ray of a frame reads: the structure, the view and how a sample is shaded.
+struct FrameLook {
+    const PermStructure& perm;
+    const OccupancyGrid& occupancy;
+    const PermRecordShading* shaded;  // null: the GP classifies and shades each sample itself
+    const Classification& classification;
+    const ColorMap& colors;
+    const PhongLighting& lighting;
+    const ShadingView& view;
+    const SampleShader& shader;
+    glm::vec3 spacing;
+    bool cue;  // the GP depth-cues PP-shaded samples
+};
+
+// One ray through the PERM: its colour, and the cells whose records it fetched, in order, with the
+// samples taken between fetches.
+class PermRay {
+public:
+    PermRay(const FrameLook& look, const PermCastSettings& cs, PermCastCounts& counts)
+        : look_(look), dims_(look.perm.dims()), color_(cs.sample_step, cs.termination_opacity), counts_(counts) {}
+
+    // Marches the clipped ray (none: it misses the volume) and returns its record.
+    RayRecord cast(const std::optional<detail::ClippedRay>& ray) {
+        ++counts_.rays;
+        if (ray) {
+            const detail::MarchCounts marched =
+                detail::march(*ray, &look_.occupancy, [&](int, glm::vec3 position) { return sample(position); });
+            record_.tail_leaped = static_cast<std::uint32_t>(marched.skipped);
+            counts_.leaped_samples += marched.skipped;
+            if (marched.terminated) ++counts_.rays_terminated;
+        }
+        record_.tail_samples = samples_;
+        record_.tail_empty = empty_;
+        record_.tail_cued = cued_;
+        counts_.samples += ray_samples_;
+        counts_.empty_samples += ray_empty_;
+        return std::move(record_);
+    }
+
+    glm::vec4 color(glm::vec3 background) const { return color_.over(background); }
+
+private:
+    // One sample: true when the ray is now opaque.
+    bool sample(glm::vec3 position) {
+        const glm::vec3 p = glm::clamp(position, glm::vec3(0.0f), glm::vec3(dims_ - 1));
+        const glm::ivec3 cell = glm::min(glm::ivec3(p), dims_ - 2);
+        const std::int32_t candidate = look_.perm.index(cell.x, cell.y, cell.z);
+        if (candidate == PermStructure::kNull) {
+            ++empty_;
+            ++ray_empty_;
+            return false;
+        }
+        if (candidate != current_) {
+            record_.touches.push_back({static_cast<std::uint32_t>(candidate), samples_, empty_, 0, cued_});
+            samples_ = empty_ = cued_ = 0;
+            current_ = candidate;
+            ++counts_.cell_fetches;
+        }
+        ++samples_;
+        ++ray_samples_;
+        const glm::vec3 fraction = p - glm::vec3(cell);
+        return look_.shaded != nullptr ? add_shaded(static_cast<std::uint32_t>(candidate), fraction, p)
+                                       : add_classified(static_cast<std::uint32_t>(candidate), fraction, p);
+    }
+
+    // A sample the PPs shaded: the record's colour at its density position. PP-shaded records are
+    // shaded without the depth cue, which dims only the directly lit part: the GP takes the ambient
+    // part from the density's base colour and divides the rest.
+    bool add_shaded(std::uint32_t candidate, glm::vec3 fraction, glm::vec3 p) {
+        const int at = look_.perm.density_position(fraction, &counts_.carried_lookups);
+        const glm::vec4 rgba = look_.shaded->at(candidate, at);
+        if (!(rgba.a > 0.0f)) return false;
+        glm::vec3 rgb(rgba);
+        if (look_.cue) {
+            const glm::vec3 ambient = look_.colors.color(look_.perm.density_at(candidate, at)) * look_.lighting.ambient;
+            const float divisor =
+                look_.lighting.depth_cue_k1 + look_.lighting.depth_cue_k2 * look_.view.depth(p * look_.spacing);
+            rgb = ambient + glm::max(rgb - ambient, glm::vec3(0.0f)) / divisor;
+            ++cued_;
+        }
+        return color_.add(glm::clamp(rgb, 0.0f, 1.0f), rgba.a);
+    }
+
+    // A sample the GP classifies and shades from the record's quantized density and gradient.
+    bool add_classified(std::uint32_t candidate, glm::vec3 fraction, glm::vec3 p) {
+        const PermStructure::Sample s = look_.perm.lookup(candidate, fraction, &counts_.carried_lookups);
+        const float alpha = look_.classification.opacity(s.value, glm::length(s.gradient));
+        if (!(alpha > 0.0f)) return false;
+        return color_.add(look_.shader.shade(s.value, s.gradient, p * look_.spacing), alpha);
+    }
+
+    const FrameLook& look_;
+    glm::ivec3 dims_;
+    FrontToBack color_;
+    PermCastCounts& counts_;
+    RayRecord record_;
+    std::int64_t current_ = -1;                         // the cell whose record the ray holds
+    std::uint32_t samples_ = 0, empty_ = 0, cued_ = 0;  // since the last fetch
+    std::uint64_t ray_samples_ = 0, ray_empty_ = 0;
+};
+
 }  // namespace
 
 PermCastCounts& PermCastCounts::operator+=(const PermCastCounts& c) {
@@ -147,89 +249,32 @@ PermRayCaster::PermRayCaster(const PermStructure& structure, glm::vec3 spacing, 
 
 PermFrame PermRayCaster::cast(const Classification& classification, const ColorMap& colors,
                               const PhongLighting& lighting, const Camera& camera, const PermCastSettings& cs) const {
-    const PermStructure& perm = *structure_;
-    const glm::ivec3 dims = perm.dims();
+    const glm::ivec3 dims = structure_->dims();
     const detail::MarchFrame frame(dims, spacing_, cs.sample_step);
     const PixelRays rays(camera, cs.width, cs.height);
     const ShadingView view = make_shading_view(camera, dims, spacing_);
     const SampleShader shader(colors, lighting, view, spacing_);
-    // PP-shaded records are shaded without the depth cue, which dims only the directly lit part:
-    // the GP takes the ambient part from the density's base colour and divides the rest.
     const bool cue = shaded_ != nullptr && lighting.depth_cue_k2 != 0.0f;
-    const int tile = settings_.tile_pixels;
-    const int tiles_x = (cs.width + tile - 1) / tile, tiles_y = (cs.height + tile - 1) / tile;
-    const int tiles = tiles_x * tiles_y;
+    const FrameLook look{*structure_, occupancy_, shaded_, classification, colors,
+                         lighting,    view,       shader,  spacing_,       cue};
+    const TileGrid grid{settings_.tile_pixels, (cs.width + settings_.tile_pixels - 1) / settings_.tile_pixels, cs.width,
+                        cs.height};
+    const int tiles = grid.across * ((cs.height + grid.edge - 1) / grid.edge);
     PermFrame out;
     out.image = Image(cs.width, cs.height);
     std::vector<TileResult> results(static_cast<std::size_t>(tiles));
     pp5::parallel_for(0, tiles, [&](int t) {
         TileResult& result = results[static_cast<std::size_t>(t)];
-        const int x0 = (t % tiles_x) * tile, y0 = (t / tiles_x) * tile;
-        for (int py = y0; py < std::min(y0 + tile, cs.height); ++py)
-            for (int px = x0; px < std::min(x0 + tile, cs.width); ++px) {
-                RayRecord record;
-                FrontToBack color(cs.sample_step, cs.termination_opacity);
-                ++result.counts.rays;
-                std::int64_t current = -1;                       // the cell whose record the ray holds
-                std::uint32_t samples = 0, empty = 0, cued = 0;  // since the last fetch
-                std::uint64_t ray_samples = 0, ray_empty = 0;
-                if (const auto ray = detail::clip_to_volume(rays.ray(px, py), frame)) {
-                    const detail::MarchCounts marched = detail::march(*ray, &occupancy_, [&](int, glm::vec3 position) {
-                        const glm::vec3 p = glm::clamp(position, glm::vec3(0.0f), glm::vec3(dims - 1));
-                        const glm::ivec3 cell = glm::min(glm::ivec3(p), dims - 2);
-                        const std::int32_t candidate = perm.index(cell.x, cell.y, cell.z);
-                        if (candidate == PermStructure::kNull) {
-                            ++empty;
-                            ++ray_empty;
-                            return false;
-                        }
-                        if (candidate != current) {
-                            record.touches.push_back({static_cast<std::uint32_t>(candidate), samples, empty, 0, cued});
-                            samples = empty = cued = 0;
-                            current = candidate;
-                            ++result.counts.cell_fetches;
-                        }
-                        ++samples;
-                        ++ray_samples;
-                        const glm::vec3 fraction = p - glm::vec3(cell);
-                        if (shaded_ != nullptr) {
-                            const int at = perm.density_position(fraction, &result.counts.carried_lookups);
-                            const glm::vec4 rgba = shaded_->at(static_cast<std::uint32_t>(candidate), at);
-                            if (!(rgba.a > 0.0f)) return false;
-                            glm::vec3 rgb(rgba);
-                            if (cue) {
-                                const glm::vec3 ambient =
-                                    colors.color(perm.density_at(static_cast<std::uint32_t>(candidate), at)) *
-                                    lighting.ambient;
-                                const float divisor =
-                                    lighting.depth_cue_k1 + lighting.depth_cue_k2 * view.depth(p * spacing_);
-                                rgb = ambient + glm::max(rgb - ambient, glm::vec3(0.0f)) / divisor;
-                                ++cued;
-                            }
-                            return color.add(glm::clamp(rgb, 0.0f, 1.0f), rgba.a);
-                        }
-                        const PermStructure::Sample s = perm.lookup(static_cast<std::uint32_t>(candidate), fraction,
-                                                                    &result.counts.carried_lookups);
-                        const float alpha = classification.opacity(s.value, glm::length(s.gradient));
-                        if (!(alpha > 0.0f)) return false;
-                        return color.add(shader.shade(s.value, s.gradient, p * spacing_), alpha);
-                    });
-                    record.tail_leaped = static_cast<std::uint32_t>(marched.skipped);
-                    result.counts.leaped_samples += marched.skipped;
-                    if (marched.terminated) ++result.counts.rays_terminated;
-                }
-                record.tail_samples = samples;
-                record.tail_empty = empty;
-                record.tail_cued = cued;
-                result.counts.samples += ray_samples;
-                result.counts.empty_samples += ray_empty;
-                out.image.at(px, py) = color.over(cs.background);
-                result.rays.push_back(std::move(record));
+        const ScreenRect rect = grid.rect(t);
+        for (int py = rect.y; py < rect.y + rect.height; ++py)
+            for (int px = rect.x; px < rect.x + rect.width; ++px) {
+                PermRay ray(look, cs, result.counts);
+                result.rays.push_back(ray.cast(detail::clip_to_volume(rays.ray(px, py), frame)));
+                out.image.at(px, py) = ray.color(cs.background);
             }
     });
 
     // The recorded work, tile by tile.
-    const TileGrid grid{tile, tiles_x, cs.width, cs.height};
     out.work = record_tiles(results, grid, records_ ? (cue ? cued_records_ : records_) : nullptr, shaded_ != nullptr);
     for (const TileResult& result : results) out.counts += result.counts;
     return out;

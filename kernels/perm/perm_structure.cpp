@@ -27,23 +27,37 @@ T in_cell(const T (&c)[8], glm::vec3 w) {
     return lerp(lerp(x00, x10, w.y), lerp(x01, x11, w.y), w.z);
 }
 
-// Section 5's reduction, for views from outside the volume: a ray that reaches a cell has crossed every
-// cell between it and the outside, so a candidate more than t_e cells (in 26-connected steps) inside
-// cells whose every sample is at least alpha_e opaque is never reached before the ray terminates.
-// Sources are the outside, the cells connected to it through non-candidates, and every candidate that
-// is not opaque (rays pass through those); cavities enclosed by opaque cells are not sources.
-void reduce(const Volume& volume, const GradientField& gradients, const Classification& classification,
-            const PermSettings& s, std::vector<std::vector<glm::ivec3>>& per_slice) {
-    const glm::ivec3 c = volume.dims() - 1;
-    const auto cell = [&](glm::ivec3 q) {
+// The volume's cells (one fewer than its voxels along each axis), numbered x fastest.
+struct CellGrid {
+    glm::ivec3 c;
+
+    std::size_t size() const {
+        return static_cast<std::size_t>(c.x) * static_cast<std::size_t>(c.y) * static_cast<std::size_t>(c.z);
+    }
+    std::size_t cell(glm::ivec3 q) const {
         return static_cast<std::size_t>(q.x) +
                static_cast<std::size_t>(c.x) *
                    (static_cast<std::size_t>(q.y) + static_cast<std::size_t>(c.y) * static_cast<std::size_t>(q.z));
-    };
-    const std::size_t cells =
-        static_cast<std::size_t>(c.x) * static_cast<std::size_t>(c.y) * static_cast<std::size_t>(c.z);
-    enum : std::uint8_t { kEmpty, kTranslucent, kOpaque };
-    std::vector<std::uint8_t> kind(cells, kEmpty);
+    }
+    glm::ivec3 coords(std::size_t i) const {
+        return glm::ivec3(static_cast<int>(i % static_cast<std::size_t>(c.x)),
+                          static_cast<int>((i / static_cast<std::size_t>(c.x)) % static_cast<std::size_t>(c.y)),
+                          static_cast<int>(i / (static_cast<std::size_t>(c.x) * static_cast<std::size_t>(c.y))));
+    }
+    bool inside(glm::ivec3 q) const { return q.x >= 0 && q.y >= 0 && q.z >= 0 && q.x < c.x && q.y < c.y && q.z < c.z; }
+    bool on_boundary(glm::ivec3 q) const {
+        return q.x == 0 || q.y == 0 || q.z == 0 || q.x == c.x - 1 || q.y == c.y - 1 || q.z == c.z - 1;
+    }
+};
+
+enum CellKind : std::uint8_t { kEmpty, kTranslucent, kOpaque };
+
+// Each candidate cell opaque (every sample it can be read at is at least alpha_e opaque) or
+// translucent; the other cells empty.
+std::vector<std::uint8_t> classify_cells(const CellGrid& grid, const Volume& volume, const GradientField& gradients,
+                                         const Classification& classification, const PermSettings& s,
+                                         const std::vector<std::vector<glm::ivec3>>& per_slice) {
+    std::vector<std::uint8_t> kind(grid.size(), kEmpty);
     const PositionTable density(s.density_positions, s.qbm, s.positions),
         gradient(s.gradient_positions, s.qbm, s.positions);
     pp5::parallel_for(std::size_t{0}, per_slice.size(), [&](std::size_t z) {
@@ -72,20 +86,25 @@ void reduce(const Volume& volume, const GradientField& gradients, const Classifi
                                   static_cast<float>(density.offset(i / (dn * dn))));
                 least = std::min(least, classification.opacity(in_cell(values, w), least_gradient));
             }
-            kind[cell(o)] = least >= s.reduction_opacity ? kOpaque : kTranslucent;
+            kind[grid.cell(o)] = least >= s.reduction_opacity ? kOpaque : kTranslucent;
         }
     });
-    // Breadth first from the sources, 26-connected through opaque cells; the outside is depth 0.
-    constexpr std::int32_t kUnreached = -1;
-    std::vector<std::int32_t> depth(cells, kUnreached);
+    return kind;
+}
+
+constexpr std::int32_t kUnreached = -1;
+
+// The sources at depth 0 (translucent cells, empty cells on the boundary and the empty cells they reach
+// 6-connected through empty cells) and the opaque boundary cells at depth 1, in the order found.
+std::vector<std::size_t> seed_sources(const CellGrid& grid, const std::vector<std::uint8_t>& kind,
+                                      std::vector<std::int32_t>& depth) {
     std::vector<std::size_t> frontier;
-    // Empty cells reached from the outside through empty cells (6-connected).
-    std::vector<std::size_t> open;
-    for (int z = 0; z < c.z; ++z)
-        for (int y = 0; y < c.y; ++y)
-            for (int x = 0; x < c.x; ++x) {
-                const bool boundary = x == 0 || y == 0 || z == 0 || x == c.x - 1 || y == c.y - 1 || z == c.z - 1;
-                const std::size_t i = cell({x, y, z});
+    std::vector<std::size_t> open;  // empty cells reached from the outside
+    for (int z = 0; z < grid.c.z; ++z)
+        for (int y = 0; y < grid.c.y; ++y)
+            for (int x = 0; x < grid.c.x; ++x) {
+                const bool boundary = grid.on_boundary({x, y, z});
+                const std::size_t i = grid.cell({x, y, z});
                 if (kind[i] == kTranslucent || (boundary && kind[i] == kEmpty)) {
                     depth[i] = 0;
                     if (kind[i] == kEmpty) open.push_back(i);
@@ -95,51 +114,103 @@ void reduce(const Volume& volume, const GradientField& gradients, const Classifi
                     frontier.push_back(i);
                 }
             }
-    const auto coords = [&](std::size_t i) {
-        return glm::ivec3(static_cast<int>(i % static_cast<std::size_t>(c.x)),
-                          static_cast<int>((i / static_cast<std::size_t>(c.x)) % static_cast<std::size_t>(c.y)),
-                          static_cast<int>(i / (static_cast<std::size_t>(c.x) * static_cast<std::size_t>(c.y))));
-    };
-    const auto inside = [&](glm::ivec3 q) {
-        return q.x >= 0 && q.y >= 0 && q.z >= 0 && q.x < c.x && q.y < c.y && q.z < c.z;
-    };
     for (std::size_t k = 0; k < open.size(); ++k) {
-        const glm::ivec3 q = coords(open[k]);
+        const glm::ivec3 q = grid.coords(open[k]);
         for (const glm::ivec3 step : {glm::ivec3(1, 0, 0), glm::ivec3(-1, 0, 0), glm::ivec3(0, 1, 0),
                                       glm::ivec3(0, -1, 0), glm::ivec3(0, 0, 1), glm::ivec3(0, 0, -1)}) {
             const glm::ivec3 n = q + step;
-            if (!inside(n)) continue;
-            const std::size_t i = cell(n);
+            if (!grid.inside(n)) continue;
+            const std::size_t i = grid.cell(n);
             if (kind[i] != kEmpty || depth[i] != kUnreached) continue;
             depth[i] = 0;
             open.push_back(i);
             frontier.push_back(i);
         }
     }
-    // Depth through opaque cells: each source's neighbours first (stable order keeps it deterministic).
+    return frontier;
+}
+
+// Each cell's depth in 26-connected steps through opaque cells from the nearest source; kUnreached
+// for cells no ray reaches (cavities enclosed by opaque cells are not sources).
+std::vector<std::int32_t> depths_from_sources(const CellGrid& grid, const std::vector<std::uint8_t>& kind) {
+    std::vector<std::int32_t> depth(grid.size(), kUnreached);
+    std::vector<std::size_t> frontier = seed_sources(grid, kind, depth);
+    // Each source's neighbours first (a stable order keeps it deterministic).
     std::sort(frontier.begin(), frontier.end(),
               [&](std::size_t a, std::size_t b) { return depth[a] != depth[b] ? depth[a] < depth[b] : a < b; });
     for (std::size_t k = 0; k < frontier.size(); ++k) {
         const std::size_t from = frontier[k];
-        const glm::ivec3 q = coords(from);
+        const glm::ivec3 q = grid.coords(from);
         for (int dz = -1; dz <= 1; ++dz)
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx) {
                     const glm::ivec3 n = q + glm::ivec3(dx, dy, dz);
-                    if (!inside(n)) continue;
-                    const std::size_t i = cell(n);
+                    if (!grid.inside(n)) continue;
+                    const std::size_t i = grid.cell(n);
                     if (kind[i] != kOpaque || depth[i] != kUnreached) continue;
                     depth[i] = depth[from] + 1;
                     frontier.push_back(i);
                 }
     }
+    return depth;
+}
+
+// Section 5's reduction, for views from outside the volume: a ray that reaches a cell has crossed every
+// cell between it and the outside, so a candidate more than t_e cells (in 26-connected steps) inside
+// cells whose every sample is at least alpha_e opaque is never reached before the ray terminates.
+// Sources are the outside, the cells connected to it through non-candidates, and every candidate that
+// is not opaque (rays pass through those); cavities enclosed by opaque cells are not sources.
+void reduce(const Volume& volume, const GradientField& gradients, const Classification& classification,
+            const PermSettings& s, std::vector<std::vector<glm::ivec3>>& per_slice) {
+    const CellGrid grid{volume.dims() - 1};
+    const std::vector<std::uint8_t> kind = classify_cells(grid, volume, gradients, classification, s, per_slice);
+    const std::vector<std::int32_t> depth = depths_from_sources(grid, kind);
     for (auto& slice : per_slice)
         slice.erase(std::remove_if(slice.begin(), slice.end(),
                                    [&](const glm::ivec3& o) {
-                                       const std::int32_t d = depth[cell(o)];
+                                       const std::int32_t d = depth[grid.cell(o)];
                                        return d == kUnreached || d > s.reduction_cells;
                                    }),
                     slice.end());
+}
+
+// The candidate cells, z slice by z slice (in parallel): those whose origin voxel may be visible
+// (the paper's rule), or any of whose corners may be.
+std::vector<std::vector<glm::ivec3>> find_candidates(const Volume& volume, const GradientField& gradients,
+                                                     const Classification& classification, const PermSettings& s) {
+    const glm::ivec3 d = volume.dims();
+    std::vector<std::vector<glm::ivec3>> per_slice(static_cast<std::size_t>(std::max(d.z - 1, 0)));
+    pp5::parallel_for(0, std::max(d.z - 1, 0), [&](int z) {
+        for (int y = 0; y + 1 < d.y; ++y)
+            for (int x = 0; x + 1 < d.x; ++x) {
+                bool candidate;
+                if (s.candidates == CandidateRule::PaperOrigin) {
+                    const float v = volume.at(x, y, z);
+                    candidate = classification.may_be_nonzero(v, v, glm::length(gradients.at(volume.index(x, y, z))));
+                } else {
+                    float lo = volume.at(x, y, z), hi = lo, g = 0;
+                    for (int c = 0; c < 8; ++c) {
+                        const int cx = x + (c & 1), cy = y + ((c >> 1) & 1), cz = z + (c >> 2);
+                        const float v = volume.at(cx, cy, cz);
+                        lo = std::min(lo, v);
+                        hi = std::max(hi, v);
+                        g = std::max(g, glm::length(gradients.at(volume.index(cx, cy, cz))));
+                    }
+                    candidate = classification.may_be_nonzero(lo, hi, g);
+                }
+                if (candidate) per_slice[static_cast<std::size_t>(z)].push_back({x, y, z});
+            }
+    });
+    return per_slice;
+}
+
+// A quantized position's offset within its cell, for position i of a table's N^3.
+glm::vec3 position_offset(const PositionTable& t, std::size_t i) {
+    const int n = t.positions();
+    const int a = static_cast<int>(i % static_cast<std::size_t>(n)),
+              b = static_cast<int>((i / static_cast<std::size_t>(n)) % static_cast<std::size_t>(n)),
+              c = static_cast<int>(i / static_cast<std::size_t>(n * n));
+    return glm::vec3(static_cast<float>(t.offset(a)), static_cast<float>(t.offset(b)), static_cast<float>(t.offset(c)));
 }
 
 }  // namespace
@@ -190,7 +261,6 @@ PermStructure PermStructure::build(const Volume& volume, const Classification& c
                                    const FitCheck& before_records) {
     PermStructure p;
     p.dims_ = volume.dims();
-    const glm::ivec3 d = p.dims_;
     p.density_table_ = PositionTable(s.density_positions, s.qbm, s.positions);
     p.gradient_table_ = PositionTable(s.gradient_positions, s.qbm, s.positions);
     p.value_min_ = volume.min_value();
@@ -201,54 +271,41 @@ PermStructure PermStructure::build(const Volume& volume, const Classification& c
     const GradientField gradients = compute_gradients(volume);
     for (const glm::vec3& g : gradients.gradients) p.gradient_max_ = glm::max(p.gradient_max_, glm::abs(g));
 
-    // Candidates, z slice by z slice (in parallel), then numbered in storage order.
-    p.index_.assign(volume.samples().size(), kNull);
-    std::vector<std::vector<glm::ivec3>> per_slice(static_cast<std::size_t>(std::max(d.z - 1, 0)));
-    pp5::parallel_for(0, std::max(d.z - 1, 0), [&](int z) {
-        for (int y = 0; y + 1 < d.y; ++y)
-            for (int x = 0; x + 1 < d.x; ++x) {
-                bool candidate;
-                if (s.candidates == CandidateRule::PaperOrigin) {
-                    const float v = volume.at(x, y, z);
-                    candidate = classification.may_be_nonzero(v, v, glm::length(gradients.at(volume.index(x, y, z))));
-                } else {
-                    float lo = volume.at(x, y, z), hi = lo, g = 0;
-                    for (int c = 0; c < 8; ++c) {
-                        const int cx = x + (c & 1), cy = y + ((c >> 1) & 1), cz = z + (c >> 2);
-                        const float v = volume.at(cx, cy, cz);
-                        lo = std::min(lo, v);
-                        hi = std::max(hi, v);
-                        g = std::max(g, glm::length(gradients.at(volume.index(cx, cy, cz))));
-                    }
-                    candidate = classification.may_be_nonzero(lo, hi, g);
-                }
-                if (candidate) per_slice[static_cast<std::size_t>(z)].push_back({x, y, z});
-            }
-    });
+    std::vector<std::vector<glm::ivec3>> per_slice = find_candidates(volume, gradients, classification, s);
     for (const auto& slice : per_slice) p.unreduced_ += slice.size();
     if (s.reduction_cells > 0) reduce(volume, gradients, classification, s, per_slice);
+    p.number_candidates(volume, per_slice, s.index_bytes);
+    p.memory_ = PermMemory{p.dims_,       p.cell_origin_.size(), s.density_positions, s.gradient_positions,
+                           s.index_bytes, density_bytes};
+    if (before_records) before_records(p.memory_, p.cell_origin_);
+    p.fill_records(volume, gradients);
+    return p;
+}
+
+void PermStructure::number_candidates(const Volume& volume, const std::vector<std::vector<glm::ivec3>>& per_slice,
+                                      int index_bytes) {
+    index_.assign(volume.samples().size(), kNull);
     for (std::size_t z = 0; z < per_slice.size(); ++z) {
-        if (s.index_bytes == 2 && per_slice[z].size() > 65535)
+        if (index_bytes == 2 && per_slice[z].size() > 65535)
             reject_field(
                 "perm.index_bytes",
                 fmt::format("z slice {} holds {} candidate cells, more than 2-byte per-slice indices can number; use 4",
                             z, per_slice[z].size()));
         for (const glm::ivec3& c : per_slice[z]) {
-            p.index_[volume.index(c.x, c.y, c.z)] = static_cast<std::int32_t>(p.cell_origin_.size());
-            p.cell_origin_.push_back(c);
+            index_[volume.index(c.x, c.y, c.z)] = static_cast<std::int32_t>(cell_origin_.size());
+            cell_origin_.push_back(c);
         }
     }
-    const std::size_t n = p.cell_origin_.size();
-    p.memory_ = PermMemory{d, n, s.density_positions, s.gradient_positions, s.index_bytes, density_bytes};
-    if (before_records) before_records(p.memory_, p.cell_origin_);
+}
 
-    // The records: density and gradient interpolated at each quantized position.
-    const std::size_t dn = cube(s.density_positions), gn = cube(s.gradient_positions);
-    p.density_.resize(n * dn);
-    p.gradient_.resize(n * gn * 3);
-    p.signs_.resize(n * gn);
+void PermStructure::fill_records(const Volume& volume, const GradientField& gradients) {
+    const std::size_t n = cell_origin_.size();
+    const std::size_t dn = cube(memory_.density_positions), gn = cube(memory_.gradient_positions);
+    density_.resize(n * dn);
+    gradient_.resize(n * gn * 3);
+    signs_.resize(n * gn);
     pp5::parallel_for(std::size_t{0}, n, [&](std::size_t m) {
-        const glm::ivec3 o = p.cell_origin_[m];
+        const glm::ivec3 o = cell_origin_[m];
         float values[8];
         glm::vec3 grads[8];
         for (int c = 0; c < 8; ++c) {
@@ -256,32 +313,23 @@ PermStructure PermStructure::build(const Volume& volume, const Classification& c
             values[c] = volume.at(cx, cy, cz);
             grads[c] = gradients.at(volume.index(cx, cy, cz));
         }
-        const auto offset = [](const PositionTable& t, std::size_t i) {
-            const int n_ = t.positions();
-            const int a = static_cast<int>(i % static_cast<std::size_t>(n_)),
-                      b = static_cast<int>((i / static_cast<std::size_t>(n_)) % static_cast<std::size_t>(n_)),
-                      c = static_cast<int>(i / static_cast<std::size_t>(n_ * n_));
-            return glm::vec3(static_cast<float>(t.offset(a)), static_cast<float>(t.offset(b)),
-                             static_cast<float>(t.offset(c)));
-        };
         for (std::size_t i = 0; i < dn; ++i) {
-            const float v = in_cell(values, offset(p.density_table_, i));
-            p.density_[m * dn + i] = static_cast<std::uint16_t>(
-                std::lround(std::clamp((v - p.value_min_) / p.value_range_, 0.0f, 1.0f) * p.density_steps_));
+            const float v = in_cell(values, position_offset(density_table_, i));
+            density_[m * dn + i] = static_cast<std::uint16_t>(
+                std::lround(std::clamp((v - value_min_) / value_range_, 0.0f, 1.0f) * density_steps_));
         }
         for (std::size_t i = 0; i < gn; ++i) {
-            const glm::vec3 g = in_cell(grads, offset(p.gradient_table_, i));
+            const glm::vec3 g = in_cell(grads, position_offset(gradient_table_, i));
             std::uint8_t sign = 0;
             for (int a = 0; a < 3; ++a) {
-                const float top = p.gradient_max_[a];
-                p.gradient_[(m * gn + i) * 3 + static_cast<std::size_t>(a)] =
+                const float top = gradient_max_[a];
+                gradient_[(m * gn + i) * 3 + static_cast<std::size_t>(a)] =
                     top > 0 ? static_cast<std::uint8_t>(std::lround(std::min(std::abs(g[a]) / top, 1.0f) * 255.0f)) : 0;
                 if (g[a] < 0) sign = static_cast<std::uint8_t>(sign | (1u << (2 * a)));
             }
-            p.signs_[m * gn + i] = sign;
+            signs_[m * gn + i] = sign;
         }
     });
-    return p;
 }
 
 int PermStructure::combined(const PositionTable& t, glm::vec3 fraction, std::uint64_t* carried) const {

@@ -23,6 +23,8 @@
 
 namespace pp5 {
 
+struct GradientField;
+
 // The paper's memory equations, for any data set.
 struct PermMemory {
     glm::ivec3 dims{0};                       // the volume: S = x y z
@@ -116,6 +118,11 @@ private:
                    (static_cast<std::size_t>(y) + static_cast<std::size_t>(dims_.y) * static_cast<std::size_t>(z));
     }
     int combined(const PositionTable& t, glm::vec3 fraction, std::uint64_t* carried) const;
+    // The candidates numbered in storage order (z slice by z slice) into index_ and cell_origin_.
+    void number_candidates(const Volume& volume, const std::vector<std::vector<glm::ivec3>>& per_slice,
+                           int index_bytes);
+    // Each candidate's record: density and gradient interpolated at each quantized position.
+    void fill_records(const Volume& volume, const GradientField& gradients);
 
     glm::ivec3 dims_{0};
     PermMemory memory_;

@@ -111,68 +111,10 @@ void FrameBuilder::make_quads() {
 }
 
 void FrameBuilder::make_points() {
-    const std::span<const HybridPoint> stored = hybrid_->points();
-    points.resize(stored.size());
+    points.resize(hybrid_->points().size());
     const double grid_spacing = 1.0 / hybrid_->error_grid_factor();
     const double point_world = std::max({spacing_.x, spacing_.y, spacing_.z}) * grid_spacing;
-    const NormalTable& normals = NormalTable::get();
-    pp5::parallel_for(std::size_t{0}, stored.size(), [&](std::size_t m) {
-        const HybridPoint& hp = stored[m];
-        DrawnPoint& p = points[m];
-        p.index = static_cast<std::uint32_t>(m);
-        const glm::vec3 position = hybrid_->position(hp);
-        p.brick = brick_of(hp);
-        const double along = (position[a] + 0.5) / k - 0.5;
-        const int slab = std::clamp(static_cast<int>(std::floor(along)), -1, n[a] - 1);
-        p.layer = slab_layer[static_cast<std::size_t>(slab + 1)];
-        const glm::vec3 world = position * spacing_;
-        const glm::dvec3 eye = projection.to_eye(world);
-        if (projection.perspective() && eye.z <= point_world) {
-            p.offscreen = true;
-            return;
-        }
-        // What the point must add over the low-resolution volume's opacity there.
-        const float value = hybrid_->value(hp), low_value = value - hybrid_->error(hp);
-        const float gradient = hybrid_->gradient_magnitude(hp);
-        const double path = path_voxels(glm::dvec3(world), grid_spacing);
-        const auto over_cell = [&](float v) {
-            return 1.0 - std::pow(1.0 - std::min(1.0f, look.classification->opacity(v, gradient)), path);
-        };
-        const double full = over_cell(value), partial = over_cell(low_value);
-        double added = partial < 1.0 ? std::max(0.0, (full - partial) / (1.0 - partial)) : 0.0;
-        added = std::min(1.0, added * settings_.point_opacity_scale);
-        // Its square: the projected error-grid spacing, rounded up, the opacity scaled down by the area gained.
-        const double sigma = point_world * projection.pixels_per_unit(eye.z) * settings_.point_overlap;
-        const int side = std::max(1, static_cast<int>(std::ceil(sigma)));
-        const double alpha = std::min(1.0, added * sigma * sigma / (static_cast<double>(side) * side));
-        const glm::vec3 to_viewer = look.view.to_viewer(world);
-        const glm::vec3 to_light =
-            look.lighting.light_follows_camera ? to_viewer : glm::normalize(look.lighting.light_direction);
-        const glm::vec3 color =
-            glm::clamp(phong_shade(look.lighting, look.colors->color(value), normals.direction(hp.normal), to_light,
-                                   to_viewer, look.view.depth(world)),
-                       glm::vec3(0.0f), glm::vec3(1.0f));
-        const std::int64_t premultiplied_alpha =
-            std::min<std::int64_t>(std::llround(alpha * static_cast<double>(one)), format_.top());
-        p.side = side;
-        if (premultiplied_alpha == 0) return;
-        const glm::dvec2 sp = projection.to_screen(eye);
-        PointSquare& sq = p.square;
-        sq.x0 = static_cast<int>(std::ceil(sp.x - side / 2.0));
-        sq.y0 = static_cast<int>(std::ceil(sp.y - side / 2.0));
-        sq.x1 = sq.x0 + side - 1;
-        sq.y1 = sq.y0 + side - 1;
-        for (int ch = 0; ch < 3; ++ch)
-            sq.premultiplied[static_cast<std::size_t>(ch)] = std::min<std::int64_t>(
-                std::llround(alpha * static_cast<double>(color[ch]) * static_cast<double>(one)), premultiplied_alpha);
-        sq.premultiplied[3] = premultiplied_alpha;
-        sq.x0 = std::max(sq.x0, 0);
-        sq.y0 = std::max(sq.y0, 0);
-        sq.x1 = std::min(sq.x1, width - 1);
-        sq.y1 = std::min(sq.y1, height - 1);
-        if (sq.x1 < sq.x0 || sq.y1 < sq.y0) p.offscreen = true;
-        else p.drawn = true;
-    });
+    pp5::parallel_for(std::size_t{0}, points.size(), [&](std::size_t m) { place_point(m, grid_spacing, point_world); });
     std::stable_sort(points.begin(), points.end(), [](const DrawnPoint& x, const DrawnPoint& y) {
         return x.layer != y.layer ? x.layer < y.layer : x.brick < y.brick;
     });
@@ -185,8 +127,67 @@ void FrameBuilder::make_points() {
             ++counts.point_sizes[p.side];
         }
     }
+}
 
-    // All quads in layer order.
+void FrameBuilder::place_point(std::size_t m, double grid_spacing, double point_world) {
+    const HybridPoint& hp = hybrid_->points()[m];
+    DrawnPoint& p = points[m];
+    p.index = static_cast<std::uint32_t>(m);
+    const glm::vec3 position = hybrid_->position(hp);
+    p.brick = brick_of(hp);
+    const double along = (position[a] + 0.5) / k - 0.5;
+    const int slab = std::clamp(static_cast<int>(std::floor(along)), -1, n[a] - 1);
+    p.layer = slab_layer[static_cast<std::size_t>(slab + 1)];
+    const glm::vec3 world = position * spacing_;
+    const glm::dvec3 eye = projection.to_eye(world);
+    if (projection.perspective() && eye.z <= point_world) {
+        p.offscreen = true;
+        return;
+    }
+    // What the point must add over the low-resolution volume's opacity there.
+    const float value = hybrid_->value(hp), low_value = value - hybrid_->error(hp);
+    const float gradient = hybrid_->gradient_magnitude(hp);
+    const double path = path_voxels(glm::dvec3(world), grid_spacing);
+    const auto over_cell = [&](float v) {
+        return 1.0 - std::pow(1.0 - std::min(1.0f, look.classification->opacity(v, gradient)), path);
+    };
+    const double full = over_cell(value), partial = over_cell(low_value);
+    double added = partial < 1.0 ? std::max(0.0, (full - partial) / (1.0 - partial)) : 0.0;
+    added = std::min(1.0, added * settings_.point_opacity_scale);
+    // Its square: the projected error-grid spacing, rounded up, the opacity scaled down by the area gained.
+    const double sigma = point_world * projection.pixels_per_unit(eye.z) * settings_.point_overlap;
+    const int side = std::max(1, static_cast<int>(std::ceil(sigma)));
+    const double alpha = std::min(1.0, added * sigma * sigma / (static_cast<double>(side) * side));
+    const glm::vec3 to_viewer = look.view.to_viewer(world);
+    const glm::vec3 to_light =
+        look.lighting.light_follows_camera ? to_viewer : glm::normalize(look.lighting.light_direction);
+    const glm::vec3 color =
+        glm::clamp(phong_shade(look.lighting, look.colors->color(value), NormalTable::get().direction(hp.normal),
+                               to_light, to_viewer, look.view.depth(world)),
+                   glm::vec3(0.0f), glm::vec3(1.0f));
+    const std::int64_t premultiplied_alpha =
+        std::min<std::int64_t>(std::llround(alpha * static_cast<double>(one)), format_.top());
+    p.side = side;
+    if (premultiplied_alpha == 0) return;
+    const glm::dvec2 sp = projection.to_screen(eye);
+    PointSquare& sq = p.square;
+    sq.x0 = static_cast<int>(std::ceil(sp.x - side / 2.0));
+    sq.y0 = static_cast<int>(std::ceil(sp.y - side / 2.0));
+    sq.x1 = sq.x0 + side - 1;
+    sq.y1 = sq.y0 + side - 1;
+    for (int ch = 0; ch < 3; ++ch)
+        sq.premultiplied[static_cast<std::size_t>(ch)] = std::min<std::int64_t>(
+            std::llround(alpha * static_cast<double>(color[ch]) * static_cast<double>(one)), premultiplied_alpha);
+    sq.premultiplied[3] = premultiplied_alpha;
+    sq.x0 = std::max(sq.x0, 0);
+    sq.y0 = std::max(sq.y0, 0);
+    sq.x1 = std::min(sq.x1, width - 1);
+    sq.y1 = std::min(sq.y1, height - 1);
+    if (sq.x1 < sq.x0 || sq.y1 < sq.y0) p.offscreen = true;
+    else p.drawn = true;
+}
+
+void FrameBuilder::order_quads() {
     first_quad_of_layer.assign(layers.size() + 1, 0);
     for (std::size_t l = 0; l < layers.size(); ++l) {
         first_quad_of_layer[l] = quads.size();

@@ -100,6 +100,7 @@ public:
         make_layers();
         make_quads();
         make_points();
+        order_quads();
         bin_by_region();
         draw_regions();
         record_work();
@@ -144,9 +145,13 @@ private:
     void make_layers();
     // Each plane's quads, brick by brick (planes in parallel).
     void make_quads();
-    // The points: shaded, corrected and sized (in parallel), then in (layer, brick, storage) order; then all quads in
-    // layer order.
+    // The points: shaded, corrected and sized (in parallel), then in (layer, brick, storage) order.
     void make_points();
+    // The hybrid volume's point m, as points[m]: its layer and brick, the opacity it adds over the
+    // low-resolution volume, its square on screen and its premultiplied colour.
+    void place_point(std::size_t m, double grid_spacing, double point_world);
+    // All quads in layer order.
+    void order_quads();
     // Regions and their lists (in layer order, as the primitives are).
     void bin_by_region();
 

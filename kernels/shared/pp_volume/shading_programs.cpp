@@ -200,52 +200,28 @@ PpField depth_cued(PpProgramBuilder& b, PpField lit, const PhongLighting& lighti
     return cued;
 }
 
-}  // namespace
-
-PpProgram build_shading_program(const ColorMap& color_map, const PhongLighting& lighting, const ShadingView& view,
-                                const PpProgramInputs& inputs, const GradientRewrite& rewrite) {
-    const VoxelRecordLayout& layout = inputs.layout;
-    const VoxelQuantization& q = inputs.quantization;
-    PpProgramBuilder b("shade", inputs.local_memory_bits);
-    VoxelInputs in = load_inputs(b, layout);
-
-    // Base colour c_p from the colour map: one broadcast table per channel, in colour codes.
+// Base colour c_p from the colour map: one broadcast table per channel, in colour codes.
+std::array<PpField, 3> emit_base_colours(PpProgramBuilder& b, const PpField& value, const ColorMap& color_map,
+                                         const VoxelRecordLayout& layout, const VoxelQuantization& q) {
     const std::int64_t color_max = (std::int64_t{1} << layout.color_bits) - 1;
     std::array<PpField, 3> base;
     static const char* channel_names[3] = {"red", "green", "blue"};
     for (int c = 0; c < 3; ++c) {
-        PpTable table = value_table(std::string("base_") + channel_names[c], in.value, q, [&](float f) {
+        PpTable table = value_table(std::string("base_") + channel_names[c], value, q, [&](float f) {
             return fixed(color_map.color(f)[c] * static_cast<float>(color_max), 0);
         });
-        base[c] =
-            b.lookup(std::string("base_") + channel_names[c], in.value, std::move(table), layout.color_bits, false);
+        base[c] = b.lookup(std::string("base_") + channel_names[c], value, std::move(table), layout.color_bits, false);
     }
-    if (rewrite) rewrite(b, in.value, in.gradient);
-    b.release(in.value);
-    const NormalInputs normals = normal_inputs(b, in.gradient, inputs.spacing);
+    return base;
+}
 
-    const glm::vec3 to_viewer = -view.forward;
-    const glm::vec3 to_light = lighting.light_follows_camera ? to_viewer : glm::normalize(lighting.light_direction);
-    const bool eye_per_voxel = lighting.light_follows_camera && view.projection == Projection::Perspective;
-    const PpField n_dot_l = eye_per_voxel ? normal_dot_eye(b, normals.w, normals.gmag4)
-                                          : normal_dot(b, "n_dot_l", normals.w, normals.gmag4, to_light);
-    PpField n_dot_h;
-    const glm::vec3 halfway = to_light + to_viewer;
-    const bool headlight = lighting.light_follows_camera;
-    if (!headlight && glm::length(halfway) > 0.0f)
-        n_dot_h = normal_dot(b, "n_dot_h", normals.w, normals.gmag4, glm::normalize(halfway));
-    // The stationary lights: from the record when a stationary-light pass has stored their sum there,
-    // else computed here with the key light.
-    const bool stationary = !lighting.stationary_lights.empty();
-    const bool stored = stationary && layout.stationary_light_bits > 0;
-    PpField stationary_light;
-    if (stationary && !stored) stationary_light = stationary_lit(b, normals, lighting, to_viewer);
-    release(b, normals);
-
-    // The key light's k_d (N.L) + k_s (N.H)^n, in 1/256ths, where it reaches the face.
+// The key light's k_d (N.L) + k_s (N.H)^n, in 1/256ths, where it reaches the face (0 elsewhere), the
+// highlight from N.L itself under a headlight; depth-cued when `cue`. Releases n_dot_l and n_dot_h.
+PpField emit_key_light(PpProgramBuilder& b, const PpField& n_dot_l, const PpField& n_dot_h,
+                       const PhongLighting& lighting, bool cue) {
     b.enable_if(n_dot_l, PpCompare::Greater, 0);
     PpField lit = b.mul_const("diffuse", n_dot_l, fixed(lighting.diffuse, kOneShift));
-    PpField highlight_source = headlight ? n_dot_l : n_dot_h;
+    const PpField highlight_source = lighting.light_follows_camera ? n_dot_l : n_dot_h;
     if (highlight_source.valid() && lighting.specular > 0.0f) {
         const PpField spec = power_256(b, highlight_source, lighting.shininess);
         const PpField specular = b.mul_const("specular", spec, fixed(lighting.specular, kOneShift));
@@ -257,27 +233,21 @@ PpProgram build_shading_program(const ColorMap& color_map, const PhongLighting& 
     }
     if (n_dot_h.valid()) b.release(n_dot_h);
     lit = rounded_shift(b, "lit", lit, kOneShift);
-    // With one light the depth cue divides only where it reaches; with several, the sum below.
-    const bool cue = lighting.depth_cue_k2 != 0.0f;
-    if (cue && !stationary) lit = depth_cued(b, lit, lighting);
+    if (cue) lit = depth_cued(b, lit, lighting);
     b.enable_all();
-    PpField light = b.set_const("light", 0, lit.bits, false);
+    const PpField light = b.set_const("light", 0, lit.bits, false);
     b.enable_if(n_dot_l, PpCompare::Greater, 0);
     b.assign(light, lit);
     b.enable_all();
     b.release(lit);
     b.release(n_dot_l);
-    if (stationary) {
-        if (stored)
-            stationary_light =
-                b.load("stationary_light", layout.stationary_light_offset(), layout.stationary_light_bits, false);
-        const PpField total = b.add("all_lights", light, stationary_light);
-        b.release(light);
-        b.release(stationary_light);
-        light = cue ? depth_cued(b, total, lighting) : total;
-    }
+    return light;
+}
 
-    // c = c_p (k_a + lit), rounded and clamped to the colour code.
+// c = c_p (k_a + light), rounded and clamped to the colour code, stored; releases base and light.
+void emit_shaded_colours(PpProgramBuilder& b, std::array<PpField, 3>& base, const PpField& light,
+                         const PhongLighting& lighting, const VoxelRecordLayout& layout) {
+    const std::int64_t color_max = (std::int64_t{1} << layout.color_bits) - 1;
     const PpField factor = b.add_const("factor", light, fixed(lighting.ambient, kOneShift));
     b.release(light);
     for (int c = 0; c < 3; ++c) {
@@ -290,6 +260,50 @@ PpProgram build_shading_program(const ColorMap& color_map, const PhongLighting& 
         b.release(clamped);
     }
     b.release(factor);
+}
+
+}  // namespace
+
+PpProgram build_shading_program(const ColorMap& color_map, const PhongLighting& lighting, const ShadingView& view,
+                                const PpProgramInputs& inputs, const GradientRewrite& rewrite) {
+    const VoxelRecordLayout& layout = inputs.layout;
+    PpProgramBuilder b("shade", inputs.local_memory_bits);
+    VoxelInputs in = load_inputs(b, layout);
+    std::array<PpField, 3> base = emit_base_colours(b, in.value, color_map, layout, inputs.quantization);
+    if (rewrite) rewrite(b, in.value, in.gradient);
+    b.release(in.value);
+    const NormalInputs normals = normal_inputs(b, in.gradient, inputs.spacing);
+
+    const glm::vec3 to_viewer = -view.forward;
+    const glm::vec3 to_light = lighting.light_follows_camera ? to_viewer : glm::normalize(lighting.light_direction);
+    const bool eye_per_voxel = lighting.light_follows_camera && view.projection == Projection::Perspective;
+    const PpField n_dot_l = eye_per_voxel ? normal_dot_eye(b, normals.w, normals.gmag4)
+                                          : normal_dot(b, "n_dot_l", normals.w, normals.gmag4, to_light);
+    PpField n_dot_h;
+    const glm::vec3 halfway = to_light + to_viewer;
+    if (!lighting.light_follows_camera && glm::length(halfway) > 0.0f)
+        n_dot_h = normal_dot(b, "n_dot_h", normals.w, normals.gmag4, glm::normalize(halfway));
+    // The stationary lights: from the record when a stationary-light pass has stored their sum there,
+    // else computed here with the key light.
+    const bool stationary = !lighting.stationary_lights.empty();
+    const bool stored = stationary && layout.stationary_light_bits > 0;
+    PpField stationary_light;
+    if (stationary && !stored) stationary_light = stationary_lit(b, normals, lighting, to_viewer);
+    release(b, normals);
+
+    // With one light the depth cue divides only where it reaches; with several, the sum below.
+    const bool cue = lighting.depth_cue_k2 != 0.0f;
+    PpField light = emit_key_light(b, n_dot_l, n_dot_h, lighting, cue && !stationary);
+    if (stationary) {
+        if (stored)
+            stationary_light =
+                b.load("stationary_light", layout.stationary_light_offset(), layout.stationary_light_bits, false);
+        const PpField total = b.add("all_lights", light, stationary_light);
+        b.release(light);
+        b.release(stationary_light);
+        light = cue ? depth_cued(b, total, lighting) : total;
+    }
+    emit_shaded_colours(b, base, light, lighting, layout);
     return b.finish();
 }
 
