@@ -38,6 +38,14 @@ set(PP5_PCH_library_TARGETS ${PP5_PCH_THIRD_PARTY_TARGETS})
 set(PP5_PCH_tests_TARGETS ${PP5_PCH_THIRD_PARTY_TARGETS} GTest::gtest GTest::gmock)
 set(PP5_PCH_command_line_TARGETS ${PP5_PCH_THIRD_PARTY_TARGETS} CLI11::CLI11)
 
+# pp5_test_optimization(<target>): a test program's own optimisation (PP5_TEST_OPTIMIZATION, top
+# CMakeLists.txt). It comes after the build type's flags on the command line, so it wins.
+function(pp5_test_optimization target)
+  if(PP5_TEST_OPTIMIZATION)
+    target_compile_options(${target} PRIVATE ${PP5_TEST_OPTIMIZATION})
+  endif()
+endfunction()
+
 # The host of a set, made on first use.
 function(_pp5_pch_host set out_host)
   set(host pp5_pch_${set})
@@ -60,6 +68,9 @@ function(_pp5_pch_host set out_host)
   if(CMAKE_CXX_COMPILER_ID MATCHES "Clang")
     # Without it clang stamps the header with its build time, and ccache will not cache its users.
     target_compile_options(${host} PRIVATE "SHELL:-Xclang -fno-pch-timestamp")
+  endif()
+  if(set STREQUAL "tests")
+    pp5_test_optimization(${host})  # the test programs' optimisation, which the compiled header must match
   endif()
   target_precompile_headers(${host} PRIVATE ${PP5_PCH_${set}_HEADERS})
 endfunction()
