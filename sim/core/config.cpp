@@ -158,6 +158,24 @@ double MachineConfig::real(const std::string& key) const { return std::get<doubl
 bool MachineConfig::boolean(const std::string& key) const { return std::get<bool>(entry(key).value); }
 const std::string& MachineConfig::text(const std::string& key) const { return std::get<std::string>(entry(key).value); }
 
+std::vector<std::string> MachineConfig::keys_differing_from(const MachineConfig& other) const {
+    std::vector<std::string> keys;
+    auto mine = entries_.begin();
+    auto theirs = other.entries_.begin();
+    while (mine != entries_.end() && theirs != other.entries_.end()) {
+        if (mine->first < theirs->first) {
+            ++mine;
+        } else if (theirs->first < mine->first) {
+            ++theirs;
+        } else {
+            if (mine->second.value != theirs->second.value) keys.push_back(mine->first);
+            ++mine;
+            ++theirs;
+        }
+    }
+    return keys;
+}
+
 nlohmann::json MachineConfig::to_json() const {
     nlohmann::json params = nlohmann::json::object();
     for (const auto& [key, e] : entries_) {

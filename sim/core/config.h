@@ -53,6 +53,10 @@ public:
     const std::vector<const ParamGroup*>& groups() const { return groups_; }
     const ParamSpec* find_spec(std::string_view key) const;
 
+    // The parameters both configurations have whose values differ, in key order.
+    std::vector<std::string> keys_differing_from(const MachineConfig& other) const;
+    const ParamValue& value(const std::string& key) const { return entry(key).value; }
+
     nlohmann::json to_json() const;
 
 private:

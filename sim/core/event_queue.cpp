@@ -11,12 +11,12 @@ void EventQueue::schedule(Tick when, EventHandler& handler, std::uint64_t payloa
         throw std::logic_error("event scheduled in the past: at " + std::to_string(when) + " ps, now " +
                                std::to_string(now_) + " ps");
     heap_.push_back(Event{when, priority, next_sequence_++, &handler, payload});
-    std::push_heap(heap_.begin(), heap_.end(), runs_later);
+    std::push_heap(heap_.begin(), heap_.end(), RunsLater{});
 }
 
 bool EventQueue::step() {
     if (heap_.empty()) return false;
-    std::pop_heap(heap_.begin(), heap_.end(), runs_later);
+    std::pop_heap(heap_.begin(), heap_.end(), RunsLater{});
     const Event event = heap_.back();
     heap_.pop_back();
     now_ = event.when;

@@ -48,12 +48,15 @@ private:
         EventHandler* handler;
         std::uint64_t payload;
     };
-    // std heap functions build a max-heap, so "later" compares as "less urgent".
-    static bool runs_later(const Event& a, const Event& b) {
-        if (a.when != b.when) return a.when > b.when;
-        if (a.priority != b.priority) return a.priority > b.priority;
-        return a.sequence > b.sequence;
-    }
+    // std heap functions build a max-heap, so "later" compares as "less urgent". A type of its own,
+    // not a function pointer, so that every heap operation inlines it.
+    struct RunsLater {
+        bool operator()(const Event& a, const Event& b) const {
+            if (a.when != b.when) return a.when > b.when;
+            if (a.priority != b.priority) return a.priority > b.priority;
+            return a.sequence > b.sequence;
+        }
+    };
 
     std::vector<Event> heap_;
     Tick now_ = 0;
