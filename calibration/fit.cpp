@@ -338,19 +338,6 @@ FitReport evaluate_targets(const CalibrationModel& model, const std::map<std::st
 
 namespace {
 
-// Ceres' covariance of the log scales at the solution x, none when the Jacobian is rank-deficient.
-std::optional<std::vector<double>> log_covariance(ceres::Problem& problem, std::vector<double>& x) {
-    ceres::Covariance::Options cov_options;
-    cov_options.algorithm_type = ceres::DENSE_SVD;
-    cov_options.null_space_rank = -1;
-    ceres::Covariance covariance(cov_options);
-    std::vector<double> cov(x.size() * x.size(), std::numeric_limits<double>::quiet_NaN());
-    const std::vector<std::pair<const double*, const double*>> blocks{{x.data(), x.data()}};
-    if (!covariance.Compute(blocks, &problem) || !covariance.GetCovarianceBlock(x.data(), x.data(), cov.data()))
-        return std::nullopt;
-    return cov;
-}
-
 // A free scale's fitted value from its logarithm, its standard error (none: not computable) and what
 // to say about it.
 void set_fitted_value(FittedParameter& p, double log_value, std::optional<double> log_variance) {
@@ -400,7 +387,6 @@ std::unique_ptr<MachineFit> fit_machine(const CalibrationModel& model, const std
     std::vector<double> x = fit.log_start();
     say(fmt::format("{}: fitting {} scales to {} targets", machine, free.size(), targets.size()));
     const ceres::Solver::Summary summary = fit.solve(x, options.max_iterations);
-    const std::unique_ptr<ceres::Problem> plain = fit.problem(x, false);
     report.notes.push_back(
         fmt::format("{}: {} iterations, {} residual evaluations, final cost {:.4g} (from {:.4g}); {}", machine,
                     summary.iterations.size(), summary.num_residual_evaluations, summary.final_cost,
@@ -421,7 +407,7 @@ std::unique_ptr<MachineFit> fit_machine(const CalibrationModel& model, const std
                            {}};
     if (freedom.degrees_of_freedom() > 0) freedom.reduced_chi_square = chi2 / freedom.degrees_of_freedom();
     const double widening = std::max(1.0, std::isfinite(freedom.reduced_chi_square) ? freedom.reduced_chi_square : 1.0);
-    const std::optional<std::vector<double>> cov = log_covariance(*plain, x);
+    const std::optional<std::vector<double>> cov = fit.log_covariance(x);
     if (cov) {
         for (const int j : free) freedom.free_keys.push_back(key_of(kScales[j]));
         for (const double c : *cov) freedom.log_covariance.push_back(c * widening);

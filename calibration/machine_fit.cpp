@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <mutex>
 
 namespace pp5::fit_detail {
@@ -146,6 +147,19 @@ ceres::Solver::Summary MachineFit::solve(std::vector<double>& x, int max_iterati
 
 MachineFit MachineFit::on(const CalibrationModel& model, std::vector<const Target*> targets) const {
     return MachineFit(model, machine_, std::move(targets), start_, free_, bounds_);
+}
+
+std::optional<std::vector<double>> MachineFit::log_covariance(std::vector<double>& x) const {
+    const std::unique_ptr<ceres::Problem> plain = problem(x, false);
+    ceres::Covariance::Options cov_options;
+    cov_options.algorithm_type = ceres::DENSE_SVD;
+    cov_options.null_space_rank = -1;
+    ceres::Covariance covariance(cov_options);
+    std::vector<double> cov(x.size() * x.size(), std::numeric_limits<double>::quiet_NaN());
+    const std::vector<std::pair<const double*, const double*>> blocks{{x.data(), x.data()}};
+    if (!covariance.Compute(blocks, plain.get()) || !covariance.GetCovarianceBlock(x.data(), x.data(), cov.data()))
+        return std::nullopt;
+    return cov;
 }
 
 }  // namespace pp5::fit_detail

@@ -12,6 +12,7 @@
 
 #include <atomic>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,9 @@ public:
     std::unique_ptr<ceres::Problem> problem(std::vector<double>& x, bool robust) const;
     // Solves from `x` (updated in place).
     ceres::Solver::Summary solve(std::vector<double>& x, int max_iterations) const;
+    // Ceres' covariance of the log scales at the solution `x`, from the plain problem; none when the
+    // Jacobian is rank-deficient.
+    std::optional<std::vector<double>> log_covariance(std::vector<double>& x) const;
 
     const std::vector<const Target*>& targets() const { return targets_; }
     const std::vector<int>& free() const { return free_; }

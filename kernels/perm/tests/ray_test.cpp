@@ -153,16 +153,38 @@ Result render_once(const Scenario& s, const std::vector<std::string>& overrides)
             run->frame_stats(*frame, timing, {"f.png"})};
 }
 
+// The PSNR of the scenario's first frame at each of `settings` (--set overrides) against the reference
+// renderer's, with the volume loaded and the reference rendered once for all of them.
+std::vector<double> psnr_at(const Scenario& s, const std::vector<std::vector<std::string>>& settings) {
+    const Volume volume = load_dataset(s);
+    const MachineConfig host_config = load_run_config("pxpl5", {});
+    Machine host(host_config);
+    const Image reference = find_kernel("reference")
+                                ->start(host, host_config, s, volume)
+                                ->record_frame(s.frames.front())
+                                ->pass_images.back();
+    std::vector<double> psnr;
+    for (const std::vector<std::string>& overrides : settings) {
+        const MachineConfig config = load_run_config("pxpl5", overrides);
+        Machine machine(config);
+        auto run = kernel_for(s).start(machine, config, s, volume);
+        psnr.push_back(compare_images(run->record_frame(s.frames.front())->pass_images.back(), reference).psnr_db);
+    }
+    return psnr;
+}
+
+// --set overrides for D density and G gradient positions, on renderers with the backing store to hold them.
+std::vector<std::string> positions(int d, int g) {
+    // N_qc = 10 takes 5,000 bytes a cell: a machine with 16 times the backing store holds it.
+    return {"perm.density_positions=" + std::to_string(d), "perm.gradient_positions=" + std::to_string(g),
+            "renderer.backing_store_bits=65536"};
+}
+
 TEST(PermQuality, FallsWithTheQuantizationAndPrefersDensityOverGradient) {
     const Scenario s = phantom_scenario("quality", 48, 128);
-    const auto psnr = [&](int d, int g) {
-        // N_qc = 10 takes 5,000 bytes a cell: a machine with 16 times the backing store holds it.
-        const Result r =
-            render_once(s, {"perm.density_positions=" + std::to_string(d),
-                            "perm.gradient_positions=" + std::to_string(g), "renderer.backing_store_bits=65536"});
-        return compare_images(r.image, r.reference).psnr_db;
-    };
-    const double p10 = psnr(10, 10), p5 = psnr(5, 5), p3 = psnr(3, 3), p53 = psnr(5, 3), p35 = psnr(3, 5);
+    const std::vector<double> p =
+        psnr_at(s, {positions(10, 10), positions(5, 5), positions(3, 3), positions(5, 3), positions(3, 5)});
+    const double p10 = p[0], p5 = p[1], p3 = p[2], p53 = p[3], p35 = p[4];
     EXPECT_GT(p10, p5);
     EXPECT_GT(p5, p3);
     RecordProperty("psnr_5_3_vs_3_5", std::to_string(p53) + " " + std::to_string(p35));
@@ -208,13 +230,8 @@ TEST(PermQuality, DensityPositionsBuyMoreThanGradientPositionsOnTheRealHeads) {
                                "\"interpolate-then-shade\"\n";
         const Scenario s = load_scenario(path);
         std::filesystem::remove(path);
-        const auto psnr = [&](int d, int g) {
-            const Result r =
-                render_once(s, {"perm.density_positions=" + std::to_string(d),
-                                "perm.gradient_positions=" + std::to_string(g), "renderer.backing_store_bits=65536"});
-            return compare_images(r.image, r.reference).psnr_db;
-        };
-        const double p53 = psnr(5, 3), p35 = psnr(3, 5);
+        const std::vector<double> p = psnr_at(s, {positions(5, 3), positions(3, 5)});
+        const double p53 = p[0], p35 = p[1];
         RecordProperty(std::string("psnr_5_3_vs_3_5_") + head.dataset, std::to_string(p53) + " " + std::to_string(p35));
         EXPECT_GT(p53, p35 + 0.3) << head.dataset;
     }
