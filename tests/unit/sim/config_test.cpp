@@ -66,6 +66,21 @@ TEST(MachineConfig, OverridesAreTypedAndRecorded) {
     EXPECT_EQ(config.to_json()["parameters"]["gp.count"]["origin"], "--set");
 }
 
+// What re-timing checks before it re-times recorded work: only the values that differ, in key order.
+TEST(MachineConfig, NamesTheKeysWhoseValuesDiffer) {
+    const MachineConfig base = Machine::default_config();
+    MachineConfig other = base;
+    EXPECT_TRUE(other.keys_differing_from(base).empty());
+    other.apply_override("ring.clock_mhz=7");
+    other.apply_override("gp.count=64");
+    other.apply_override("gp.count=32");  // back to the base's value: not a difference
+    other.apply_override("renderer.backing_store_bits=8192");
+    EXPECT_EQ(other.keys_differing_from(base),
+              (std::vector<std::string>{"renderer.backing_store_bits", "ring.clock_mhz"}));
+    EXPECT_EQ(base.keys_differing_from(other), other.keys_differing_from(base));
+    EXPECT_EQ(std::get<std::int64_t>(other.value("renderer.backing_store_bits")), 8192);
+}
+
 TEST(MachineConfig, BadOverridesNameTheKeyAndReason) {
     MachineConfig config = Machine::default_config();
     std::string why = expect_input_error([&] { config.apply_override("gp.cuont=3"); }, "--set", "gp.cuont");
