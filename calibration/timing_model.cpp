@@ -8,7 +8,6 @@
 #include "sim/timing/one_processor.h"
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <stdexcept>
@@ -68,11 +67,6 @@ std::vector<FrameTiming> RecordedScenario::time_on(const MachineConfig& machine,
 
 void check_only_timing_differs(const MachineConfig& recorded, const MachineConfig& timing, const std::string& remedy) {
     // Called before every re-timing (a fit makes thousands): only the values that differ are looked at.
-    const auto as_json = [](const ParamValue& value) {
-        nlohmann::json j;
-        std::visit([&](const auto& v) { j = v; }, value);
-        return j.dump();
-    };
     for (const std::string& key : timing.keys_differing_from(recorded))
         if (!is_timing_parameter(key))
             throw InputError(
@@ -80,7 +74,7 @@ void check_only_timing_differs(const MachineConfig& recorded, const MachineConfi
                 fmt::format(
                     "is {} but the work was recorded with {}: it changes what the kernels compute, not only how "
                     "long it takes; {}",
-                    as_json(timing.value(key)), as_json(recorded.value(key)), remedy));
+                    format_param_value(timing.value(key)), format_param_value(recorded.value(key)), remedy));
 }
 
 std::vector<FrameTiming> time_recorded_work(const MachineConfig& machine, const std::vector<const FrameWork*>& work) {
