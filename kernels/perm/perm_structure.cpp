@@ -204,6 +204,16 @@ std::vector<std::vector<glm::ivec3>> find_candidates(const Volume& volume, const
     return per_slice;
 }
 
+// std::lround as the records use it, without the call into libm. For the values they quantize (0 to
+// 65535) x minus its whole part is exact, so comparing it with one half rounds halves away from zero as
+// lround does. NaN (a volume spanning float's whole range) gives 0: lround's LONG_MIN narrowed to a
+// record's width.
+long nearest_integer(float x) {
+    if (!(x >= 0.0f)) return 0;
+    const auto whole = static_cast<long>(x);
+    return whole + (x - static_cast<float>(whole) >= 0.5f ? 1 : 0);
+}
+
 // A quantized position's offset within its cell, for position i of a table's N^3.
 glm::vec3 position_offset(const PositionTable& t, std::size_t i) {
     const int n = t.positions();
@@ -301,6 +311,14 @@ void PermStructure::number_candidates(const Volume& volume, const std::vector<st
 void PermStructure::fill_records(const Volume& volume, const GradientField& gradients) {
     const std::size_t n = cell_origin_.size();
     const std::size_t dn = cube(memory_.density_positions), gn = cube(memory_.gradient_positions);
+    // Every record places its positions alike: their offsets within the cell, once for all.
+    const auto offsets = [](const PositionTable& table, std::size_t count) {
+        std::vector<glm::vec3> at(count);
+        for (std::size_t i = 0; i < count; ++i) at[i] = position_offset(table, i);
+        return at;
+    };
+    const std::vector<glm::vec3> density_offsets = offsets(density_table_, dn),
+                                 gradient_offsets = offsets(gradient_table_, gn);
     density_.resize(n * dn);
     gradient_.resize(n * gn * 3);
     signs_.resize(n * gn);
@@ -314,17 +332,18 @@ void PermStructure::fill_records(const Volume& volume, const GradientField& grad
             grads[c] = gradients.at(volume.index(cx, cy, cz));
         }
         for (std::size_t i = 0; i < dn; ++i) {
-            const float v = in_cell(values, position_offset(density_table_, i));
+            const float v = in_cell(values, density_offsets[i]);
             density_[m * dn + i] = static_cast<std::uint16_t>(
-                std::lround(std::clamp((v - value_min_) / value_range_, 0.0f, 1.0f) * density_steps_));
+                nearest_integer(std::clamp((v - value_min_) / value_range_, 0.0f, 1.0f) * density_steps_));
         }
         for (std::size_t i = 0; i < gn; ++i) {
-            const glm::vec3 g = in_cell(grads, position_offset(gradient_table_, i));
+            const glm::vec3 g = in_cell(grads, gradient_offsets[i]);
             std::uint8_t sign = 0;
             for (int a = 0; a < 3; ++a) {
                 const float top = gradient_max_[a];
                 gradient_[(m * gn + i) * 3 + static_cast<std::size_t>(a)] =
-                    top > 0 ? static_cast<std::uint8_t>(std::lround(std::min(std::abs(g[a]) / top, 1.0f) * 255.0f)) : 0;
+                    top > 0 ? static_cast<std::uint8_t>(nearest_integer(std::min(std::abs(g[a]) / top, 1.0f) * 255.0f))
+                            : 0;
                 if (g[a] < 0) sign = static_cast<std::uint8_t>(sign | (1u << (2 * a)));
             }
             signs_[m * gn + i] = sign;
