@@ -319,9 +319,9 @@ void PermStructure::fill_records(const Volume& volume, const GradientField& grad
     };
     const std::vector<glm::vec3> density_offsets = offsets(density_table_, dn),
                                  gradient_offsets = offsets(gradient_table_, gn);
-    density_.resize(n * dn);
-    gradient_.resize(n * gn * 3);
-    signs_.resize(n * gn);
+    density_ = std::make_unique_for_overwrite<std::uint16_t[]>(n * dn);
+    gradient_ = std::make_unique_for_overwrite<std::uint8_t[]>(n * gn * 3);
+    signs_ = std::make_unique_for_overwrite<std::uint8_t[]>(n * gn);
     pp5::parallel_for(std::size_t{0}, n, [&](std::size_t m) {
         const glm::ivec3 o = cell_origin_[m];
         float values[8];

@@ -13,13 +13,13 @@
 #include "kernels/perm/perm_settings.h"
 #include "scene/render/classification.h"
 #include "scene/volume/volume.h"
-#include "sim/core/uninitialized_vector.h"
 
 #include <glm/vec3.hpp>
 
 #include <algorithm>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <vector>
 
 namespace pp5 {
@@ -131,10 +131,11 @@ private:
     PositionTable gradient_table_{5, 1000, QuantizedPositions::Centers};
     std::vector<std::int32_t> index_;      // per voxel (the cell it is the origin of)
     std::vector<glm::ivec3> cell_origin_;  // per candidate
-    // Filled whole by fill_records' threads, so not zeroed before.
-    UninitializedVector<std::uint16_t> density_;  // per candidate, D^3 values quantized over the value range
-    UninitializedVector<std::uint8_t> gradient_;  // per candidate, G^3 x 3 magnitudes
-    UninitializedVector<std::uint8_t> signs_;     // per candidate, G^3 sign bytes
+    // Written whole by fill_records' threads, so allocated without zeroing (a serial pass over memory
+    // touched for the first time, before the threads write it again).
+    std::unique_ptr<std::uint16_t[]> density_;  // per candidate, D^3 values quantized over the value range
+    std::unique_ptr<std::uint8_t[]> gradient_;  // per candidate, G^3 x 3 magnitudes
+    std::unique_ptr<std::uint8_t[]> signs_;     // per candidate, G^3 sign bytes
     Sample decode(std::uint32_t candidate, std::size_t density_index, std::size_t gradient_index) const;
 
     float value_min_ = 0, value_range_ = 1;
