@@ -25,10 +25,13 @@ HybridSplatter::HybridSplatter(const YuanSettings& settings, const RegionMachine
       kernel_(settings.kernel_sigma, settings.kernel_radius),
       corrected_(kernel_, settings.footprint_table_bits, settings.accumulator_bits,
                  glm::radians(settings.footprint_alpha_step_degrees), true),
-      plain_(kernel_, settings.footprint_table_bits, settings.accumulator_bits, 1.0, false) {}
+      plain_(kernel_, settings.footprint_table_bits, settings.accumulator_bits, 1.0, false),
+      buffers_(std::make_unique<splatting::FrameBuffers>()) {}
+
+HybridSplatter::~HybridSplatter() = default;
 
 SplatFrame HybridSplatter::render(const ShadedCodes& voxels, const Camera& camera, int width, int height,
-                                  glm::vec3 background) const {
+                                  glm::vec3 background) {
     using namespace splatting;
     const ScreenProjection projection(camera, width, height);
     const double h = std::min({spacing_.x, spacing_.y, spacing_.z});
@@ -53,10 +56,12 @@ SplatFrame HybridSplatter::render(const ShadedCodes& voxels, const Camera& camer
     SplatCounts& counts = frame.counts;
 
     std::vector<std::vector<std::uint32_t>> brick_parts;
-    std::vector<Item> items = take_voxels(f, voxels, brick_parts);
+    take_voxels(f, voxels, brick_parts, *buffers_);
+    std::vector<Item>& items = buffers_->items;
     counts.voxels = items.size();
     order_by_band(f, items);
-    const std::vector<ScreenPrimitive> primitives = make_primitives(f, voxels, items);
+    const std::vector<ScreenPrimitive>& primitives = buffers_->primitives;
+    make_primitives(f, voxels, items, buffers_->primitives);
     RegionLists lists = bin_by_region(f, items, primitives, counts);
     const std::map<int, const PpTable*> rows = footprint_rows(f, items, primitives);
 

@@ -32,6 +32,10 @@
 
 namespace pp5 {
 
+namespace splatting {
+struct FrameBuffers;
+}
+
 // What a frame did, counted as it was done.
 struct SplatCounts {
     std::uint64_t voxels = 0;  // non-transparent voxels taken by the GPs
@@ -67,9 +71,10 @@ struct SplatFrame {
 class HybridSplatter {
 public:
     HybridSplatter(const YuanSettings& settings, const RegionMachine& machine, glm::ivec3 dims, glm::vec3 spacing);
-    // Splats the shaded voxels (colours not premultiplied; opacity per voxel step) for one camera.
-    SplatFrame render(const ShadedCodes& voxels, const Camera& camera, int width, int height,
-                      glm::vec3 background) const;
+    ~HybridSplatter();
+    // Splats the shaded voxels (colours not premultiplied; opacity per voxel step) for one camera. One
+    // frame at a time: the per-voxel arrays are kept for the next frame.
+    SplatFrame render(const ShadedCodes& voxels, const Camera& camera, int width, int height, glm::vec3 background);
 
     const RegionPrograms& programs() const { return programs_; }
     // The footprint rows: corrected for the cone angle (perspective, Yuan's index), or plain.
@@ -86,6 +91,7 @@ private:
     GaussianFootprint kernel_;
     FootprintTables corrected_;
     FootprintTables plain_;
+    std::unique_ptr<splatting::FrameBuffers> buffers_;
 };
 
 }  // namespace pp5

@@ -18,12 +18,13 @@ bool key_less(const Item& a, const Item& b) {
 }
 
 // Bricks in parallel, each into its own list, then joined in brick order.
-std::vector<Item> take_voxels(const FrameSetup& f, const ShadedCodes& voxels,
-                              std::vector<std::vector<std::uint32_t>>& brick_parts) {
+void take_voxels(const FrameSetup& f, const ShadedCodes& voxels, std::vector<std::vector<std::uint32_t>>& brick_parts,
+                 FrameBuffers& buffers) {
     const int edge = f.settings.brick_voxels;
     const auto bx = static_cast<std::size_t>(f.bricks.x), by = static_cast<std::size_t>(f.bricks.y);
     const std::size_t brick_count = bx * by * static_cast<std::size_t>(f.bricks.z);
-    std::vector<std::vector<Item>> per_brick(brick_count);
+    std::vector<std::vector<Item>>& per_brick = buffers.per_brick;
+    per_brick.resize(brick_count);
     brick_parts.assign(brick_count, {});
     const auto kind_at = [&](const Item& item) {
         const double spacing_pixels = f.h * f.projection.pixels_per_unit(item.eye.z);
@@ -37,6 +38,7 @@ std::vector<Item> take_voxels(const FrameSetup& f, const ShadedCodes& voxels,
         const glm::ivec3 lo = bc * edge;
         const glm::ivec3 hi = glm::min(lo + edge, f.dims);
         std::vector<std::uint32_t>& parts = brick_parts[b];
+        per_brick[b].clear();
         parts.assign(static_cast<std::size_t>(f.machine.renderers), 0);
         for (int z = lo.z; z < hi.z; ++z)
             for (int y = lo.y; y < hi.y; ++y)
@@ -56,9 +58,9 @@ std::vector<Item> take_voxels(const FrameSetup& f, const ShadedCodes& voxels,
                     ++parts[static_cast<std::size_t>(f.machine.renderer_of_voxel({x, y, z}))];
                 }
     });
-    std::vector<Item> items;
-    for (auto& v : per_brick) items.insert(items.end(), v.begin(), v.end());
-    return items;
+    std::vector<Item>& items = buffers.items;
+    items.clear();
+    for (const auto& v : per_brick) items.insert(items.end(), v.begin(), v.end());
 }
 
 // Bands are centred on the nearest voxel's depth, so that a layer of voxels at one depth (a slab face
@@ -72,13 +74,16 @@ void order_by_band(const FrameSetup& f, std::vector<Item>& items) {
     pp5::parallel_sort(items.begin(), items.end(), key_less);
 }
 
-// In parallel: each primitive comes from its own voxel only.
-std::vector<ScreenPrimitive> make_primitives(const FrameSetup& f, const ShadedCodes& voxels, std::vector<Item>& items) {
+// In parallel: each primitive comes from its own voxel only, and every one is written, so a buffer kept
+// from the last frame needs no clearing.
+void make_primitives(const FrameSetup& f, const ShadedCodes& voxels, std::vector<Item>& items,
+                     std::vector<ScreenPrimitive>& primitives) {
     const double point_radius = f.settings.point_radius_pixels();
-    std::vector<ScreenPrimitive> primitives(items.size());
+    primitives.resize(items.size());
     pp5::parallel_for(std::size_t{0}, items.size(), [&](std::size_t k) {
         Item& item = items[k];
         ScreenPrimitive& p = primitives[k];
+        p = ScreenPrimitive{};
         const glm::vec4 rgba = voxels.value(item.voxel);
         if (item.kind == Kind::Splat) {
             std::optional<ScreenPrimitive> splat = splat_primitive(f.projection, item.eye, f.kernel_world, rgba,
@@ -90,7 +95,6 @@ std::vector<ScreenPrimitive> make_primitives(const FrameSetup& f, const ShadedCo
                                 point_radius, f.format, f.width, f.height);
         }
     });
-    return primitives;
 }
 
 RegionLists bin_by_region(const FrameSetup& f, const std::vector<Item>& items,

@@ -77,14 +77,24 @@ struct FrameSetup {
     }
 };
 
-// 1. The non-transparent voxels of each brick, transformed and split (bricks in parallel, then in
-// order); `brick_parts` gets, per brick and renderer, the voxels that renderer streams.
-std::vector<Item> take_voxels(const FrameSetup& f, const ShadedCodes& voxels,
-                              std::vector<std::vector<std::uint32_t>>& brick_parts);
+// The per-voxel arrays of a frame, kept by the splatter for the next one: a frame of the MR head holds
+// a million items and 250 MB of primitives, and memory allocated afresh each frame is memory the host
+// must fault in again.
+struct FrameBuffers {
+    std::vector<std::vector<Item>> per_brick;
+    std::vector<Item> items;
+    std::vector<ScreenPrimitive> primitives;
+};
+
+// 1. The non-transparent voxels of each brick into `buffers.items`, transformed and split (bricks in
+// parallel, then in order); `brick_parts` gets, per brick and renderer, the voxels that renderer streams.
+void take_voxels(const FrameSetup& f, const ShadedCodes& voxels, std::vector<std::vector<std::uint32_t>>& brick_parts,
+                 FrameBuffers& buffers);
 // 2. Bands by depth, then the renderers' order (key_less).
 void order_by_band(const FrameSetup& f, std::vector<Item>& items);
-// 3. Each voxel's primitive; a splat whose kernel reaches the eye's plane is culled.
-std::vector<ScreenPrimitive> make_primitives(const FrameSetup& f, const ShadedCodes& voxels, std::vector<Item>& items);
+// 3. Each item's primitive into `primitives`; a splat whose kernel reaches the eye's plane is culled.
+void make_primitives(const FrameSetup& f, const ShadedCodes& voxels, std::vector<Item>& items,
+                     std::vector<ScreenPrimitive>& primitives);
 // 4. Each region's primitives in the renderers' order, with the counts of what was drawn, culled or
 // fell outside the picture.
 RegionLists bin_by_region(const FrameSetup& f, const std::vector<Item>& items,
