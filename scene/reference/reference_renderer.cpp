@@ -105,14 +105,16 @@ void ReferenceRenderer::ensure_opacities(RenderStats& stats) {
     if (opacities_) return;
     const Stopwatch watch;
     opacities_ = classify_voxels(volume_, *gradients_, classification_);
-    capped_gradients_.reset();
-    capped_bricks_.reset();
-    if (region_) {
-        scale_by_region(*opacities_, volume_.dims(), *region_);
-        if (region_->cap) {
-            capped_gradients_ = cap_gradients(volume_, *gradients_, *region_);
-            capped_bricks_.emplace(volume_, *capped_gradients_);
-        }
+    if (region_) scale_by_region(*opacities_, volume_.dims(), *region_);
+    if (region_ && region_->cap) {
+        // A region moved frame after frame caps again in the arrays of the last frame.
+        if (!capped_gradients_) capped_gradients_.emplace();
+        cap_gradients(volume_, *gradients_, *region_, *capped_gradients_);
+        if (capped_bricks_) capped_bricks_->refill(volume_, *capped_gradients_);
+        else capped_bricks_.emplace(volume_, *capped_gradients_);
+    } else {
+        capped_gradients_.reset();
+        capped_bricks_.reset();
     }
     if (mattes_) {
         // Voxels only a polygon fills are not empty space.
@@ -125,8 +127,9 @@ void ReferenceRenderer::ensure_opacities(RenderStats& stats) {
     brick_opacities_ = bricks_->gather(*opacities_);
     // Fresh zeros: outside occupied blocks nothing is ever shaded, and zero opacity is right there.
     on_demand_.reset();
-    shaded_ = ShadedVolume{volume_.dims(), volume_.spacing(), {}};
-    shaded_.rgba.assign(volume_.voxel_count(), glm::vec4(0.0f));
+    shaded_.dims = volume_.dims();
+    shaded_.spacing = volume_.spacing();
+    shaded_.rgba.assign(volume_.voxel_count(), glm::vec4(0.0f));  // in the last classification's storage
     on_demand_ = std::make_unique<OnDemandShading>(shaded_, *occupancy_);
     shaded_view_.reset();
     stats.opacities_computed = true;

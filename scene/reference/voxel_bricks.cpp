@@ -23,6 +23,12 @@ VoxelBricks::VoxelBricks(const Volume& volume, const GradientField& gradients) :
                                             static_cast<std::size_t>(size.z);
     }
     data_.resize(offsets_.back());
+    refill(volume, gradients);
+}
+
+void VoxelBricks::refill(const Volume& volume, const GradientField& gradients) {
+    if (volume.dims() != volume_dims_ || gradients.dims != volume_dims_)
+        throw std::invalid_argument("VoxelBricks::refill: another volume's voxels");
     const std::span<const float> values = volume.samples();
     for_each_voxel([&](std::size_t out, std::size_t i) { data_[out] = glm::vec4(gradients.at(i), values[i]); });
 }

@@ -20,6 +20,8 @@ namespace pp5 {
 class VoxelBricks {
 public:
     VoxelBricks(const Volume& volume, const GradientField& gradients);
+    // The same volume's voxels with other gradients (a capping region moved), in the storage they had.
+    void refill(const Volume& volume, const GradientField& gradients);
 
     // (gradient x, y, z, value) of the block's voxels from OccupancyGrid::first_voxel to last_voxel.
     std::span<const glm::vec4> brick(std::size_t block_index) const {

@@ -43,8 +43,10 @@ void scale_by_region(std::vector<float>& opacity, glm::ivec3 dims, const RegionO
     });
 }
 
-GradientField cap_gradients(const Volume& volume, const GradientField& gradients, const RegionOfInterest& region) {
-    GradientField capped = gradients;
+void cap_gradients(const Volume& volume, const GradientField& gradients, const RegionOfInterest& region,
+                   GradientField& capped) {
+    capped.dims = gradients.dims;
+    capped.gradients.resize(gradients.gradients.size());  // every voxel is written below
     const std::span<const float> values = volume.samples();
     const float air = values.empty() ? 0.0f : *std::min_element(values.begin(), values.end());
     const glm::ivec3 dims = volume.dims();
@@ -56,7 +58,6 @@ GradientField cap_gradients(const Volume& volume, const GradientField& gradients
                     capped.gradients[i] = region.capped_gradient(glm::vec3(x, y, z), values[i], gradients.at(i), air);
                 }
     });
-    return capped;
 }
 
 }  // namespace pp5

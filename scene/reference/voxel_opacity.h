@@ -20,7 +20,9 @@ std::vector<float> classify_voxels(const Volume& volume, const GradientField& gr
 void scale_by_region(std::vector<float>& opacity, glm::ivec3 dims, const RegionOfInterest& region);
 
 // The gradients a capping region has the voxels shaded with (RegionOfInterest::capped_gradient), air
-// being the volume's lowest value.
-GradientField cap_gradients(const Volume& volume, const GradientField& gradients, const RegionOfInterest& region);
+// being the volume's lowest value, written into `capped` (whose storage a region moved frame after
+// frame reuses).
+void cap_gradients(const Volume& volume, const GradientField& gradients, const RegionOfInterest& region,
+                   GradientField& capped);
 
 }  // namespace pp5

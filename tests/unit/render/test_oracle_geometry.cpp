@@ -5,12 +5,15 @@
 
 #include "scene/reference/polygon_matte.h"
 #include "scene/reference/reference_renderer.h"
+#include "scene/reference/voxel_bricks.h"
 #include "scene/reference/voxel_opacity.h"
 #include "test_scenes.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <numeric>
+#include <stdexcept>
 
 namespace pp5 {
 namespace {
@@ -53,6 +56,36 @@ TEST(OracleRegion, CappingShadesTheTransitionZoneAsIfTheRegionHeldAir) {
               glm::vec3(1.0f, 2.0f, 3.0f));
     region.cap = false;
     EXPECT_EQ(region.capped_gradient(glm::vec3(14.0f, 10.0f, 10.0f), 100.0f, glm::vec3(0.0f), 0.0f), glm::vec3(0.0f));
+}
+
+// A region moved from frame to frame caps again in the arrays of the frame before: what that gives is
+// what capping into fresh arrays gives, for the gradients and for the bricks the shading reads.
+TEST(OracleRegion, CappingAgainInTheLastFramesArraysGivesWhatFreshArraysGive) {
+    const Volume volume = test::lumpy_volume(glm::ivec3(21));
+    const GradientField gradients = compute_gradients(volume);
+    RegionOfInterest first = cut_box(), moved = cut_box();
+    first.cap = moved.cap = true;
+    moved.center = glm::vec3(8.0f, 12.0f, 9.0f);
+
+    GradientField reused;
+    cap_gradients(volume, gradients, first, reused);
+    VoxelBricks reused_bricks(volume, reused);
+    cap_gradients(volume, gradients, moved, reused);
+    reused_bricks.refill(volume, reused);
+
+    GradientField fresh;
+    cap_gradients(volume, gradients, moved, fresh);
+    const VoxelBricks fresh_bricks(volume, fresh);
+    GradientField before_the_move;
+    cap_gradients(volume, gradients, first, before_the_move);
+    ASSERT_NE(fresh.gradients, before_the_move.gradients);  // the move changed what capping gives
+    EXPECT_EQ(reused.gradients, fresh.gradients);
+    const std::size_t blocks = OccupancyGrid(volume.dims()).block_count();
+    for (std::size_t b = 0; b < blocks; ++b) {
+        const auto a = reused_bricks.brick(b), f = fresh_bricks.brick(b);
+        ASSERT_TRUE(std::equal(a.begin(), a.end(), f.begin(), f.end())) << "block " << b;
+    }
+    EXPECT_THROW(reused_bricks.refill(test::lumpy_volume(glm::ivec3(20)), gradients), std::invalid_argument);
 }
 
 PolygonSpec square(float z, float side, glm::vec3 color, float opacity) {
