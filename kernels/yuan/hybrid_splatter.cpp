@@ -60,8 +60,8 @@ SplatFrame HybridSplatter::render(const ShadedCodes& voxels, const Camera& camer
     std::vector<Item>& items = buffers_->items;
     counts.voxels = items.size();
     order_by_band(f, items);
-    const std::vector<ScreenPrimitive>& primitives = buffers_->primitives;
     make_primitives(f, voxels, items, buffers_->primitives);
+    const std::vector<ScreenPrimitive>& primitives = buffers_->primitives;
     RegionLists lists = bin_by_region(f, items, primitives, counts);
     const std::map<int, const PpTable*> rows = footprint_rows(f, items, primitives);
 
