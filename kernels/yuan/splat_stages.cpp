@@ -74,8 +74,8 @@ void order_by_band(const FrameSetup& f, std::vector<Item>& items) {
     pp5::parallel_sort(items.begin(), items.end(), key_less);
 }
 
-// In parallel: each primitive comes from its own voxel only, and every one is written, so a buffer kept
-// from the last frame needs no clearing.
+// In parallel: each primitive comes from its own voxel only, and every one is written once (a culled one
+// as an empty primitive), so a buffer kept from the last frame needs no clearing.
 void make_primitives(const FrameSetup& f, const ShadedCodes& voxels, std::vector<Item>& items,
                      std::vector<ScreenPrimitive>& primitives) {
     const double point_radius = f.settings.point_radius_pixels();
@@ -83,16 +83,17 @@ void make_primitives(const FrameSetup& f, const ShadedCodes& voxels, std::vector
     pp5::parallel_for(std::size_t{0}, items.size(), [&](std::size_t k) {
         Item& item = items[k];
         ScreenPrimitive& p = primitives[k];
-        p = ScreenPrimitive{};
         const glm::vec4 rgba = voxels.value(item.voxel);
         if (item.kind == Kind::Splat) {
             std::optional<ScreenPrimitive> splat = splat_primitive(f.projection, item.eye, f.kernel_world, rgba,
                                                                    f.tables, f.exact, f.format, f.width, f.height);
-            if (splat) p = *splat;
-            else item.kind = Kind::Culled;
+            if (!splat) item.kind = Kind::Culled;
+            p = splat.value_or(ScreenPrimitive{});
         } else if (item.kind == Kind::Point) {
             p = point_primitive(f.projection, item.eye, f.h * f.projection.pixels_per_unit(item.eye.z), rgba,
                                 point_radius, f.format, f.width, f.height);
+        } else {
+            p = ScreenPrimitive{};
         }
     });
 }
