@@ -48,7 +48,7 @@ void cap_gradients(const Volume& volume, const GradientField& gradients, const R
     capped.dims = gradients.dims;
     capped.gradients.resize(gradients.gradients.size());  // every voxel is written below
     const std::span<const float> values = volume.samples();
-    const float air = values.empty() ? 0.0f : *std::min_element(values.begin(), values.end());
+    const float air = volume.min_value();  // found once when the volume was made, not on each cap
     const glm::ivec3 dims = volume.dims();
     pp5::parallel_for(tbb::blocked_range<int>(0, dims.z), [&](const tbb::blocked_range<int>& slices) {
         for (int z = slices.begin(); z < slices.end(); ++z)
