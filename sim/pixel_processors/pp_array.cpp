@@ -12,38 +12,64 @@
 #include <limits>
 #include <new>
 #include <stdexcept>
+#include <type_traits>
 
 namespace pp5 {
 
 namespace {
 
+// Lane types. A program whose every field has at most 31 bits runs in 32-bit lanes (twice as many PPs
+// per vector instruction, half the memory); any other in 64-bit lanes. Each lane holds its field's
+// value exactly, in two's complement, so both give the same integers: the narrow executor computes
+// in 32 bits only where the low 32 bits of a result are all that its wrap keeps (sums, differences,
+// unshifted products), and widens to 64 bits wherever higher bits matter (shifted products,
+// quotients, roots, the QEE).
+template <class Lane>
+using Unsigned = std::make_unsigned_t<Lane>;
+
+template <class Lane>
+constexpr int kLaneBits = static_cast<int>(sizeof(Lane) * 8);
+
+// Whether every field of the program fits a 32-bit lane as a value (a 32-bit unsigned field would
+// not).
+bool fits_narrow_lanes(const PpProgram& program) {
+    return std::all_of(program.fields.begin(), program.fields.end(), [](const PpField& f) { return f.bits <= 31; });
+}
+
+// The lane holding v modulo 2^lane bits.
+template <class Lane>
+Lane to_lane(std::int64_t v) {
+    return static_cast<Lane>(static_cast<Unsigned<Lane>>(static_cast<std::uint64_t>(v)));
+}
+
+// Whether an immediate is a value of the lane type (then comparisons and minima can stay narrow).
+template <class Lane>
+bool lane_holds(std::int64_t v) {
+    return v >= std::numeric_limits<Lane>::min() && v <= std::numeric_limits<Lane>::max();
+}
+
 // What bit-serial hardware leaves in a field of `bits` bits: the value modulo 2^bits, read as two's
 // complement when the field is signed. ((v & mask) ^ sign) - sign sign-extends with operations every
-// x86-64 vector unit has for 64-bit lanes (no arithmetic shift needed); sign = 0 for unsigned.
+// x86-64 vector unit has (no arithmetic shift needed); sign = 0 for unsigned. A field never has more
+// bits than its lane, so the wrap needs only the lane's bits of a value.
+template <class Lane>
 struct Wrap {
-    std::uint64_t mask;
-    std::uint64_t sign;
+    Unsigned<Lane> mask;
+    Unsigned<Lane> sign;
 
     explicit Wrap(const PpField& f)
-        : mask(f.bits >= 64 ? ~0ull : (1ull << f.bits) - 1), sign(f.is_signed ? 1ull << (f.bits - 1) : 0) {}
-    std::int64_t operator()(std::int64_t v) const {
-        return static_cast<std::int64_t>(((static_cast<std::uint64_t>(v) & mask) ^ sign) - sign);
-    }
+        : mask(static_cast<Unsigned<Lane>>(f.bits >= 64 ? ~0ull : (1ull << f.bits) - 1)),
+          sign(static_cast<Unsigned<Lane>>(f.is_signed ? 1ull << (f.bits - 1) : 0)) {}
+    Lane operator()(Lane v) const { return static_cast<Lane>(((static_cast<Unsigned<Lane>>(v) & mask) ^ sign) - sign); }
 };
 
 // For values known to fit their field already.
 struct NoWrap {
-    std::int64_t operator()(std::int64_t v) const { return v; }
+    template <class Lane>
+    Lane operator()(Lane v) const {
+        return v;
+    }
 };
-
-// floor(a / b) for a >= 0, b > 0: a double estimate, corrected (exact for the fields' widths).
-std::int64_t exact_quotient(std::int64_t a, std::int64_t b) {
-    if (a >= (std::int64_t{1} << 52)) return a / b;
-    auto q = static_cast<std::int64_t>(static_cast<double>(a) / static_cast<double>(b));
-    if (q * b > a) --q;
-    else if ((q + 1) * b <= a) ++q;
-    return q;
-}
 
 // pp_isqrt without its loops, so that it vectorises: floor(sqrt(x)), 0 for x <= 0. The double estimate
 // is exact below 2^52 but for a value a hair under a perfect square, which one correction each way
@@ -57,66 +83,90 @@ std::int64_t isqrt_branch_free(std::int64_t x) {
     return static_cast<std::int64_t>(down + ((down + 1) * (down + 1) <= u ? 1 : 0));
 }
 
-// Arithmetic in uint64, where overflow is defined: a PP that is disabled may hold a stale value from
-// an earlier program, and its (discarded) result must not be undefined behaviour.
-std::int64_t add64(std::int64_t a, std::int64_t b) {
-    return static_cast<std::int64_t>(static_cast<std::uint64_t>(a) + static_cast<std::uint64_t>(b));
-}
-std::int64_t sub64(std::int64_t a, std::int64_t b) {
-    return static_cast<std::int64_t>(static_cast<std::uint64_t>(a) - static_cast<std::uint64_t>(b));
-}
-std::int64_t mul64(std::int64_t a, std::int64_t b) {
-    return static_cast<std::int64_t>(static_cast<std::uint64_t>(a) * static_cast<std::uint64_t>(b));
+// floor(a / b) for a >= 0, b > 0: a double estimate, corrected (exact for the fields' widths).
+std::int64_t exact_quotient(std::int64_t a, std::int64_t b) {
+    if (a >= (std::int64_t{1} << 52)) return a / b;
+    auto q = static_cast<std::int64_t>(static_cast<double>(a) / static_cast<double>(b));
+    if (q * b > a) --q;
+    else if ((q + 1) * b <= a) ++q;
+    return q;
 }
 
-// dst[p] = wrap(value(p)) on every enabled PP; a disabled PP keeps its value. Both loops are plain
+// Arithmetic in the unsigned type, where overflow is defined: a PP that is disabled may hold a stale
+// value from an earlier program, and its (discarded) result must not be undefined behaviour.
+template <class Lane>
+Lane add_lanes(Lane a, Lane b) {
+    return static_cast<Lane>(static_cast<Unsigned<Lane>>(a) + static_cast<Unsigned<Lane>>(b));
+}
+template <class Lane>
+Lane sub_lanes(Lane a, Lane b) {
+    return static_cast<Lane>(static_cast<Unsigned<Lane>>(a) - static_cast<Unsigned<Lane>>(b));
+}
+template <class Lane>
+Lane mul_lanes(Lane a, Lane b) {
+    return static_cast<Lane>(static_cast<Unsigned<Lane>>(a) * static_cast<Unsigned<Lane>>(b));
+}
+
+// dst[p] = wrap(value(p)) on every enabled PP; a disabled PP keeps its value. `value` may compute in
+// 64 bits for a 32-bit lane: the lane keeps the low bits, all the wrap looks at. Both loops are plain
 // loops over contiguous arrays that GCC vectorises.
-template <class WrapTo, class Value>
-[[gnu::always_inline]] inline void for_enabled(std::size_t n, const std::uint8_t* enabled, bool all, std::int64_t* dst,
+template <class Lane, class WrapTo, class Value>
+[[gnu::always_inline]] inline void for_enabled(std::size_t n, const std::uint8_t* enabled, bool all, Lane* dst,
                                                WrapTo wrap, Value&& value) {
+    const auto result = [&](std::size_t p) { return wrap(static_cast<Lane>(value(p))); };
     if (all) {
-        for (std::size_t p = 0; p < n; ++p) dst[p] = wrap(value(p));
+        for (std::size_t p = 0; p < n; ++p) dst[p] = result(p);
     } else {
         // A branch-free blend.
         for (std::size_t p = 0; p < n; ++p) {
-            const std::int64_t keep = static_cast<std::int64_t>(enabled[p]) - 1;  // 0 where enabled, all ones where not
-            dst[p] = (wrap(value(p)) & ~keep) | (dst[p] & keep);
+            const Lane keep = static_cast<Lane>(enabled[p]) - 1;  // 0 where enabled, all ones where not
+            dst[p] = (result(p) & ~keep) | (dst[p] & keep);
         }
     }
 }
 
 // enable[p] &= cmp(a[p], imm); returns how many PPs stay enabled.
-template <class Compare>
-[[gnu::always_inline]] inline std::uint64_t enable_where(std::size_t n, std::uint8_t* enabled, const std::int64_t* a,
-                                                         std::int64_t imm, Compare cmp) {
+template <class Lane, class Value, class Compare>
+[[gnu::always_inline]] inline std::uint64_t and_enable(std::size_t n, std::uint8_t* enabled, const Lane* a, Value imm,
+                                                       Compare cmp) {
     std::uint64_t count = 0;
     for (std::size_t p = 0; p < n; ++p) {
-        const auto e = static_cast<std::uint8_t>(enabled[p] & static_cast<std::uint8_t>(cmp(a[p], imm)));
+        const auto e =
+            static_cast<std::uint8_t>(enabled[p] & static_cast<std::uint8_t>(cmp(static_cast<Value>(a[p]), imm)));
         enabled[p] = e;
         count += e;
     }
     return count;
 }
 
-// Inlined into run(), so that it is compiled for each of run()'s target clones.
-[[gnu::always_inline]] inline std::uint64_t enable_where(std::size_t n, std::uint8_t* enabled, const std::int64_t* a,
-                                                         PpCompare c, std::int64_t imm) {
+template <class Lane, class Value>
+[[gnu::always_inline]] inline std::uint64_t enable_where_compared(std::size_t n, std::uint8_t* enabled, const Lane* a,
+                                                                  PpCompare c, Value imm) {
     switch (c) {
-        case PpCompare::Less: return enable_where(n, enabled, a, imm, std::less<>());
-        case PpCompare::LessEqual: return enable_where(n, enabled, a, imm, std::less_equal<>());
-        case PpCompare::Equal: return enable_where(n, enabled, a, imm, std::equal_to<>());
-        case PpCompare::NotEqual: return enable_where(n, enabled, a, imm, std::not_equal_to<>());
-        case PpCompare::GreaterEqual: return enable_where(n, enabled, a, imm, std::greater_equal<>());
-        case PpCompare::Greater: return enable_where(n, enabled, a, imm, std::greater<>());
+        case PpCompare::Less: return and_enable(n, enabled, a, imm, std::less<>());
+        case PpCompare::LessEqual: return and_enable(n, enabled, a, imm, std::less_equal<>());
+        case PpCompare::Equal: return and_enable(n, enabled, a, imm, std::equal_to<>());
+        case PpCompare::NotEqual: return and_enable(n, enabled, a, imm, std::not_equal_to<>());
+        case PpCompare::GreaterEqual: return and_enable(n, enabled, a, imm, std::greater_equal<>());
+        case PpCompare::Greater: return and_enable(n, enabled, a, imm, std::greater<>());
     }
     return 0;
 }
 
+// Inlined into run(), so that it is compiled for each of run()'s target clones. The comparison stays in
+// the lane's width when the immediate is one of its values, and widens otherwise.
+template <class Lane>
+[[gnu::always_inline]] inline std::uint64_t enable_where(std::size_t n, std::uint8_t* enabled, const Lane* a,
+                                                         PpCompare c, std::int64_t imm) {
+    if (lane_holds<Lane>(imm)) return enable_where_compared(n, enabled, a, c, static_cast<Lane>(imm));
+    return enable_where_compared(n, enabled, a, c, imm);
+}
+
 // dst[p] = table[a[p] & last] on enabled PPs. Kept out of run()'s AVX2 clone on purpose: there it
 // becomes a vector gather, slower than scalar loads on some x86-64 hosts (AMD Zen).
-template <class WrapTo>
-[[gnu::noinline]] void lookup_loop(std::size_t n, const std::uint8_t* enabled, bool all, std::int64_t* dst, WrapTo wrap,
-                                   const std::int64_t* a, const std::int64_t* table, std::uint64_t last) {
+template <class Lane, class WrapTo>
+[[gnu::noinline]] void lookup_loop(std::size_t n, const std::uint8_t* enabled, bool all, Lane* dst, WrapTo wrap,
+                                   const Lane* a, const std::int64_t* table, std::uint64_t last) {
     for_enabled(n, enabled, all, dst, wrap,
                 [&](std::size_t p) { return table[static_cast<std::uint64_t>(a[p]) & last]; });
 }
@@ -174,12 +224,35 @@ void PpArray::check_backing_range(int bit_offset, int bits) const {
     }
 }
 
-std::span<const std::int64_t> PpArray::field_values(const PpField& field) const {
-    if (field.storage < 0 || field.storage >= static_cast<int>(fields_.size())) {
-        throw std::out_of_range(
-            fmt::format("PpArray: no field with id {} (storage {}) in the last run", field.id, field.storage));
+std::vector<std::int64_t> PpArray::field_values(const PpField& field) const {
+    const auto values = [&](const auto& fields) {
+        if (field.storage < 0 || field.storage >= static_cast<int>(fields.size())) {
+            throw std::out_of_range(
+                fmt::format("PpArray: no field with id {} (storage {}) in the last run", field.id, field.storage));
+        }
+        const auto& slot = fields[static_cast<std::size_t>(field.storage)];
+        return std::vector<std::int64_t>(slot.begin(), slot.end());
+    };
+    return narrow_current_ ? values(narrow_fields_) : values(wide_fields_);
+}
+
+bool PpArray::choose_narrow_lanes(const PpProgram& program) {
+    const bool narrow = fits_narrow_lanes(program) &&
+                        (narrow_current_ || std::all_of(wide_fields_.begin(), wide_fields_.end(), [](const auto& slot) {
+                             return std::all_of(slot.begin(), slot.end(), lane_holds<std::int32_t>);
+                         }));
+    if (narrow != narrow_current_) {
+        // Exact either way: every value is one of the lanes chosen.
+        const auto move_values = [](const auto& from, auto& to) {
+            to.resize(from.size());
+            for (std::size_t slot = 0; slot < from.size(); ++slot)
+                to[slot].assign(from[slot].begin(), from[slot].end());
+        };
+        if (narrow) move_values(wide_fields_, narrow_fields_);
+        else move_values(narrow_fields_, wide_fields_);
+        narrow_current_ = narrow;
     }
-    return fields_[static_cast<std::size_t>(field.storage)];
+    return narrow;
 }
 
 // Compiled three times, for AVX-512 (x86-64-v4: eight 64-bit lanes, and 64-bit multiplies, shifts and
@@ -193,7 +266,7 @@ std::span<const std::int64_t> PpArray::field_values(const PpField& field) const 
 #else
 #define PP5_VECTOR_CLONES
 #endif
-template <bool Listed>
+template <class Lane, bool Listed>
 [[gnu::always_inline]] inline PpRunCounts PpArray::execute(const PpProgram& program, const PpSlotContext& context,
                                                            std::span<const int> listed) {
     // `total` PPs own backing store; `lanes` of them run (all, or the listed ones, whose fields are kept
@@ -201,8 +274,9 @@ template <bool Listed>
     const auto total = static_cast<std::size_t>(size());
     const std::size_t lanes = Listed ? listed.size() : total;
     const auto slots = static_cast<std::size_t>(program.storage_slots);
-    if (fields_.size() < slots) fields_.resize(slots);
-    for (std::size_t slot = 0; slot < slots; ++slot) fields_[slot].resize(total, 0);  // kept across runs
+    auto& fields = field_storage<Lane>();
+    if (fields.size() < slots) fields.resize(slots);
+    for (std::size_t slot = 0; slot < slots; ++slot) fields[slot].resize(total, 0);  // kept across runs
 
     const auto columns = static_cast<std::size_t>(columns_);
     std::uint64_t* const store = backing_.get();
@@ -237,7 +311,7 @@ template <bool Listed>
             }
         }
         auto field = [&](int id) {
-            return fields_[static_cast<std::size_t>(program.fields[static_cast<std::size_t>(id)].storage)].data() +
+            return fields[static_cast<std::size_t>(program.fields[static_cast<std::size_t>(id)].storage)].data() +
                    first;
         };
         std::uint8_t* en = enabled_.data() + first;
@@ -251,47 +325,73 @@ template <bool Listed>
             // Where no PP of the block is enabled, every instruction but EnableAll leaves it as it is:
             // the hardware spends the cycles (counted above), the host need not.
             if (enabled_count == 0 && in.op != PpOp::EnableAll) continue;
-            std::int64_t* dst = in.dst >= 0 ? field(in.dst) : nullptr;
-            const std::int64_t* a = in.a >= 0 ? field(in.a) : nullptr;
-            const std::int64_t* b = in.b >= 0 ? field(in.b) : nullptr;
+            Lane* dst = in.dst >= 0 ? field(in.dst) : nullptr;
+            const Lane* a = in.a >= 0 ? field(in.a) : nullptr;
+            const Lane* b = in.b >= 0 ? field(in.b) : nullptr;
             const std::int64_t imm = in.imm;
+            const Lane imm_lane = to_lane<Lane>(imm);  // imm modulo 2^lane bits
             const int shift = in.shift;
             const PpField* dst_field = in.dst >= 0 ? &program.fields[static_cast<std::size_t>(in.dst)] : nullptr;
-            const Wrap wrap = dst_field != nullptr ? Wrap(*dst_field) : Wrap(PpField{0, 0, 1, false});
+            const Wrap<Lane> wrap = dst_field != nullptr ? Wrap<Lane>(*dst_field) : Wrap<Lane>(PpField{0, 0, 1, false});
             const bool all = enabled_count == n;
+            // The operand widened to 64 bits, for results whose high bits matter.
+            const auto wide = [](Lane v) { return static_cast<std::int64_t>(v); };
             // Each case is one plain loop over the PPs; a disabled PP keeps its value. Every result is
             // wrapped to its field's width (a no-op for the widths the builder infers).
             switch (in.op) {
-                case PpOp::SetConst: for_enabled(n, en, all, dst, wrap, [&](std::size_t) { return imm; }); break;
-                case PpOp::Move:
-                    for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return a[p] >> shift; });
+                case PpOp::SetConst: for_enabled(n, en, all, dst, wrap, [&](std::size_t) { return imm_lane; }); break;
+                case PpOp::Move: {
+                    // A shift past the lane's width leaves its sign, as it would of the value widened.
+                    const int lane_shift = std::min(shift, kLaneBits<Lane> - 1);
+                    for_enabled(n, en, all, dst, wrap,
+                                [&](std::size_t p) { return static_cast<Lane>(a[p] >> lane_shift); });
                     break;
+                }
                 case PpOp::Add:
-                    for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return add64(a[p], b[p]); });
+                    for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return add_lanes(a[p], b[p]); });
                     break;
                 case PpOp::Sub:
-                    for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return sub64(a[p], b[p]); });
+                    for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return sub_lanes(a[p], b[p]); });
                     break;
                 case PpOp::AddConst:
-                    for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return add64(a[p], imm); });
+                    for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return add_lanes(a[p], imm_lane); });
                     break;
                 case PpOp::AbsDiffConst:
                     for_enabled(n, en, all, dst, wrap, [&](std::size_t p) {
-                        const std::int64_t d = sub64(a[p], imm);
-                        return d < 0 ? sub64(0, d) : d;
+                        const std::int64_t d = sub_lanes(wide(a[p]), imm);
+                        return d < 0 ? sub_lanes<std::int64_t>(0, d) : d;
                     });
                     break;
                 case PpOp::MinConst:
-                    for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return std::min(a[p], imm); });
+                    if (lane_holds<Lane>(imm)) {
+                        for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return std::min(a[p], imm_lane); });
+                    } else {
+                        for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return std::min(wide(a[p]), imm); });
+                    }
                     break;
                 case PpOp::MaxConst:
-                    for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return std::max(a[p], imm); });
+                    if (lane_holds<Lane>(imm)) {
+                        for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return std::max(a[p], imm_lane); });
+                    } else {
+                        for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return std::max(wide(a[p]), imm); });
+                    }
                     break;
                 case PpOp::Mul:
-                    for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return mul64(a[p], b[p]) >> shift; });
+                    // Unshifted, the lane's low bits of the product are all the wrap keeps.
+                    if (shift == 0) {
+                        for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return mul_lanes(a[p], b[p]); });
+                    } else {
+                        for_enabled(n, en, all, dst, wrap,
+                                    [&](std::size_t p) { return mul_lanes(wide(a[p]), wide(b[p])) >> shift; });
+                    }
                     break;
                 case PpOp::MulConst:
-                    for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return mul64(a[p], imm) >> shift; });
+                    if (shift == 0) {
+                        for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return mul_lanes(a[p], imm_lane); });
+                    } else {
+                        for_enabled(n, en, all, dst, wrap,
+                                    [&](std::size_t p) { return mul_lanes(wide(a[p]), imm) >> shift; });
+                    }
                     break;
                 case PpOp::Div: {
                     // A restoring divide saturates: b = 0, or a quotient past the field, gives its maximum.
@@ -300,9 +400,11 @@ template <bool Listed>
                     const std::int64_t largest_a = std::numeric_limits<std::int64_t>::max() >> shift;
                     for (std::size_t p = 0; p < n; ++p) {
                         if (!en[p]) continue;
+                        const std::int64_t dividend = a[p];
                         const std::int64_t divisor = b[p];
-                        const bool defined = divisor > 0 && a[p] >= 0 && a[p] <= largest_a;
-                        dst[p] = defined ? std::min(exact_quotient(a[p] << shift, divisor), top) : top;
+                        const bool defined = divisor > 0 && dividend >= 0 && dividend <= largest_a;
+                        dst[p] = static_cast<Lane>(defined ? std::min(exact_quotient(dividend << shift, divisor), top)
+                                                           : top);
                     }
                     break;
                 }
@@ -329,7 +431,7 @@ template <bool Listed>
                             const auto v = static_cast<std::int64_t>(u(q.a) * x * x + u(q.b) * x * y + u(q.c) * y * y +
                                                                      u(q.d) * x + u(q.e) * y + u(q.f)) >>
                                            shift;
-                            dst[p] = en[p] ? wrap(v) : dst[p];
+                            dst[p] = en[p] ? wrap(static_cast<Lane>(v)) : dst[p];
                         }
                         break;
                     }
@@ -345,7 +447,7 @@ template <bool Listed>
                         for (std::size_t i = 0; i < count; ++i) {
                             const std::uint64_t x = x0 + i;
                             const auto v = static_cast<std::int64_t>(u(q.a) * x * x + linear * x + constant) >> shift;
-                            dst[p + i] = en[p + i] ? wrap(v) : dst[p + i];
+                            dst[p + i] = en[p + i] ? wrap(static_cast<Lane>(v)) : dst[p + i];
                         }
                         p += count;
                     }
@@ -359,25 +461,26 @@ template <bool Listed>
                 case PpOp::Load: {
                     // dst.bits bits at record_base_bit + record_offset; sign-extended by the wrap when signed.
                     const PpBitWindow window(context.record_base_bit + in.record_offset, dst_field->bits);
-                    for_enabled(n, en, all, dst, wrap, [&](std::size_t p) {
-                        return static_cast<std::int64_t>(window.read(store, total, pp_of(p)));
-                    });
+                    for_enabled(n, en, all, dst, wrap,
+                                [&](std::size_t p) { return static_cast<Lane>(window.read(store, total, pp_of(p))); });
                     break;
                 }
                 case PpOp::Store: {
                     // The low a.bits bits of a; a disabled PP's backing store is left as it was.
                     const PpBitWindow window(context.record_base_bit + in.record_offset,
                                              program.fields[static_cast<std::size_t>(in.a)].bits);
+                    const auto bits_of = [&](std::size_t p) {
+                        return static_cast<std::uint64_t>(wide(a[p])) & window.mask;
+                    };
                     if constexpr (Listed) {
                         for (std::size_t p = 0; p < n; ++p)
-                            if (en[p]) window.write(store, total, pp_of(p), static_cast<std::uint64_t>(a[p]));
+                            if (en[p]) window.write(store, total, pp_of(p), bits_of(p));
                         break;
                     }
                     std::uint64_t* low = store + static_cast<std::size_t>(window.word) * total + first;
                     const std::uint64_t low_mask = window.mask << window.shift;
                     for (std::size_t p = 0; p < n; ++p) {
-                        const std::uint64_t value = static_cast<std::uint64_t>(a[p]) & window.mask;
-                        const std::uint64_t merged = (low[p] & ~low_mask) | (value << window.shift);
+                        const std::uint64_t merged = (low[p] & ~low_mask) | (bits_of(p) << window.shift);
                         low[p] = en[p] ? merged : low[p];
                     }
                     if (window.straddles()) {
@@ -385,8 +488,7 @@ template <bool Listed>
                         const std::uint64_t high_mask = window.high_mask();
                         const int down = 64 - window.shift;
                         for (std::size_t p = 0; p < n; ++p) {
-                            const std::uint64_t value = static_cast<std::uint64_t>(a[p]) & window.mask;
-                            const std::uint64_t merged = (high[p] & ~high_mask) | (value >> down);
+                            const std::uint64_t merged = (high[p] & ~high_mask) | (bits_of(p) >> down);
                             high[p] = en[p] ? merged : high[p];
                         }
                     }
@@ -401,7 +503,8 @@ template <bool Listed>
 PP5_VECTOR_CLONES
 PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context) {
     check_runnable(program, context, local_memory_bits_, backing_store_bits_);
-    return execute<false>(program, context, {});
+    if (choose_narrow_lanes(program)) return execute<std::int32_t, false>(program, context, {});
+    return execute<std::int64_t, false>(program, context, {});
 }
 
 PP5_VECTOR_CLONES
@@ -422,7 +525,8 @@ PpRunCounts PpArray::run_candidates(const PpProgram& program, const PpSlotContex
                             program.name, i, candidates[i], size()));
         }
     }
-    PpRunCounts counts = execute<true>(program, context, candidates);
+    PpRunCounts counts = choose_narrow_lanes(program) ? execute<std::int32_t, true>(program, context, candidates)
+                                                      : execute<std::int64_t, true>(program, context, candidates);
     const auto bystanders = static_cast<std::uint64_t>(size()) - candidates.size();
     counts.pp_operations += bystanders * program.instructions.size();
     counts.enabled_pp_operations += bystanders * bystander.enabled_operations;

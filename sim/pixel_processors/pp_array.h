@@ -2,7 +2,8 @@
 // The functional state of one renderer's PP array: every PP's local-memory fields, its enable bit and
 // its backing store, and the execution of a PpProgram over all PPs at once. Values are exact
 // integers at the fields' widths, as the bit-serial hardware would compute them; execution is host
-// vector code, one instruction at a time across all PPs (never bit by bit).
+// vector code, the whole program over one block of PPs after another, one instruction at a time across
+// the block (never bit by bit).
 //
 // Every write is masked by the enable bit, as on the hardware: a PP that is disabled keeps its old
 // field values.
@@ -72,13 +73,23 @@ public:
     PpRunCounts run_candidates(const PpProgram& program, const PpSlotContext& context, std::span<const int> candidates);
 
     // A field's value in every PP after the last run (for tests and inspection).
-    std::span<const std::int64_t> field_values(const PpField& field) const;
+    std::vector<std::int64_t> field_values(const PpField& field) const;
 
 private:
     void check_backing_range(int bit_offset, int bits) const;
-    // Runs a validated program over every PP (Listed = false) or over `listed` PPs.
-    template <bool Listed>
+    // Runs a validated program over every PP (Listed = false) or over `listed` PPs, each field's values
+    // held in lanes of type Lane (32 bits when every field fits them, else 64).
+    template <class Lane, bool Listed>
     PpRunCounts execute(const PpProgram& program, const PpSlotContext& context, std::span<const int> listed);
+    // Whether `program` runs in 32-bit lanes: when its fields fit them and so does every value the fields
+    // hold now (fields carry state from one program to the next, as local memory does). Moves the
+    // values into the storage of the lanes chosen.
+    bool choose_narrow_lanes(const PpProgram& program);
+    template <class Lane>
+    std::vector<std::vector<Lane>>& field_storage() {
+        if constexpr (sizeof(Lane) == sizeof(std::int32_t)) return narrow_fields_;
+        else return wide_fields_;
+    }
 
     int columns_;
     int rows_;
@@ -92,7 +103,11 @@ private:
         void operator()(std::uint64_t* words) const { std::free(words); }
     };
     std::unique_ptr<std::uint64_t[], FreeStore> backing_;
-    std::vector<std::vector<std::int64_t>> fields_;  // by storage slot (PpField::storage), one value per PP
+    // By storage slot (PpField::storage), one value per PP: in 32-bit lanes or 64-bit ones, whichever
+    // the last run used (narrow_current_).
+    std::vector<std::vector<std::int32_t>> narrow_fields_;
+    std::vector<std::vector<std::int64_t>> wide_fields_;
+    bool narrow_current_ = true;
     std::vector<std::uint8_t> enabled_;
 };
 

@@ -253,7 +253,7 @@ TEST(PpArray, EveryWriteAndStoreIsMaskedByTheEnableBit) {
     write_inputs(array, first);
     array.run(program, PpSlotContext{0, one(q1)});
     std::vector<std::vector<std::int64_t>> before;
-    for (const PpField& f : results) before.emplace_back(array.field_values(f).begin(), array.field_values(f).end());
+    for (const PpField& f : results) before.push_back(array.field_values(f));
     std::vector<std::uint64_t> stored_before, a_stored_before;
     for (int p = 0; p < pps; ++p) {
         stored_before.push_back(array.read_backing(p, 40, results[1].bits));
@@ -423,6 +423,228 @@ TEST(PpArray, DivideAndSquareRootAreExactAtFullWidth) {
     }
 }
 
+TEST(PpArray, DividendsPastADoublesPrecisionAreDividedExactlyBesideSmallOnes) {
+    // 48-bit dividends shifted by 12: some shifted values stay below 2^52, where a double holds them
+    // exactly, and the rest reach 2^60, in the same blocks; every third PP is disabled and keeps the
+    // value a first division left.
+    constexpr int kPps = 3000;
+    PpArray array(kPps, 1, 256, 96);
+    std::mt19937_64 rng(11);
+    std::vector<std::int64_t> dividend(kPps), divisor(kPps);
+    for (int p = 0; p < kPps; ++p) {
+        const auto i = static_cast<std::size_t>(p);
+        dividend[i] = static_cast<std::int64_t>(rng() >> (16 + p % 33));                       // 48 bits down to 16
+        divisor[i] = p % 29 == 0 ? 0 : static_cast<std::int64_t>(rng() >> (40 + p % 24)) | 1;  // 24 bits down to 1
+        array.write_backing(p, 0, 48, static_cast<std::uint64_t>(dividend[i]));
+        array.write_backing(p, 48, 24, static_cast<std::uint64_t>(divisor[i]));
+        array.write_backing(p, 72, 2, static_cast<std::uint64_t>(p % 3 == 0 ? 0 : 1));
+    }
+    PpProgramBuilder b("wide_dividends", 256);
+    const PpField n = b.load("n", 0, 48, false);
+    const PpField d = b.load("d", 48, 24, false);
+    const PpField on = b.load("on", 72, 2, false);
+    const PpField q = b.set_const("q", 7, 48, false);
+    b.enable_if(on, PpCompare::Equal, 1);
+    const PpField quotient = b.div("quotient", n, d, 12, 48);
+    b.assign(q, quotient);
+    b.enable_all();
+    const PpProgram program = b.finish();
+    array.run(program, PpSlotContext{});
+    const std::int64_t top = (std::int64_t{1} << 48) - 1;
+    const auto values = array.field_values(q);
+    int past_double = 0;
+    for (int p = 0; p < kPps; ++p) {
+        const auto i = static_cast<std::size_t>(p);
+        const std::int64_t shifted = dividend[i] << 12;
+        if (p % 3 != 0 && shifted >= (std::int64_t{1} << 52)) ++past_double;
+        const std::int64_t want = p % 3 == 0 ? 7 : divisor[i] == 0 ? top : std::min(top, shifted / divisor[i]);
+        ASSERT_EQ(values[i], want) << dividend[i] << " << 12 / " << divisor[i] << " at PP " << p;
+    }
+    EXPECT_GT(past_double, kPps / 10);  // the integer path ran, beside the double one
+}
+
+// A random program of every operation over narrow fields (at most 31 bits), under random enable masks,
+// with conditional updates and reused storage that leave stale values in disabled PPs, immediates past
+// 32 bits, and every result stored. With `widen`, one more field of 41 bits is set at the end: that program runs in
+// 64-bit lanes, the other in 32-bit ones.
+PpProgram random_narrow_program(std::uint64_t seed, bool widen, int record_bits) {
+    std::mt19937_64 rng(seed);
+    const auto pick = [&](std::size_t n) { return static_cast<std::size_t>(rng() % n); };
+    const auto chance = [&](int percent) { return static_cast<int>(rng() % 100) < percent; };
+    PpProgramBuilder b("random_narrow", 4096);
+    std::vector<PpField> live;
+    for (int i = 0; i < 4; ++i) {
+        const int bits = 1 + static_cast<int>(pick(16));
+        live.push_back(b.load("in", i * 16, bits, chance(50)));
+    }
+    // Stale wide values from the start: a 28-bit field's storage goes to a 4-bit one, set only where
+    // a test passes, so the other PPs hold values far outside the small field's range.
+    const PpField raw = b.load("raw", 0, 28, false);
+    b.release(raw);
+    b.enable_if(live[0], PpCompare::Less, static_cast<std::int64_t>(pick(8)));
+    live.push_back(b.set_const("small", 5, 4, false));
+    b.enable_all();
+    // Products of full 16-bit values, past 32 bits before their shift.
+    const PpField u0 = b.load("u0", 0, 16, false), u1 = b.load("u1", 16, 16, false);
+    const PpField s0 = b.load("s0", 32, 16, true), s1 = b.load("s1", 48, 16, true);
+    live.push_back(b.mul("unsigned_product", u0, u1, 6));
+    live.push_back(b.mul("signed_product", s0, s1, 8));
+    live.push_back(b.mul_const("scaled", s1, 70000, 7));
+    for (const PpField& f : {u0, u1, s0, s1}) b.release(f);
+    int record = 64;
+    const std::int64_t immediates[] = {
+        0, 1, -1, 3, -7, 255, 1000, -(std::int64_t{1} << 20), std::int64_t{1} << 35, -(std::int64_t{1} << 40)};
+    for (int step = 0; step < 80; ++step) {
+        const PpField a = live[pick(live.size())];
+        const PpField c = live[pick(live.size())];
+        const std::int64_t imm = immediates[pick(std::size(immediates))];
+        const int shift = static_cast<int>(pick(6));
+        const auto narrow = [](PpField x, PpField y) { return std::max(x.bits, y.bits) < 28; };
+        const auto large = [](std::int64_t v) { return v > (std::int64_t{1} << 30) || v < -(std::int64_t{1} << 30); };
+        PpField result;
+        try {
+            switch (pick(15)) {
+                // Operands narrow enough that every result fits 31 bits; a minimum or maximum with an
+                // immediate past 32 bits keeps its operand.
+                case 0: result = narrow(a, c) ? b.add("add", a, c) : PpField{}; break;
+                case 1: result = narrow(a, c) ? b.sub("sub", a, c) : PpField{}; break;
+                case 2: result = narrow(a, a) ? b.add_const("add_const", a, imm % 5000) : PpField{}; break;
+                case 3: result = narrow(a, a) ? b.abs_diff_const("abs_diff", a, imm % 5000) : PpField{}; break;
+                case 4: result = b.min_const("min", a, large(imm) ? std::int64_t{1} << 35 : imm); break;
+                case 5: result = b.max_const("max", a, large(imm) ? -(std::int64_t{1} << 40) : imm); break;
+                // Products past 32 bits, shifted back into a narrow field.
+                case 6: result = a.bits + c.bits - 3 * shift <= 30 ? b.mul("mul", a, c, 3 * shift) : PpField{}; break;
+                case 7:
+                    result =
+                        a.bits + 9 - 3 * shift <= 30 ? b.mul_const("mul_const", a, imm % 300, 3 * shift) : PpField{};
+                    break;
+                case 8: result = b.move("move", a, shift * 7); break;
+                case 9: result = b.set_const("set", imm % 100000); break;
+                case 10: {
+                    const PpField dividend = b.max_const("dividend", a, 0);
+                    const PpField divisor = b.max_const("divisor", c, 0);
+                    result = b.div("div", dividend, divisor, shift, 1 + static_cast<int>(pick(20)));
+                    b.release(dividend);
+                    b.release(divisor);
+                    break;
+                }
+                case 11: {
+                    const PpField radicand = b.max_const("radicand", a, 0);
+                    result = b.sqrt("sqrt", radicand);
+                    b.release(radicand);
+                    break;
+                }
+                case 12: {
+                    if (a.bits > 12) continue;
+                    const PpField index = b.max_const("index", a, 0);
+                    PpTable table{"random", {}};
+                    for (int v = 0; v < (1 << index.bits); ++v)
+                        table.entries.push_back(static_cast<std::int64_t>(rng() % 2000) - 1000);
+                    result = b.lookup("lookup", index, std::move(table), 11, true);
+                    b.release(index);
+                    break;
+                }
+                case 13: result = b.qee("qee", static_cast<int>(pick(2)), 24, true, shift); break;
+                default: {
+                    // A conditional update: the PPs that fail the test keep the field's old value.
+                    const PpField target = b.set_const("target", imm % 50, 18, true);
+                    b.enable_if(a, static_cast<PpCompare>(pick(6)), imm % 64);
+                    b.assign(target, c);
+                    result = target;
+                    break;
+                }
+            }
+        } catch (const std::invalid_argument&) {
+            continue;  // a combination the builder refuses (a width past 48 bits, a negative operand)
+        }
+        if (!result.valid() || record + result.bits > record_bits) continue;
+        b.store(result, record, result.bits);
+        record += result.bits;
+        live.push_back(result);
+        // A released field's host storage goes to a later result, which a partial mask then leaves
+        // holding the old field's values (wider than its own) in the disabled PPs.
+        if (chance(40) && live.size() > 6) {
+            const std::size_t gone = 4 + pick(live.size() - 4);
+            b.release(live[gone]);
+            live.erase(live.begin() + static_cast<std::ptrdiff_t>(gone));
+        }
+        if (chance(30)) b.enable_if(live[pick(live.size())], static_cast<PpCompare>(pick(6)), imm);
+        if (chance(25)) b.enable_all();
+    }
+    if (widen) b.set_const("widener", std::int64_t{1} << 40);
+    return b.finish();
+}
+
+TEST(PpArray, NarrowAndWideLanesLeaveTheSameBits) {
+    constexpr int kColumns = 40, kRows = 60, kRecordBits = 4096;  // three blocks, the last one partial
+    const QeeCoefficients qee[2] = {{3, -5, 7, -11000, 130, -(std::int64_t{1} << 21)}, {0, 0, 0, 77, -91, 5}};
+    int narrow_programs = 0;
+    for (std::uint64_t seed = 1; seed <= 24; ++seed) {
+        const PpProgram narrow = random_narrow_program(seed, false, kRecordBits);
+        const PpProgram wide = random_narrow_program(seed, true, kRecordBits);
+        const auto widest = [](const PpProgram& p) {
+            int bits = 0;
+            for (const PpField& f : p.fields) bits = std::max(bits, f.bits);
+            return bits;
+        };
+        ASSERT_GT(widest(wide), 32);
+        if (widest(narrow) > 31) continue;  // a narrow program after all; the others count
+        ++narrow_programs;
+        PpArray in_narrow(kColumns, kRows, 4096, kRecordBits), in_wide(kColumns, kRows, 4096, kRecordBits);
+        std::mt19937_64 rng(seed * 977);
+        for (int p = 0; p < kColumns * kRows; ++p) {
+            const std::uint64_t inputs = rng();
+            in_narrow.write_backing(p, 0, 64, inputs);
+            in_wide.write_backing(p, 0, 64, inputs);
+        }
+        const PpSlotContext context{0, qee};
+        const PpRunCounts counts = in_narrow.run(narrow, context);
+        in_wide.run(wide, context);
+        for (int p = 0; p < kColumns * kRows; ++p) {
+            for (int bit = 64; bit < kRecordBits; bit += 64)
+                ASSERT_EQ(in_narrow.read_backing(p, bit, 64), in_wide.read_backing(p, bit, 64))
+                    << "seed " << seed << ", PP " << p << ", bits from " << bit;
+        }
+        EXPECT_GT(counts.instructions, 60u);
+    }
+    EXPECT_GE(narrow_programs, 16);
+}
+
+TEST(PpArray, FieldsCarryTheirValuesBetweenProgramsOfEitherLaneWidth) {
+    // Field 0 is state kept from one program to the next, as local memory keeps it: each program clamps
+    // it and adds to it. Programs of narrow fields follow programs with a field past 32 bits,
+    // one of which leaves a value past 32 bits in the state. The same sequence with every program
+    // widened (all in 64-bit lanes) must leave the same state after every program.
+    const auto program = [](int bits, std::int64_t addend, bool widen) {
+        PpProgramBuilder b("step", 208);
+        const PpField state = b.alloc("state", bits, true);
+        // Clamped first, so that the comparisons see the state's whole value.
+        const std::int64_t room = std::abs(addend);
+        const PpField low = b.min_const("low", state, state.max_value() - room);
+        const PpField clamped = b.max_const("clamped", low, state.min_value() + room);
+        b.assign(state, b.add_const("next", clamped, addend));
+        if (widen) b.set_const("widener", std::int64_t{1} << 39);
+        return b.finish();
+    };
+    struct Step {
+        int bits;
+        std::int64_t addend;
+        bool widen;
+    };
+    const Step steps[] = {
+        {30, 1000, true}, {30, -3, false}, {20, 7, false}, {30, 1000, true}, {40, std::int64_t{1} << 36, false},
+        {30, 1, false},   {20, -5, false}, {25, 9, false}};
+    PpArray mixed(50, 30, 208, 64), wide(50, 30, 208, 64);  // two blocks
+    for (const Step& step : steps) {
+        const PpProgram as_is = program(step.bits, step.addend, step.widen);
+        mixed.run(as_is, PpSlotContext{});
+        wide.run(program(step.bits, step.addend, true), PpSlotContext{});
+        ASSERT_EQ(mixed.field_values(as_is.fields[0]), wide.field_values(as_is.fields[0]))
+            << step.bits << "-bit state plus " << step.addend;
+    }
+    EXPECT_NE(mixed.field_values(program(20, 0, false).fields[0])[0], 0);
+}
+
 TEST(PpArray, StorageIsReusedAcrossDifferentPrograms) {
     // Two programs with differently shaped fields, alternately on one array: each run's results are
     // those of a fresh array.
@@ -445,13 +667,13 @@ TEST(PpArray, StorageIsReusedAcrossDifferentPrograms) {
     fill(shared);
     fresh8.run(p8, PpSlotContext{});
     fresh4.run(p4, PpSlotContext{});
-    const std::vector<std::int64_t> want8(fresh8.field_values(y8).begin(), fresh8.field_values(y8).end());
-    const std::vector<std::int64_t> want4(fresh4.field_values(y4).begin(), fresh4.field_values(y4).end());
+    const std::vector<std::int64_t> want8 = fresh8.field_values(y8);
+    const std::vector<std::int64_t> want4 = fresh4.field_values(y4);
     for (int round = 0; round < 2; ++round) {
         shared.run(p8, PpSlotContext{});
-        EXPECT_TRUE(std::equal(want8.begin(), want8.end(), shared.field_values(y8).begin()));
+        EXPECT_EQ(shared.field_values(y8), want8);
         shared.run(p4, PpSlotContext{});
-        EXPECT_TRUE(std::equal(want4.begin(), want4.end(), shared.field_values(y4).begin()));
+        EXPECT_EQ(shared.field_values(y4), want4);
     }
     EXPECT_EQ(want4[1], -35);  // 7 as a signed 4-bit field is 7; times -5
     EXPECT_THROW(shared.field_values(PpField{9, 0, 8, false}), std::out_of_range);
