@@ -258,15 +258,15 @@ void PpShading::read_shaded_codes(ShadedCodes& shaded) const {
         for (int slot = 0; slot < placement_.slots_needed(); ++slot) {
             const SlotFrame frame = placement_.frame(static_cast<int>(r), slot);
             if (!frame.used) continue;
-            const int base = slot * record_bits;
-            const PpBackingReader channel[4] = {
-                array.backing_reader(base + layout.color_offset(0), layout.color_bits),
-                array.backing_reader(base + layout.color_offset(1), layout.color_bits),
-                array.backing_reader(base + layout.color_offset(2), layout.color_bits),
-                array.backing_reader(base + layout.opacity_offset(), layout.opacity_bits)};
+            // The three colours and the opacity lie side by side, at most 64 bits: one read a voxel.
+            const PpBackingReader codes = array.backing_reader(slot * record_bits + layout.color_offset(0),
+                                                               3 * layout.color_bits + layout.opacity_bits);
             for_each_voxel(frame, dims_, placement_.shape(), [&](int pp, glm::ivec3 v) {
+                std::uint64_t bits = codes.read(pp);
                 glm::u16vec4 code;
-                for (int c = 0; c < 4; ++c) code[c] = static_cast<std::uint16_t>(channel[c].read(pp));
+                for (int c = 0; c < 3; ++c, bits >>= layout.color_bits)
+                    code[c] = static_cast<std::uint16_t>(bits & mask(layout.color_bits));
+                code[3] = static_cast<std::uint16_t>(bits & mask(layout.opacity_bits));
                 shaded.set(static_cast<std::size_t>(v.x) +
                                static_cast<std::size_t>(dims_.x) *
                                    (static_cast<std::size_t>(v.y) +
