@@ -1,7 +1,8 @@
 // The PP array's execution: loads sign-extend and stores write only their bits, every result wraps
 // to its field's width, every operation's writes (and stores) are masked by the enable bit, the QEE
 // gives each PP its own value across the array's blocks, counts are exact, and a program the array
-// cannot run is refused before anything changes. Also the backing store against a bit-by-bit model.
+// cannot run is refused before anything changes; programs run in 32-bit lanes leave what they leave in
+// 64-bit ones. Also the backing store against a bit-by-bit model.
 
 #include "sim/pixel_processors/pp_array.h"
 #include "sim/pixel_processors/pp_program.h"
@@ -465,8 +466,8 @@ TEST(PpArray, DividendsPastADoublesPrecisionAreDividedExactlyBesideSmallOnes) {
 
 // A random program of every operation over narrow fields (at most 31 bits), under random enable masks,
 // with conditional updates and reused storage that leave stale values in disabled PPs, immediates past
-// 32 bits, and every result stored. With `widen`, one more field of 41 bits is set at the end: that program runs in
-// 64-bit lanes, the other in 32-bit ones.
+// 32 bits, and every result stored. With `widen`, one more field of 41 bits is set at the end: that
+// program runs in 64-bit lanes, the other in 32-bit ones.
 PpProgram random_narrow_program(std::uint64_t seed, bool widen, int record_bits) {
     std::mt19937_64 rng(seed);
     const auto pick = [&](std::size_t n) { return static_cast<std::size_t>(rng() % n); };
