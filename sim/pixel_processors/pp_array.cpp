@@ -11,6 +11,7 @@
 #include <functional>
 #include <limits>
 #include <new>
+#include <optional>
 #include <stdexcept>
 #include <type_traits>
 
@@ -18,22 +19,82 @@ namespace pp5 {
 
 namespace {
 
-// Lane types. A program whose every field has at most 31 bits runs in 32-bit lanes (twice as many PPs
-// per vector instruction, half the memory); any other in 64-bit lanes. Each lane holds its field's
-// value exactly, in two's complement, so both give the same integers: the narrow executor computes
-// in 32 bits only where the low 32 bits of a result are all that its wrap keeps (sums, differences,
-// unshifted products), and widens to 64 bits wherever higher bits matter (shifted products,
-// quotients, roots, the QEE).
+// Lane types. A program whose every field has at most 32 bits runs in 32-bit lanes (twice as many PPs
+// per vector instruction, half the memory) when PpNarrowPlan allows; any other in 64-bit lanes. Each lane holds its
+// field's value exactly, in two's complement, so both give the same integers: the narrow executor computes in 32 bits
+// only where the low 32 bits of a result are all that its wrap keeps (sums, differences, unshifted products), and
+// widens to 64 bits wherever higher bits matter (shifted products, quotients, roots, the QEE).
 template <class Lane>
 using Unsigned = std::make_unsigned_t<Lane>;
 
 template <class Lane>
 constexpr int kLaneBits = static_cast<int>(sizeof(Lane) * 8);
 
-// Whether every field of the program fits a 32-bit lane as a value (a 32-bit unsigned field would
-// not).
-bool fits_narrow_lanes(const PpProgram& program) {
-    return std::all_of(program.fields.begin(), program.fields.end(), [](const PpField& f) { return f.bits <= 31; });
+}  // namespace
+
+// How a program runs in 32-bit lanes. Fields of up to 31 bits, and signed ones of 32, hold their
+// values and are read with sign extension. A 32-bit unsigned field holds its value's 32 bits and is
+// read with zero extension; the lanes agree with 64-bit ones as long as no PP ever reads, as one kind
+// of field, bits written as the other kind. narrow_plan makes sure of that from the program alone:
+// - every 32-bit unsigned field is first written with every PP enabled, before any read;
+// - in a storage slot, every field after such a field is first written with every PP enabled;
+// and PpArray::choose_narrow_lanes checks the rest at run time: a slot whose lanes hold a 32-bit
+// unsigned field's bits from an earlier program is first written whole by this one.
+struct PpNarrowPlan {
+    std::vector<std::uint8_t> zero_extended;        // by field id
+    std::vector<std::uint8_t> first_written_whole;  // by storage slot: its first field's first access
+    std::vector<std::uint8_t> ends_zero_extended;   // by storage slot: what its last written field leaves
+    std::vector<std::uint8_t> written;              // by storage slot: some field of this program writes it
+};
+
+namespace {
+
+std::optional<PpNarrowPlan> narrow_plan(const PpProgram& program) {
+    const std::size_t fields = program.fields.size();
+    PpNarrowPlan plan;
+    plan.zero_extended.assign(fields, 0);
+    for (std::size_t f = 0; f < fields; ++f) {
+        const PpField& field = program.fields[f];
+        if (field.bits > 32) return std::nullopt;
+        plan.zero_extended[f] = field.bits == 32 && !field.is_signed ? 1 : 0;
+    }
+    // Each field's first access: a read, or a write with every PP enabled ("whole") or not.
+    enum class Access : std::uint8_t { None, Read, PartWrite, WholeWrite };
+    std::vector<Access> first(fields, Access::None);
+    std::vector<std::uint8_t> is_written(fields, 0);
+    bool all_enabled = true;
+    for (const PpInstruction& in : program.instructions) {
+        for (const int read : {in.a, in.b})
+            if (read >= 0 && first[static_cast<std::size_t>(read)] == Access::None)
+                first[static_cast<std::size_t>(read)] = Access::Read;
+        if (in.dst >= 0) {
+            const auto d = static_cast<std::size_t>(in.dst);
+            if (first[d] == Access::None) first[d] = all_enabled ? Access::WholeWrite : Access::PartWrite;
+            is_written[d] = 1;
+        }
+        if (in.op == PpOp::EnableIf) all_enabled = false;
+        if (in.op == PpOp::EnableAll) all_enabled = true;
+    }
+    const auto slots = static_cast<std::size_t>(std::max(program.storage_slots, 0));
+    plan.first_written_whole.assign(slots, 1);
+    plan.ends_zero_extended.assign(slots, 0);
+    plan.written.assign(slots, 0);
+    std::vector<std::uint8_t> seen(slots, 0), after_zero_extended(slots, 0);
+    for (std::size_t f = 0; f < fields; ++f) {  // in id order: a slot's fields in the order they held it
+        if (first[f] == Access::None) continue;
+        const auto slot = static_cast<std::size_t>(program.fields[f].storage);
+        if (slot >= slots) return std::nullopt;
+        const bool whole = first[f] == Access::WholeWrite;
+        if ((plan.zero_extended[f] || after_zero_extended[slot]) && !whole) return std::nullopt;
+        if (!seen[slot]) plan.first_written_whole[slot] = whole ? 1 : 0;
+        seen[slot] = 1;
+        if (plan.zero_extended[f]) after_zero_extended[slot] = 1;
+        if (is_written[f]) {
+            plan.written[slot] = 1;
+            plan.ends_zero_extended[slot] = plan.zero_extended[f];
+        }
+    }
+    return plan;
 }
 
 // The lane holding v modulo 2^lane bits.
@@ -231,28 +292,55 @@ std::vector<std::int64_t> PpArray::field_values(const PpField& field) const {
                 fmt::format("PpArray: no field with id {} (storage {}) in the last run", field.id, field.storage));
         }
         const auto& slot = fields[static_cast<std::size_t>(field.storage)];
-        return std::vector<std::int64_t>(slot.begin(), slot.end());
+        std::vector<std::int64_t> out(slot.begin(), slot.end());
+        if (narrow_current_ && field.bits == 32 && !field.is_signed)
+            for (std::int64_t& v : out) v = static_cast<std::int64_t>(static_cast<std::uint32_t>(v));
+        return out;
     };
     return narrow_current_ ? values(narrow_fields_) : values(wide_fields_);
 }
 
-bool PpArray::choose_narrow_lanes(const PpProgram& program) {
-    const bool narrow = fits_narrow_lanes(program) &&
-                        (narrow_current_ || std::all_of(wide_fields_.begin(), wide_fields_.end(), [](const auto& slot) {
-                             return std::all_of(slot.begin(), slot.end(), lane_holds<std::int32_t>);
-                         }));
+const PpNarrowPlan* PpArray::choose_narrow_lanes(const std::optional<PpNarrowPlan>& plan) {
+    bool narrow = plan.has_value();
+    if (narrow && narrow_current_) {
+        // Bits a 32-bit unsigned field left in a slot must not be read as another field's.
+        for (std::size_t slot = 0; slot < plan->first_written_whole.size() && slot < zero_extended_slots_.size();
+             ++slot)
+            if (zero_extended_slots_[slot] && !plan->first_written_whole[slot]) narrow = false;
+    }
+    if (narrow && !narrow_current_) {
+        narrow = std::all_of(wide_fields_.begin(), wide_fields_.end(), [](const auto& slot) {
+            return std::all_of(slot.begin(), slot.end(), lane_holds<std::int32_t>);
+        });
+    }
     if (narrow != narrow_current_) {
-        // Exact either way: every value is one of the lanes chosen.
-        const auto move_values = [](const auto& from, auto& to) {
-            to.resize(from.size());
-            for (std::size_t slot = 0; slot < from.size(); ++slot)
-                to[slot].assign(from[slot].begin(), from[slot].end());
-        };
-        if (narrow) move_values(wide_fields_, narrow_fields_);
-        else move_values(narrow_fields_, wide_fields_);
+        // Exact either way: every value fits the lanes chosen, and each slot is widened as its field
+        // is read.
+        if (narrow) {
+            narrow_fields_.resize(wide_fields_.size());
+            for (std::size_t slot = 0; slot < wide_fields_.size(); ++slot)
+                narrow_fields_[slot].assign(wide_fields_[slot].begin(), wide_fields_[slot].end());
+            zero_extended_slots_.assign(narrow_fields_.size(), 0);
+        } else {
+            wide_fields_.resize(narrow_fields_.size());
+            for (std::size_t slot = 0; slot < narrow_fields_.size(); ++slot) {
+                const bool zero = slot < zero_extended_slots_.size() && zero_extended_slots_[slot];
+                wide_fields_[slot].resize(narrow_fields_[slot].size());
+                std::transform(narrow_fields_[slot].begin(), narrow_fields_[slot].end(), wide_fields_[slot].begin(),
+                               [zero](std::int32_t v) {
+                                   return zero ? static_cast<std::int64_t>(static_cast<std::uint32_t>(v))
+                                               : static_cast<std::int64_t>(v);
+                               });
+            }
+        }
         narrow_current_ = narrow;
     }
-    return narrow;
+    if (!narrow) return nullptr;
+    // What the run leaves in each slot it writes.
+    if (zero_extended_slots_.size() < plan->written.size()) zero_extended_slots_.resize(plan->written.size(), 0);
+    for (std::size_t slot = 0; slot < plan->written.size(); ++slot)
+        if (plan->written[slot]) zero_extended_slots_[slot] = plan->ends_zero_extended[slot];
+    return &*plan;
 }
 
 // Compiled three times, for AVX-512 (x86-64-v4: eight 64-bit lanes, and 64-bit multiplies, shifts and
@@ -268,7 +356,8 @@ bool PpArray::choose_narrow_lanes(const PpProgram& program) {
 #endif
 template <class Lane, bool Listed>
 [[gnu::always_inline]] inline PpRunCounts PpArray::execute(const PpProgram& program, const PpSlotContext& context,
-                                                           std::span<const int> listed) {
+                                                           std::span<const int> listed,
+                                                           std::span<const std::uint8_t> zero_extended) {
     // `total` PPs own backing store; `lanes` of them run (all, or the listed ones, whose fields are kept
     // in list order).
     const auto total = static_cast<std::size_t>(size());
@@ -334,8 +423,21 @@ template <class Lane, bool Listed>
             const PpField* dst_field = in.dst >= 0 ? &program.fields[static_cast<std::size_t>(in.dst)] : nullptr;
             const Wrap<Lane> wrap = dst_field != nullptr ? Wrap<Lane>(*dst_field) : Wrap<Lane>(PpField{0, 0, 1, false});
             const bool all = enabled_count == n;
-            // The operand widened to 64 bits, for results whose high bits matter.
-            const auto wide = [](Lane v) { return static_cast<std::int64_t>(v); };
+            // Operands widened to 64 bits, for results whose high bits matter: sign-extended, or
+            // zero-extended for a 32-bit unsigned field (whose 32-bit lane holds its value's bits).
+            const auto extension = [&](int id) {
+                return !zero_extended.empty() && zero_extended[static_cast<std::size_t>(id)] ? std::int64_t{0xFFFFFFFF}
+                                                                                             : std::int64_t{-1};
+            };
+            const std::int64_t a_bits = in.a >= 0 ? extension(in.a) : -1;
+            const std::int64_t b_bits = in.b >= 0 ? extension(in.b) : -1;
+            const bool a_zero_extended = a_bits != -1;
+            const auto widen = [](Lane v, std::int64_t bits) {
+                if constexpr (sizeof(Lane) == sizeof(std::int64_t)) return static_cast<std::int64_t>(v);
+                else return static_cast<std::int64_t>(v) & bits;
+            };
+            const auto wide = [&](Lane v) { return widen(v, a_bits); };
+            const auto wide_b = [&](Lane v) { return widen(v, b_bits); };
             // Each case is one plain loop over the PPs; a disabled PP keeps its value. Every result is
             // wrapped to its field's width (a no-op for the widths the builder infers).
             switch (in.op) {
@@ -343,8 +445,12 @@ template <class Lane, bool Listed>
                 case PpOp::Move: {
                     // A shift past the lane's width leaves its sign, as it would of the value widened.
                     const int lane_shift = std::min(shift, kLaneBits<Lane> - 1);
-                    for_enabled(n, en, all, dst, wrap,
-                                [&](std::size_t p) { return static_cast<Lane>(a[p] >> lane_shift); });
+                    if (a_zero_extended) {
+                        for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return wide(a[p]) >> shift; });
+                    } else {
+                        for_enabled(n, en, all, dst, wrap,
+                                    [&](std::size_t p) { return static_cast<Lane>(a[p] >> lane_shift); });
+                    }
                     break;
                 }
                 case PpOp::Add:
@@ -363,14 +469,14 @@ template <class Lane, bool Listed>
                     });
                     break;
                 case PpOp::MinConst:
-                    if (lane_holds<Lane>(imm)) {
+                    if (lane_holds<Lane>(imm) && !a_zero_extended) {
                         for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return std::min(a[p], imm_lane); });
                     } else {
                         for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return std::min(wide(a[p]), imm); });
                     }
                     break;
                 case PpOp::MaxConst:
-                    if (lane_holds<Lane>(imm)) {
+                    if (lane_holds<Lane>(imm) && !a_zero_extended) {
                         for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return std::max(a[p], imm_lane); });
                     } else {
                         for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return std::max(wide(a[p]), imm); });
@@ -382,7 +488,7 @@ template <class Lane, bool Listed>
                         for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return mul_lanes(a[p], b[p]); });
                     } else {
                         for_enabled(n, en, all, dst, wrap,
-                                    [&](std::size_t p) { return mul_lanes(wide(a[p]), wide(b[p])) >> shift; });
+                                    [&](std::size_t p) { return mul_lanes(wide(a[p]), wide_b(b[p])) >> shift; });
                     }
                     break;
                 case PpOp::MulConst:
@@ -400,8 +506,8 @@ template <class Lane, bool Listed>
                     const std::int64_t largest_a = std::numeric_limits<std::int64_t>::max() >> shift;
                     for (std::size_t p = 0; p < n; ++p) {
                         if (!en[p]) continue;
-                        const std::int64_t dividend = a[p];
-                        const std::int64_t divisor = b[p];
+                        const std::int64_t dividend = wide(a[p]);
+                        const std::int64_t divisor = wide_b(b[p]);
                         const bool defined = divisor > 0 && dividend >= 0 && dividend <= largest_a;
                         dst[p] = static_cast<Lane>(defined ? std::min(exact_quotient(dividend << shift, divisor), top)
                                                            : top);
@@ -409,7 +515,7 @@ template <class Lane, bool Listed>
                     break;
                 }
                 case PpOp::Sqrt:
-                    for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return isqrt_branch_free(a[p]); });
+                    for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return isqrt_branch_free(wide(a[p])); });
                     break;
                 case PpOp::Lookup: {
                     const auto& entries = program.tables[static_cast<std::size_t>(in.table)].entries;
@@ -457,7 +563,16 @@ template <class Lane, bool Listed>
                     std::fill(en, en + n, std::uint8_t{1});
                     enabled_count = n;
                     break;
-                case PpOp::EnableIf: enabled_count = enable_where(n, en, a, in.compare, imm); break;
+                case PpOp::EnableIf:
+                    if (a_zero_extended) {
+                        // Compared as the 64-bit values the lanes stand for.
+                        std::vector<std::int64_t> values(n);
+                        for (std::size_t p = 0; p < n; ++p) values[p] = wide(a[p]);
+                        enabled_count = enable_where(n, en, values.data(), in.compare, imm);
+                    } else {
+                        enabled_count = enable_where(n, en, a, in.compare, imm);
+                    }
+                    break;
                 case PpOp::Load: {
                     // dst.bits bits at record_base_bit + record_offset; sign-extended by the wrap when signed.
                     const PpBitWindow window(context.record_base_bit + in.record_offset, dst_field->bits);
@@ -503,8 +618,10 @@ template <class Lane, bool Listed>
 PP5_VECTOR_CLONES
 PpRunCounts PpArray::run(const PpProgram& program, const PpSlotContext& context) {
     check_runnable(program, context, local_memory_bits_, backing_store_bits_);
-    if (choose_narrow_lanes(program)) return execute<std::int32_t, false>(program, context, {});
-    return execute<std::int64_t, false>(program, context, {});
+    const std::optional<PpNarrowPlan> plan = narrow_plan(program);
+    if (const PpNarrowPlan* narrow = choose_narrow_lanes(plan))
+        return execute<std::int32_t, false>(program, context, {}, narrow->zero_extended);
+    return execute<std::int64_t, false>(program, context, {}, {});
 }
 
 PP5_VECTOR_CLONES
@@ -525,8 +642,11 @@ PpRunCounts PpArray::run_candidates(const PpProgram& program, const PpSlotContex
                             program.name, i, candidates[i], size()));
         }
     }
-    PpRunCounts counts = choose_narrow_lanes(program) ? execute<std::int32_t, true>(program, context, candidates)
-                                                      : execute<std::int64_t, true>(program, context, candidates);
+    const std::optional<PpNarrowPlan> plan = narrow_plan(program);
+    const PpNarrowPlan* narrow = choose_narrow_lanes(plan);
+    PpRunCounts counts = narrow != nullptr
+                             ? execute<std::int32_t, true>(program, context, candidates, narrow->zero_extended)
+                             : execute<std::int64_t, true>(program, context, candidates, {});
     const auto bystanders = static_cast<std::uint64_t>(size()) - candidates.size();
     counts.pp_operations += bystanders * program.instructions.size();
     counts.enabled_pp_operations += bystanders * bystander.enabled_operations;

@@ -14,10 +14,13 @@
 #include <cstdint>
 #include <cstdlib>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
 namespace pp5 {
+
+struct PpNarrowPlan;
 
 // Fixed-point coefficients of one quadratic expression, as the controller feeds them to the QEE.
 struct QeeCoefficients {
@@ -72,19 +75,23 @@ public:
     // range, and for a program whose bystanders would store.
     PpRunCounts run_candidates(const PpProgram& program, const PpSlotContext& context, std::span<const int> candidates);
 
+    // Whether the last run used 32-bit lanes (for tests and inspection).
+    bool ran_in_narrow_lanes() const { return narrow_current_; }
     // A field's value in every PP after the last run (for tests and inspection).
     std::vector<std::int64_t> field_values(const PpField& field) const;
 
 private:
     void check_backing_range(int bit_offset, int bits) const;
     // Runs a validated program over every PP (Listed = false) or over `listed` PPs, each field's values
-    // held in lanes of type Lane (32 bits when every field fits them, else 64).
+    // held in lanes of type Lane (32 bits when every field fits them, else 64); `zero_extended` marks
+    // the 32-bit unsigned fields of a run in 32-bit lanes.
     template <class Lane, bool Listed>
-    PpRunCounts execute(const PpProgram& program, const PpSlotContext& context, std::span<const int> listed);
-    // Whether `program` runs in 32-bit lanes: when its fields fit them and so does every value the fields
-    // hold now (fields carry state from one program to the next, as local memory does). Moves the
-    // values into the storage of the lanes chosen.
-    bool choose_narrow_lanes(const PpProgram& program);
+    PpRunCounts execute(const PpProgram& program, const PpSlotContext& context, std::span<const int> listed,
+                        std::span<const std::uint8_t> zero_extended);
+    // The plan to run a program in 32-bit lanes when it can (its fields fit them, and so does every
+    // value the fields hold now: fields carry state from one program to the next, as local memory
+    // does), else null. Moves the values into the storage of the lanes chosen.
+    const PpNarrowPlan* choose_narrow_lanes(const std::optional<PpNarrowPlan>& plan);
     template <class Lane>
     std::vector<std::vector<Lane>>& field_storage() {
         if constexpr (sizeof(Lane) == sizeof(std::int32_t)) return narrow_fields_;
@@ -108,6 +115,7 @@ private:
     std::vector<std::vector<std::int32_t>> narrow_fields_;
     std::vector<std::vector<std::int64_t>> wide_fields_;
     bool narrow_current_ = true;
+    std::vector<std::uint8_t> zero_extended_slots_;  // by slot, in 32-bit lanes: holds a 32-bit unsigned field
     std::vector<std::uint8_t> enabled_;
 };
 

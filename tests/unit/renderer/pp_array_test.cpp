@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <functional>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -491,13 +492,24 @@ PpProgram random_narrow_program(std::uint64_t seed, bool widen, int record_bits)
     live.push_back(b.mul("unsigned_product", u0, u1, 6));
     live.push_back(b.mul("signed_product", s0, s1, 8));
     live.push_back(b.mul_const("scaled", s1, 70000, 7));
+    // 32-bit unsigned fields, whose lanes hold values past 2^31, written whole and read by every
+    // kind of operation below.
+    live.push_back(b.mul("unsigned_32", u0, u1));
+    live.push_back(b.mul_const("unsigned_32_const", u1, 65535));
     for (const PpField& f : {u0, u1, s0, s1}) b.release(f);
     int record = 64;
+    bool masked = false;
     const std::int64_t immediates[] = {
         0, 1, -1, 3, -7, 255, 1000, -(std::int64_t{1} << 20), std::int64_t{1} << 35, -(std::int64_t{1} << 40)};
     for (int step = 0; step < 80; ++step) {
-        const PpField a = live[pick(live.size())];
-        const PpField c = live[pick(live.size())];
+        // Under a partial mask, operands of at most 31 bits: a 32-bit unsigned result runs in 32-bit
+        // lanes only when written whole.
+        const auto operand = [&] {
+            for (;;)
+                if (const PpField f = live[pick(live.size())]; !masked || f.bits < 32) return f;
+        };
+        const PpField a = operand();
+        const PpField c = operand();
         const std::int64_t imm = immediates[pick(std::size(immediates))];
         const int shift = static_cast<int>(pick(6));
         const auto narrow = [](PpField x, PpField y) { return std::max(x.bits, y.bits) < 28; };
@@ -550,6 +562,7 @@ PpProgram random_narrow_program(std::uint64_t seed, bool widen, int record_bits)
                     // A conditional update: the PPs that fail the test keep the field's old value.
                     const PpField target = b.set_const("target", imm % 50, 18, true);
                     b.enable_if(a, static_cast<PpCompare>(pick(6)), imm % 64);
+                    masked = true;
                     b.assign(target, c);
                     result = target;
                     break;
@@ -564,13 +577,22 @@ PpProgram random_narrow_program(std::uint64_t seed, bool widen, int record_bits)
         live.push_back(result);
         // A released field's host storage goes to a later result, which a partial mask then leaves
         // holding the old field's values (wider than its own) in the disabled PPs.
+        // (A 32-bit unsigned field keeps its storage: a field after it there must be written whole.)
         if (chance(40) && live.size() > 6) {
             const std::size_t gone = 4 + pick(live.size() - 4);
-            b.release(live[gone]);
-            live.erase(live.begin() + static_cast<std::ptrdiff_t>(gone));
+            if (live[gone].bits < 32) {
+                b.release(live[gone]);
+                live.erase(live.begin() + static_cast<std::ptrdiff_t>(gone));
+            }
         }
-        if (chance(30)) b.enable_if(live[pick(live.size())], static_cast<PpCompare>(pick(6)), imm);
-        if (chance(25)) b.enable_all();
+        if (chance(30)) {
+            b.enable_if(live[pick(live.size())], static_cast<PpCompare>(pick(6)), imm);
+            masked = true;
+        }
+        if (chance(25)) {
+            b.enable_all();
+            masked = false;
+        }
     }
     if (widen) b.set_const("widener", std::int64_t{1} << 40);
     return b.finish();
@@ -589,8 +611,7 @@ TEST(PpArray, NarrowAndWideLanesLeaveTheSameBits) {
             return bits;
         };
         ASSERT_GT(widest(wide), 32);
-        if (widest(narrow) > 31) continue;  // a narrow program after all; the others count
-        ++narrow_programs;
+        if (widest(narrow) > 32) continue;  // a wide program after all; the others count
         PpArray in_narrow(kColumns, kRows, 4096, kRecordBits), in_wide(kColumns, kRows, 4096, kRecordBits);
         std::mt19937_64 rng(seed * 977);
         for (int p = 0; p < kColumns * kRows; ++p) {
@@ -601,6 +622,8 @@ TEST(PpArray, NarrowAndWideLanesLeaveTheSameBits) {
         const PpSlotContext context{0, qee};
         const PpRunCounts counts = in_narrow.run(narrow, context);
         in_wide.run(wide, context);
+        ASSERT_FALSE(in_wide.ran_in_narrow_lanes());
+        if (in_narrow.ran_in_narrow_lanes()) ++narrow_programs;
         for (int p = 0; p < kColumns * kRows; ++p) {
             for (int bit = 64; bit < kRecordBits; bit += 64)
                 ASSERT_EQ(in_narrow.read_backing(p, bit, 64), in_wide.read_backing(p, bit, 64))
@@ -609,6 +632,105 @@ TEST(PpArray, NarrowAndWideLanesLeaveTheSameBits) {
         EXPECT_GT(counts.instructions, 60u);
     }
     EXPECT_GE(narrow_programs, 16);
+}
+
+TEST(PpArray, ThirtyTwoBitUnsignedFieldsRunNarrowOnlyWhereNoStaleBitsCanMeetThem) {
+    // A 32-bit unsigned field's lane holds its value's bits; read as the value, it is zero-extended.
+    // Where a PP could read such bits as another field's, or another field's (negative) value as such
+    // a field's, the program must run in 64-bit lanes. Each case runs as built and widened, and must
+    // leave the same bits; `narrow` says which lanes the case may use.
+    constexpr int kColumns = 40, kRows = 60;
+    const auto fill = [](PpArray& array) {
+        std::mt19937_64 rng(5);
+        for (int p = 0; p < array.size(); ++p) array.write_backing(p, 0, 64, rng());
+    };
+    // Shared opening: a signed field leaves negative values in a slot, then `body` runs.
+    const auto build = [](bool widen, const std::function<void(PpProgramBuilder&)>& body) {
+        PpProgramBuilder b("unsigned_32", 1024);
+        const PpField negative = b.load("negative", 40, 20, true);
+        const PpField kept = b.add_const("kept", negative, -3);  // stored at the end, whatever happens
+        b.release(negative);
+        body(b);
+        b.store(kept, 600, kept.bits);
+        if (widen) b.set_const("widener", std::int64_t{1} << 40);
+        return b.finish();
+    };
+    const auto product = [](PpProgramBuilder& b) {
+        const PpField x = b.load("x", 0, 16, false), y = b.load("y", 16, 16, false);
+        const PpField p = b.mul("product", x, y);  // 32 bits unsigned
+        b.release(x);
+        b.release(y);
+        return p;
+    };
+    const auto compare = [&](const char* name, bool narrow, const std::function<void(PpProgramBuilder&)>& body) {
+        PpArray as_built(kColumns, kRows, 1024, 1024), widened(kColumns, kRows, 1024, 1024);
+        fill(as_built);
+        fill(widened);
+        as_built.run(build(false, body), PpSlotContext{});
+        widened.run(build(true, body), PpSlotContext{});
+        EXPECT_EQ(as_built.ran_in_narrow_lanes(), narrow) << name;
+        for (int p = 0; p < as_built.size(); ++p)
+            for (int bit = 64; bit < 1024; bit += 64)
+                ASSERT_EQ(as_built.read_backing(p, bit, 64), widened.read_backing(p, bit, 64)) << name << ", PP " << p;
+    };
+    // Written whole, read by operations that look at its value: 32-bit lanes.
+    compare("whole", true, [&](PpProgramBuilder& b) {
+        const PpField u = product(b);
+        b.store(b.sqrt("root", u), 64, 16);
+        b.store(b.move("high", u, 20), 96, 12);
+        b.store(b.min_const("least", u, std::int64_t{3} << 30), 128, 32);
+        b.enable_if(u, PpCompare::Greater, std::int64_t{3} << 29);
+        b.store(b.set_const("big", 1, 1, false), 192, 1);
+        b.enable_all();
+    });
+    // Written under a mask over a slot of negative values: the other PPs' values would be read as its.
+    compare("written in part", false, [&](PpProgramBuilder& b) {
+        const PpField on = b.load("on", 32, 1, false);
+        b.enable_if(on, PpCompare::Equal, 1);
+        const PpField u = product(b);
+        b.enable_all();
+        b.store(b.min_const("least", u, std::int64_t{3} << 30), 128, 32);
+    });
+    // A field after it in its slot, written under a mask: its other PPs would read the product's bits.
+    compare("followed in part", false, [&](PpProgramBuilder& b) {
+        const PpField on = b.load("on", 32, 1, false);
+        const PpField u = product(b);
+        b.store(u, 64, 32);
+        b.release(u);
+        b.enable_if(on, PpCompare::Equal, 1);
+        const PpField after = b.set_const("after", -5, 8, true);
+        b.enable_all();
+        b.store(b.min_const("least", after, 100), 128);
+    });
+    // One program leaves a product's bits in a slot; the next reads that slot as a field of its own
+    // before writing it. It runs in 64-bit lanes, the bits widened as the value they stand for.
+    const auto leave = [](bool widen) {
+        PpProgramBuilder b("leave", 1024);
+        const PpField x = b.load("x", 0, 16, false), y = b.load("y", 16, 16, false);
+        b.mul("product", x, y);  // storage slot 2
+        if (widen) b.set_const("widener", std::int64_t{1} << 40);
+        return b.finish();
+    };
+    const auto read_on = [](bool widen) {
+        PpProgramBuilder b("read_on", 1024);
+        b.alloc("pad0", 8, false);
+        b.alloc("pad1", 8, false);
+        const PpField carried = b.alloc("carried", 31, false);  // storage slot 2, read before any write
+        b.store(b.min_const("carried_least", carried, std::int64_t{1} << 30), 64);
+        if (widen) b.set_const("widener", std::int64_t{1} << 40);
+        return b.finish();
+    };
+    PpArray as_built(kColumns, kRows, 1024, 1024), widened(kColumns, kRows, 1024, 1024);
+    fill(as_built);
+    fill(widened);
+    as_built.run(leave(false), PpSlotContext{});
+    EXPECT_TRUE(as_built.ran_in_narrow_lanes());
+    as_built.run(read_on(false), PpSlotContext{});
+    EXPECT_FALSE(as_built.ran_in_narrow_lanes());
+    widened.run(leave(true), PpSlotContext{});
+    widened.run(read_on(true), PpSlotContext{});
+    for (int p = 0; p < as_built.size(); ++p)
+        ASSERT_EQ(as_built.read_backing(p, 64, 64), widened.read_backing(p, 64, 64)) << "carried, PP " << p;
 }
 
 TEST(PpArray, FieldsCarryTheirValuesBetweenProgramsOfEitherLaneWidth) {
