@@ -642,7 +642,13 @@ PpRunCounts PpArray::run_candidates(const PpProgram& program, const PpSlotContex
                             program.name, i, candidates[i], size()));
         }
     }
-    const std::optional<PpNarrowPlan> plan = narrow_plan(program);
+    std::optional<PpNarrowPlan> plan = narrow_plan(program);
+    // A listed run writes only the candidates' lanes, so a slot could end holding 32-bit unsigned bits
+    // in some lanes and not in others: such runs keep to fields read with sign extension.
+    const auto any = [](const std::vector<std::uint8_t>& flags) {
+        return std::any_of(flags.begin(), flags.end(), [](std::uint8_t f) { return f != 0; });
+    };
+    if (plan && (any(plan->zero_extended) || any(zero_extended_slots_))) plan.reset();
     const PpNarrowPlan* narrow = choose_narrow_lanes(plan);
     PpRunCounts counts = narrow != nullptr
                              ? execute<std::int32_t, true>(program, context, candidates, narrow->zero_extended)

@@ -733,6 +733,45 @@ TEST(PpArray, ThirtyTwoBitUnsignedFieldsRunNarrowOnlyWhereNoStaleBitsCanMeetThem
         ASSERT_EQ(as_built.read_backing(p, 64, 64), widened.read_backing(p, 64, 64)) << "carried, PP " << p;
 }
 
+TEST(PpArray, CandidateRunsKeepThirtyTwoBitUnsignedBitsOutOfTheirLanes) {
+    // A run over candidates writes only their lanes, so it uses 32-bit lanes only with no 32-bit
+    // unsigned field of its own and none left in the array's slots.
+    const auto fill = [](PpArray& array) {
+        for (int p = 0; p < array.size(); ++p)
+            array.write_backing(p, 0, 64, static_cast<std::uint64_t>(p) * 0x9E3779B97F4A7C15ull);
+    };
+    PpArray array(64, 4, 1024, 256);
+    fill(array);
+    std::vector<int> candidates;
+    for (int p = 0; p < array.size(); ++p)
+        if ((array.read_backing(p, 0, 8) & 0xFF) > 200) candidates.push_back(p);
+    const auto listed = [](bool with_product) {
+        PpProgramBuilder b("listed", 1024);
+        const PpField x = b.load("x", 0, 8, false);
+        PpField y;  // a 32-bit unsigned product, written whole before the test, or a byte
+        if (with_product) y = b.mul("product", b.load("u", 8, 16, false), b.load("v", 24, 16, false));
+        b.enable_if(x, PpCompare::Greater, 200);  // rules out every PP but the candidates
+        if (!with_product) y = b.add_const("y", x, 1);
+        b.store(y, 64, y.bits);
+        return b.finish();
+    };
+    array.run_candidates(listed(false), PpSlotContext{}, candidates);
+    EXPECT_TRUE(array.ran_in_narrow_lanes());
+    array.run_candidates(listed(true), PpSlotContext{}, candidates);
+    EXPECT_FALSE(array.ran_in_narrow_lanes());
+    // On a fresh array, a whole run leaves a product's bits in a slot; the next candidate run widens
+    // them. (The array above holds products past 2^31 in 64-bit lanes now, so it stays there.)
+    PpArray fresh(64, 4, 1024, 256);
+    fill(fresh);
+    PpProgramBuilder b("leave", 1024);
+    b.mul("product", b.load("u", 8, 16, false), b.load("v", 24, 16, false));
+    fresh.run(b.finish(), PpSlotContext{});
+    EXPECT_TRUE(fresh.ran_in_narrow_lanes());
+    fresh.run_candidates(listed(false), PpSlotContext{}, candidates);
+    EXPECT_FALSE(fresh.ran_in_narrow_lanes());
+    EXPECT_GT(candidates.size(), 10u);
+}
+
 TEST(PpArray, FieldsCarryTheirValuesBetweenProgramsOfEitherLaneWidth) {
     // Field 0 is state kept from one program to the next, as local memory keeps it: each program clamps
     // it and adds to it. Programs of narrow fields follow programs with a field past 32 bits,
