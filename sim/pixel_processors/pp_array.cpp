@@ -566,7 +566,7 @@ template <class Lane, bool Listed>
                 case PpOp::EnableIf:
                     if (a_zero_extended) {
                         // Compared as the 64-bit values the lanes stand for.
-                        std::vector<std::int64_t> values(n);
+                        std::array<std::int64_t, kBlock> values;
                         for (std::size_t p = 0; p < n; ++p) values[p] = wide(a[p]);
                         enabled_count = enable_where(n, en, values.data(), in.compare, imm);
                     } else {
