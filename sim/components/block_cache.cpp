@@ -27,6 +27,8 @@ BlockCache::BlockCache(Component* owner, std::uint64_t capacity_blocks, int asso
     });
 }
 
+std::uint64_t BlockCache::host_bytes_per_block() { return sizeof(Way); }
+
 std::uint64_t BlockCache::set_of(std::uint64_t block) const {
     // Fibonacci hashing: the high bits of the product mix every bit of the block number.
     return ((block * 0x9E3779B97F4A7C15ull) >> 20) % sets_;

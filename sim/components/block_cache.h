@@ -37,6 +37,8 @@ public:
     std::uint64_t capacity_blocks() const { return sets_ * static_cast<std::uint64_t>(ways_); }
     int associativity() const { return ways_; }
     std::uint64_t occupancy() const { return occupied_; }
+    // What the simulation keeps of each block the cache can hold, in this computer's memory.
+    static std::uint64_t host_bytes_per_block();
 
     Counter& hits;
     Counter& misses;

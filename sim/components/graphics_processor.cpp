@@ -80,15 +80,15 @@ BlockCache& GraphicsProcessor::cache(std::uint64_t block_bits) {
             reject_field("gp.cache_bits",
                          fmt::format("a {} byte cache does not fit in the GP's {} bytes of memory (gp.memory_bytes)",
                                      cache_bits_ / 8, memory_bytes_));
-        // The simulator keeps a tag and a use count per block: refuse caches this computer cannot hold.
-        constexpr std::uint64_t kHostBytesPerBlock = 16;
+        // The simulator keeps a tag and use counts per block: refuse caches this computer cannot hold.
+        const std::uint64_t host_bytes_per_block = BlockCache::host_bytes_per_block();
         constexpr std::uint64_t kMostHostBytes = std::uint64_t{1} << 30;
-        if (blocks > kMostHostBytes / kHostBytesPerBlock)
+        if (blocks > kMostHostBytes / host_bytes_per_block)
             reject_field(
                 "gp.cache_bits",
                 fmt::format(
                     "{} blocks a GP would take {} MiB of this computer's memory to simulate, per GP; at most {} MiB",
-                    blocks, blocks * kHostBytesPerBlock >> 20, kMostHostBytes >> 20));
+                    blocks, blocks * host_bytes_per_block >> 20, kMostHostBytes >> 20));
         cache_block_bits_ = block_bits;
         cache_ = std::make_unique<BlockCache>(this, blocks, cache_associativity_);
     }
