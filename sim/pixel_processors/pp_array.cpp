@@ -20,10 +20,11 @@ namespace pp5 {
 namespace {
 
 // Lane types. A program whose every field has at most 32 bits runs in 32-bit lanes (twice as many PPs
-// per vector instruction, half the memory) when PpNarrowPlan allows; any other in 64-bit lanes. Each lane holds its
-// field's value exactly, in two's complement, so both give the same integers: the narrow executor computes in 32 bits
-// only where the low 32 bits of a result are all that its wrap keeps (sums, differences, unshifted products), and
-// widens to 64 bits wherever higher bits matter (shifted products, quotients, roots, the QEE).
+// per vector instruction, half the memory) when PpNarrowPlan allows; any other in 64-bit lanes. Each
+// lane holds its field's value exactly, in two's complement, so both give the same integers: the
+// narrow executor computes in 32 bits only where the low 32 bits of a result are all that its wrap
+// keeps (sums, differences, unshifted products), and widens to 64 bits wherever higher bits matter
+// (shifted products, quotients, roots, the QEE).
 template <class Lane>
 using Unsigned = std::make_unsigned_t<Lane>;
 
