@@ -1,4 +1,5 @@
 #include "kernels/levoy/adaptive_refinement.h"
+#include "sim/core/parallel.h"
 
 #include <algorithm>
 #include <stdexcept>
@@ -69,10 +70,8 @@ void AdaptiveRefinement::record(std::span<const glm::vec4> colors) {
     splitting_.clear();
     std::vector<Square> next;
     for (const Square& s : active_) {
-        if (s.x1 - s.x0 < 2 && s.y1 - s.y0 < 2) {
-            leaves_.push_back(s);
-            continue;
-        }
+        // A square no more than a pixel across has only its corners, all cast by now: nothing to fill.
+        if (s.x1 - s.x0 < 2 && s.y1 - s.y0 < 2) continue;
         tested_.push_back(index(s.x0, s.y0));
         if (!needs_split(s)) {
             leaves_.push_back(s);
@@ -107,28 +106,44 @@ void AdaptiveRefinement::record(std::span<const glm::vec4> colors) {
 }
 
 Image AdaptiveRefinement::image() const {
+    // The picture in bands of rows, in parallel. Each band copies its rows, then fills the parts of the
+    // squares that lie in it, in the whole picture's order (the leaves, then the squares being split):
+    // a pixel on an edge two squares share ends as one pass over all the squares would leave it.
+    constexpr int kBandRows = 16;
+    const int bands = (height_ + kBandRows - 1) / kBandRows;
+    const auto all = static_cast<std::uint32_t>(leaves_.size() + splitting_.size());
+    const auto square = [&](std::uint32_t i) -> const Square& {
+        return i < leaves_.size() ? leaves_[i] : splitting_[i - leaves_.size()];
+    };
+    std::vector<std::vector<std::uint32_t>> in_band(static_cast<std::size_t>(bands));
+    for (std::uint32_t i = 0; i < all; ++i)
+        for (int b = square(i).y0 / kBandRows; b <= square(i).y1 / kBandRows; ++b)
+            in_band[static_cast<std::size_t>(b)].push_back(i);
     Image out(width_, height_);
-    out.pixels = colors_;
-    const auto fill = [&](const Square& s) {
-        const glm::vec4 c00 = colors_[index(s.x0, s.y0)];
-        const glm::vec4 c10 = colors_[index(s.x1, s.y0)];
-        const glm::vec4 c01 = colors_[index(s.x0, s.y1)];
-        const glm::vec4 c11 = colors_[index(s.x1, s.y1)];
-        const float w = static_cast<float>(std::max(1, s.x1 - s.x0));
-        const float h = static_cast<float>(std::max(1, s.y1 - s.y0));
-        for (int y = s.y0; y <= s.y1; ++y) {
-            const float v = static_cast<float>(y - s.y0) / h;
-            for (int x = s.x0; x <= s.x1; ++x) {
-                const std::uint32_t p = index(x, y);
-                if (cast_[p] != 0) continue;
-                const float u = static_cast<float>(x - s.x0) / w;
-                out.pixels[p] = (1.0f - v) * ((1.0f - u) * c00 + u * c10) + v * ((1.0f - u) * c01 + u * c11);
+    pp5::parallel_for(0, bands, [&](int band) {
+        const int top = band * kBandRows;
+        const int bottom = std::min(height_, top + kBandRows) - 1;
+        std::copy(colors_.begin() + index(0, top), colors_.begin() + index(0, bottom) + width_,
+                  out.pixels.begin() + index(0, top));
+        for (const std::uint32_t i : in_band[static_cast<std::size_t>(band)]) {
+            const Square& s = square(i);
+            const glm::vec4 c00 = colors_[index(s.x0, s.y0)];
+            const glm::vec4 c10 = colors_[index(s.x1, s.y0)];
+            const glm::vec4 c01 = colors_[index(s.x0, s.y1)];
+            const glm::vec4 c11 = colors_[index(s.x1, s.y1)];
+            const float w = static_cast<float>(std::max(1, s.x1 - s.x0));
+            const float h = static_cast<float>(std::max(1, s.y1 - s.y0));
+            for (int y = std::max(s.y0, top); y <= std::min(s.y1, bottom); ++y) {
+                const float v = static_cast<float>(y - s.y0) / h;
+                for (int x = s.x0; x <= s.x1; ++x) {
+                    const std::uint32_t p = index(x, y);
+                    if (cast_[p] != 0) continue;
+                    const float u = static_cast<float>(x - s.x0) / w;
+                    out.pixels[p] = (1.0f - v) * ((1.0f - u) * c00 + u * c10) + v * ((1.0f - u) * c01 + u * c11);
+                }
             }
         }
-    };
-    for (const Square& s : leaves_) fill(s);
-    // A square chosen for splitting shows its corners' blend until its new corners are cast.
-    for (const Square& s : splitting_) fill(s);
+    });
     return out;
 }
 

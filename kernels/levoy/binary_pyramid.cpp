@@ -4,6 +4,7 @@
 #include <tbb/blocked_range.h>
 
 #include <algorithm>
+#include <array>
 #include <numeric>
 #include <stdexcept>
 
@@ -89,7 +90,58 @@ BinaryPyramid BinaryPyramid::from_opacity(const ShadedCodes& volume, const Shade
         pyramid.levels_.push_back(pack(up.dims, up.bits));
         below = std::move(up);
     }
+    pyramid.count_empty_levels();
     return pyramid;
+}
+
+namespace {
+// Which of a brick's 2x2x2 parent cells each of its 4x4x4 cells lies in (bit index order: x, y, z).
+constexpr std::array<std::uint8_t, 64> kParentOf = [] {
+    std::array<std::uint8_t, 64> of{};
+    for (int cell = 0; cell < 64; ++cell)
+        of[static_cast<std::size_t>(cell)] =
+            static_cast<std::uint8_t>(((cell & 3) >> 1) | ((((cell >> 2) & 3) >> 1) << 1) | (((cell >> 4) >> 1) << 2));
+    return of;
+}();
+}  // namespace
+
+void BinaryPyramid::count_empty_levels() {
+    if (levels() < 2) return;
+    // From the top down, a brick (one word of bits) at a time: a cell's count is 0 when it is occupied,
+    // else one more than its parent's. Each level's counts are in bricks like its bits, so a brick's
+    // 4x4x4 cells find their 2x2x2 parents in one brick of the level above.
+    std::vector<std::uint8_t> above;  // the counts of the level above, by brick
+    for (int l = levels() - 1; l >= 1; --l) {
+        const Level& level = levels_[static_cast<std::size_t>(l)];
+        const Level* parents = l + 1 < levels() ? &levels_[static_cast<std::size_t>(l) + 1] : nullptr;
+        std::vector<std::uint8_t> here(level.words.size() * 64, 0);
+        pp5::parallel_for(tbb::blocked_range<int>(0, level.bricks.z), [&](const tbb::blocked_range<int>& r) {
+            for (int bz = r.begin(); bz != r.end(); ++bz)
+                for (int by = 0; by < level.bricks.y; ++by)
+                    for (int bx = 0; bx < level.bricks.x; ++bx) {
+                        const glm::ivec3 brick(bx, by, bz);
+                        std::uint8_t parent[8] = {};  // above the top: nothing
+                        if (parents != nullptr)
+                            for (int i = 0; i < 8; ++i) {
+                                const glm::ivec3 p = brick * 2 + glm::ivec3(i & 1, (i >> 1) & 1, i >> 2);
+                                if (p.x < parents->dims.x && p.y < parents->dims.y && p.z < parents->dims.z)
+                                    parent[i] = above[index_of(p >> 2, parents->bricks) * 64 +
+                                                      static_cast<std::size_t>((p.x & 3) | ((p.y & 3) << 2) |
+                                                                               ((p.z & 3) << 4))];
+                            }
+                        const std::size_t b = index_of(brick, level.bricks);
+                        const std::uint64_t bits = level.words[b];
+                        std::uint8_t* out = &here[b * 64];
+                        for (int cell = 0; cell < 64; ++cell) {
+                            const auto empty = static_cast<std::uint8_t>(((bits >> cell) & 1u) ^ 1u);
+                            out[cell] = static_cast<std::uint8_t>(empty * (1 + parent[kParentOf[cell]]));
+                        }
+                    }
+        });
+        above = std::move(here);
+    }
+    climb_bricks_ = levels_[1].bricks;
+    climb_ = std::move(above);
 }
 
 std::uint64_t BinaryPyramid::cells(int level) const {

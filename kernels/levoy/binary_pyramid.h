@@ -36,6 +36,18 @@ public:
         const int bit = (cell.x & 3) | ((cell.y & 3) << 2) | ((cell.z & 3) << 4);
         return ((l.words[word] >> bit) & 1u) != 0;
     }
+    // For a cell of level 0, how many levels above it, from level 1 up, are empty where it lies: the
+    // levels a ray's leap climbs through before it meets an occupied cell (or the top). `cell` must lie
+    // inside cell_dims(0), and the volume must have more than one level.
+    int empty_levels_above(glm::ivec3 cell) const {
+        const glm::ivec3 c = cell >> 1;
+        const glm::ivec3 b = c >> 2;
+        const std::size_t brick = static_cast<std::size_t>(b.x) +
+                                  static_cast<std::size_t>(climb_bricks_.x) *
+                                      (static_cast<std::size_t>(b.y) +
+                                       static_cast<std::size_t>(climb_bricks_.y) * static_cast<std::size_t>(b.z));
+        return climb_[brick * 64 + static_cast<std::size_t>((c.x & 3) | ((c.y & 3) << 2) | ((c.z & 3) << 4))];
+    }
     std::uint64_t cells(int level) const;
     std::uint64_t occupied_cells(int level) const;
     std::uint64_t total_cells() const;  // over all levels: what building it visits
@@ -54,7 +66,12 @@ private:
         std::uint64_t occupied = 0;
     };
     static Level pack(glm::ivec3 dims, const std::vector<std::uint8_t>& bytes);
+    void count_empty_levels();
     std::vector<Level> levels_;
+    // Per cell of level 1, in bricks of 4x4x4 cells (64 bytes, one cache line each): the count of empty
+    // levels from level 1 up where it lies (empty_levels_above).
+    glm::ivec3 climb_bricks_{0};
+    std::vector<std::uint8_t> climb_;
 };
 
 }  // namespace pp5

@@ -5,6 +5,7 @@
 #include "kernels/levoy/ray_cast_work.h"
 #include "kernels/levoy/ray_caster.h"
 #include "sim/core/input_error.h"
+#include "sim/core/parallel.h"
 #include "sim/core/work_progress.h"
 #include "sim/timing/frame_engine.h"
 
@@ -245,30 +246,25 @@ Phase LevoyRenderer::cast_frame(const Camera& camera, LevoyFrameReport& report) 
                                                                            : std::span<const std::uint32_t>());
         for (std::size_t i = 0; i < pending.size(); ++i) slot_of[pending[i]] = static_cast<std::uint32_t>(i);
         std::vector<glm::vec4> colors(pending.size());
-        RefinementPassReport pass_report;
-        for (std::size_t i = 0; i < order.pixels.size(); ++i) {
+        const bool keep_depth = settings_.depth_buffer && settings_.pyramid_skipping;
+        pp5::parallel_for(std::size_t{0}, order.pixels.size(), [&](std::size_t i) {
             colors[slot_of[order.pixels[i]]] = batch.colors[i];
-            ++cast_in_tile[static_cast<std::size_t>(tiles.of(order.pixels[i]))];
-            const RayWork& ray = batch.rays[i];
-            if (settings_.depth_buffer && settings_.pyramid_skipping) depth_[ray.pixel] = ray.first_sample;
-            pass_report.samples += ray.samples;
-        }
-        pass_report.rays = order.pixels.size();
-
+            if (keep_depth) depth_[batch.rays[i].pixel] = batch.rays[i].first_sample;
+        });
         const std::vector<std::uint32_t> tests = tests_per_tile(tiles, refinement);
+        std::vector<std::uint32_t> filled(static_cast<std::size_t>(tiles.count()));
+        for (int t = 0; t < tiles.count(); ++t) {
+            const auto tile = static_cast<std::size_t>(t);
+            cast_in_tile[tile] += order.first[tile + 1] - order.first[tile];
+            filled[tile] = tiles.pixels_in(t) - cast_in_tile[tile];
+        }
+        RefinementPassReport pass_report;
+        pass_report.rays = order.pixels.size();
+        pass_report.samples = recorder.add_pass(static_cast<std::uint32_t>(pass), batch, order, tests, filled);
         refinement.record(colors);
         pass_report.pixels_cast = refinement.pixels_cast();
         pass_report.image = refinement.image();
         report.passes.push_back(std::move(pass_report));
-
-        for (int t = 0; t < tiles.count(); ++t) {
-            const auto tile = static_cast<std::size_t>(t);
-            const auto first_item = static_cast<std::uint32_t>(job.items.size());
-            for (std::uint32_t r = order.first[tile]; r < order.first[tile + 1]; ++r)
-                recorder.add_ray(batch, batch.rays[r]);
-            recorder.add_task(static_cast<std::uint32_t>(pass), t, first_item, tests[tile],
-                              tiles.pixels_in(t) - cast_in_tile[tile]);
-        }
         job.groups = static_cast<std::uint32_t>(pass) + 1;
     }
     // The last decision, that nothing more splits, was made too: charge its tests to the last pass.

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace pp5 {
@@ -59,8 +60,12 @@ public:
     RayWorkRecorder(const ScreenTiles& tiles, bool interleave, GpPhase& job, RayCastCounts& counts)
         : tiles_(tiles), interleave_(interleave), job_(job), counts_(counts) {}
 
-    // One ray as an item: a step per block look-up (its ray setup in the first), then the rest.
-    void add_ray(const CastBatch& batch, const RayWork& ray);
+    // A pass's rays (cast in `order`), and a task per tile: its refinement tests (`tests`, per tile), an
+    // item per ray, then the pixels it fills in (`filled`, per tile) and sends. The record is the one
+    // that adding the tiles one by one in order would make; the tiles are recorded in parallel. Returns
+    // the samples the pass's rays took.
+    std::uint64_t add_pass(std::uint32_t pass, const CastBatch& batch, const TileOrder& order,
+                           std::span<const std::uint32_t> tests, std::span<const std::uint32_t> filled);
     // Tile t's task of a pass: its refinement tests, the rays added since `first_item`, then the pixels
     // it fills in and sends. A task with nothing to do is left out.
     void add_task(std::uint32_t pass, int t, std::uint32_t first_item, std::uint32_t tests, std::uint32_t filled);

@@ -78,13 +78,12 @@ void RayCaster::cast_one(std::uint32_t pixel, std::uint32_t start, glm::vec4& co
             ++steps_since;
             ++work.pyramid_steps;
             if (!pyramid_.occupied(0, cell.corner)) {
-                int level = 0;
-                while (level < top) {
-                    ++steps_since;
-                    ++work.pyramid_steps;
-                    if (pyramid_.occupied(level + 1, cell.corner >> (level + 1))) break;
-                    ++level;
-                }
+                // The climb checks levels 1 up to the first occupied one (or the top), and leaps
+                // across the box of the last empty level.
+                const int level = top > 0 ? pyramid_.empty_levels_above(cell.corner) : 0;
+                const auto checks = static_cast<std::uint32_t>(std::min(level + 1, top));
+                steps_since += checks;
+                work.pyramid_steps += checks;
                 const glm::ivec3 box = (cell.corner >> level) << level;
                 const float t_exit = exit_of_box(*ray, glm::vec3(box), glm::vec3(box + (1 << level)));
                 const int next = std::max(k + 1, ray->samples_before(t_exit - margin));

@@ -5,7 +5,9 @@
 #include "kernels/levoy/ray_caster.h"
 #include "kernels/levoy/adaptive_refinement.h"
 #include "kernels/levoy/binary_pyramid.h"
+#include "kernels/levoy/levoy_costs.h"
 #include "kernels/levoy/levoy_renderer.h"
+#include "kernels/levoy/ray_cast_work.h"
 #include "kernels/levoy/tests/levoy_test_support.h"
 #include "scene/reference/composite.h"
 #include "scene/reference/trilinear.h"
@@ -86,6 +88,106 @@ TEST(BinaryPyramid, SameCellsComparesTheNonEmptySet) {
     c.set(8, {0, 0, 0, 1});  // one more non-empty voxel
     EXPECT_TRUE(BinaryPyramid::from_opacity(a).same_cells(BinaryPyramid::from_opacity(b)));
     EXPECT_FALSE(BinaryPyramid::from_opacity(a).same_cells(BinaryPyramid::from_opacity(c)));
+}
+
+TEST(BinaryPyramid, EmptyLevelsAboveACellAreTheLevelsAClimbFromItPassesThrough) {
+    // Sparse random opacity in volumes of uneven sizes: for every empty cell of level 0, the count of
+    // empty levels from level 1 up equals a climb that tests one level at a time.
+    std::mt19937 random(5);
+    for (const glm::ivec3 dims : {glm::ivec3(4, 3, 3), glm::ivec3(23, 17, 30), glm::ivec3(40, 9, 66)}) {
+        ShadedCodes v = empty_volume(dims);
+        std::uniform_int_distribution<std::size_t> voxel(0, v.size() - 1);
+        v.set(0, {0, 0, 0, 200});
+        for (std::size_t n = 0; n < v.size() / 1000; ++n) v.set(voxel(random), {0, 0, 0, 200});
+        const BinaryPyramid p = BinaryPyramid::from_opacity(v);
+        ASSERT_GE(p.levels(), 2);
+        const glm::ivec3 cells = p.cell_dims(0);
+        int checked = 0;
+        for (int z = 0; z < cells.z; ++z)
+            for (int y = 0; y < cells.y; ++y)
+                for (int x = 0; x < cells.x; ++x) {
+                    const glm::ivec3 c(x, y, z);
+                    if (p.occupied(0, c)) continue;
+                    int climbed = 0;
+                    while (climbed + 1 < p.levels() && !p.occupied(climbed + 1, c >> (climbed + 1))) ++climbed;
+                    ASSERT_EQ(p.empty_levels_above(c), climbed) << "cell " << x << "," << y << "," << z;
+                    ++checked;
+                }
+        EXPECT_GT(checked, 0);
+    }
+}
+
+TEST(RayWorkRecorder, APassRecordsATaskPerTileAnItemPerRayAndAStepPerLookUp) {
+    // Two tiles of 2x1 pixels; tile 0 casts two rays, tile 1 none but has a refinement test.
+    const ScreenTiles tiles(4, 1, 2);
+    CastBatch batch;
+    batch.touches = {{7, 2, 3}, {8, 1, 0}};
+    RayWork looks_up;  // two look-ups, then 4 samples and 5 pyramid steps
+    looks_up.first_touch = 0;
+    looks_up.touch_count = 2;
+    looks_up.tail_samples = 4;
+    looks_up.tail_pyramid_steps = 5;
+    looks_up.samples = 7;
+    looks_up.pyramid_steps = 8;
+    looks_up.terminated = true;
+    RayWork misses;  // never meets a block: its setup alone
+    batch.rays = {looks_up, misses};
+    TileOrder order;
+    order.first = {0, 2, 2};
+    order.pixels = {0, 1};
+    GpPhase job;
+    RayCastCounts counts;
+    RayWorkRecorder recorder(tiles, false, job, counts);
+    const std::vector<std::uint32_t> tests = {0, 3}, filled = {1, 0};
+    EXPECT_EQ(recorder.add_pass(2, batch, order, tests, filled), 7u);
+
+    const auto ops = [&](std::uint32_t first, std::uint32_t count) {
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
+        for (std::uint32_t i = first; i < first + count; ++i) out.emplace_back(job.ops[i].kind, job.ops[i].count);
+        return out;
+    };
+    using Ops = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
+    ASSERT_EQ(job.items.size(), 2u);
+    ASSERT_EQ(job.steps.size(), 4u);
+    ASSERT_EQ(job.tasks.size(), 2u);
+    EXPECT_EQ(job.items[0].first_step, 0u);
+    EXPECT_EQ(job.items[0].step_count, 3u);
+    EXPECT_EQ(job.items[1].first_step, 3u);
+    EXPECT_EQ(job.items[1].step_count, 1u);
+    EXPECT_EQ(job.steps[0].block, 7u);
+    EXPECT_EQ(ops(job.steps[0].first_op, job.steps[0].op_count),
+              (Ops{{kRaySetup, 1}, {kSample, 2}, {kPyramidStep, 3}}));
+    EXPECT_EQ(job.steps[1].block, 8u);
+    EXPECT_EQ(ops(job.steps[1].first_op, job.steps[1].op_count), (Ops{{kSample, 1}}));
+    EXPECT_EQ(job.steps[2].block, kNoFetch);
+    EXPECT_EQ(ops(job.steps[2].first_op, job.steps[2].op_count), (Ops{{kSample, 4}, {kPyramidStep, 5}}));
+    EXPECT_EQ(job.steps[3].block, kNoFetch);
+    EXPECT_EQ(ops(job.steps[3].first_op, job.steps[3].op_count), (Ops{{kRaySetup, 1}}));
+
+    const GpTask& cast = job.tasks[0];
+    EXPECT_EQ(cast.group, 2u);
+    EXPECT_EQ(cast.key, 0u);
+    EXPECT_EQ(cast.first_item, 0u);
+    EXPECT_EQ(cast.item_count, 2u);
+    EXPECT_EQ(cast.op_count, 0u);
+    EXPECT_EQ(ops(cast.first_finish_op, cast.finish_op_count), (Ops{{kPixelFill, 1}}));
+    EXPECT_EQ(cast.pixels, 2u);
+    const GpTask& tests_only = job.tasks[1];
+    EXPECT_EQ(tests_only.key, 1u);
+    EXPECT_EQ(tests_only.item_count, 0u);
+    EXPECT_EQ(ops(tests_only.first_op, tests_only.op_count), (Ops{{kRefinementTest, 3}}));
+    EXPECT_EQ(tests_only.finish_op_count, 0u);
+    EXPECT_EQ(tests_only.pixels, 0u);
+    // The operations are laid out tile by tile: the rays', then the task's own.
+    EXPECT_EQ(job.ops.size(), 9u);
+    EXPECT_EQ(cast.first_finish_op, 7u);
+    EXPECT_EQ(tests_only.first_op, 8u);
+
+    EXPECT_EQ(counts.rays, 2u);
+    EXPECT_EQ(counts.samples, 7u);
+    EXPECT_EQ(counts.pyramid_steps, 8u);
+    EXPECT_EQ(counts.rays_terminated, 1u);
+    EXPECT_EQ(counts.pixels_filled, 1u);
 }
 
 TEST(AdaptiveRefinement, NegativeThresholdCastsEveryPixelOnce) {
