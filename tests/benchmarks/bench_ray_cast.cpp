@@ -85,6 +85,23 @@ void ray_cast(benchmark::State& state, const char* threshold) {
 void BM_RayCastFullyRefined256(benchmark::State& state) { ray_cast(state, "-1"); }
 void BM_RayCastAdaptive256(benchmark::State& state) { ray_cast(state, "0.1"); }
 
+// The timing engine alone: one fully refined frame recorded once, then replayed on the machine each
+// iteration (its GP caches as the frame before left them, so every replay after the first is alike). The
+// engine runs on one host thread whatever the thread count, so this is the part of a frame that threads
+// do not shorten.
+void BM_TimingEngineReplay256(benchmark::State& state) {
+    const pp5::MachineConfig config = pxpl5("-1");
+    pp5::Machine machine(config);
+    pp5::LevoyRenderer renderer(machine, head(), pp5::LevoySettings::from(config), pp5::LevoyImageSettings{});
+    renderer.render(frame_inputs(0));
+    const pp5::LevoyFrameReport recorded = renderer.record(frame_inputs(1));
+    pp5::time_levoy_frame(machine, recorded.work);
+    double events = 0.0;
+    for (auto _ : state) events += static_cast<double>(pp5::time_levoy_frame(machine, recorded.work).ray_cast.events);
+    state.counters["events_per_host_s"] = benchmark::Counter(events, benchmark::Counter::kIsRate);
+    state.counters["rays"] = static_cast<double>(recorded.work.rays.rays);
+}
+
 void BM_HostCompositor256(benchmark::State& state) {
     const tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
                                       static_cast<std::size_t>(state.range(0)));
@@ -106,4 +123,5 @@ void BM_HostCompositor256(benchmark::State& state) {
 
 BENCHMARK(BM_RayCastFullyRefined256)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_RayCastAdaptive256)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_TimingEngineReplay256)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_HostCompositor256)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
