@@ -61,7 +61,7 @@ private:
     std::vector<std::uint8_t> cast_;
     std::uint64_t pixels_cast_ = 0;
     std::vector<Square> active_;     // squares whose corners are cast or pending, not yet split
-    std::vector<Square> leaves_;     // squares that will never split
+    std::vector<Square> leaves_;     // squares that will never split and have pixels to fill
     std::vector<Square> splitting_;  // squares split by the last decision, shown whole until the next pass
     std::vector<std::uint32_t> pending_;
     std::vector<std::uint32_t> tested_;

@@ -4,6 +4,7 @@
 #include "kernels/levoy/levoy_renderer.h"
 #include "sim/core/parallel.h"
 
+#include <algorithm>
 #include <limits>
 #include <numeric>
 #include <stdexcept>
@@ -11,13 +12,33 @@
 namespace pp5 {
 
 TileOrder order_by_tile(const ScreenTiles& tiles, const std::vector<std::uint32_t>& pending) {
+    if (!std::is_sorted(pending.begin(), pending.end()))
+        throw std::invalid_argument("ray casting: the pending pixels are not in row-major order");
+    // Row-major, so each row of tiles is a run of the list: the rows of tiles are sorted in parallel,
+    // each counting its tiles' pixels and then placing them.
+    const auto rows = static_cast<std::size_t>(tiles.down);
+    const auto across = static_cast<std::size_t>(tiles.across);
+    std::vector<std::size_t> row_start(rows + 1, pending.size());
+    for (std::size_t r = 0; r < rows; ++r) {
+        const auto first_pixel = static_cast<std::uint32_t>(r * static_cast<std::size_t>(tiles.edge) *
+                                                            static_cast<std::size_t>(tiles.width));
+        row_start[r] =
+            static_cast<std::size_t>(std::lower_bound(pending.begin(), pending.end(), first_pixel) - pending.begin());
+    }
     TileOrder order;
     order.first.assign(static_cast<std::size_t>(tiles.count()) + 1, 0);
-    for (const std::uint32_t p : pending) ++order.first[static_cast<std::size_t>(tiles.of(p)) + 1];
+    pp5::parallel_for(std::size_t{0}, rows, [&](std::size_t r) {
+        for (std::size_t i = row_start[r]; i < row_start[r + 1]; ++i)
+            ++order.first[static_cast<std::size_t>(tiles.of(pending[i])) + 1];
+    });
     std::partial_sum(order.first.begin(), order.first.end(), order.first.begin());
     order.pixels.resize(pending.size());
-    std::vector<std::uint32_t> next = order.first;
-    for (const std::uint32_t p : pending) order.pixels[next[static_cast<std::size_t>(tiles.of(p))]++] = p;
+    pp5::parallel_for(std::size_t{0}, rows, [&](std::size_t r) {
+        std::vector<std::uint32_t> next(order.first.begin() + static_cast<std::ptrdiff_t>(r * across),
+                                        order.first.begin() + static_cast<std::ptrdiff_t>((r + 1) * across));
+        for (std::size_t i = row_start[r]; i < row_start[r + 1]; ++i)
+            order.pixels[next[static_cast<std::size_t>(tiles.of(pending[i])) - r * across]++] = pending[i];
+    });
     return order;
 }
 

@@ -143,17 +143,18 @@ CastBatch RayCaster::cast(std::span<const std::uint32_t> pixels, std::span<const
             }
         }
     });
-    std::size_t total = 0;
-    for (const auto& t : chunk_touches) total += t.size();
-    if (total >= std::numeric_limits<std::uint32_t>::max())
+    std::vector<std::size_t> chunk_offset(chunks + 1, 0);
+    for (std::size_t c = 0; c < chunks; ++c) chunk_offset[c + 1] = chunk_offset[c] + chunk_touches[c].size();
+    if (chunk_offset[chunks] >= std::numeric_limits<std::uint32_t>::max())
         throw std::length_error("ray caster: too many block look-ups in one batch");
-    batch.touches.reserve(total);
-    for (std::size_t c = 0; c < chunks; ++c) {
-        const auto offset = static_cast<std::uint32_t>(batch.touches.size());
+    batch.touches.resize(chunk_offset[chunks]);
+    pp5::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+        const auto offset = static_cast<std::uint32_t>(chunk_offset[c]);
         for (std::size_t i = c * kChunk; i < std::min(pixels.size(), (c + 1) * kChunk); ++i)
             batch.rays[i].first_touch += offset;
-        batch.touches.insert(batch.touches.end(), chunk_touches[c].begin(), chunk_touches[c].end());
-    }
+        std::copy(chunk_touches[c].begin(), chunk_touches[c].end(),
+                  batch.touches.begin() + static_cast<std::ptrdiff_t>(offset));
+    });
     return batch;
 }
 

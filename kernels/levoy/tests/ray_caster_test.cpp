@@ -117,6 +117,27 @@ TEST(BinaryPyramid, EmptyLevelsAboveACellAreTheLevelsAClimbFromItPassesThrough) 
     }
 }
 
+TEST(OrderByTile, GroupsThePendingPixelsByTileKeepingEachTilesRowsInOrder) {
+    const ScreenTiles tiles(37, 21, 8);  // uneven tiles at the right and bottom edges
+    std::mt19937 random(3);
+    std::bernoulli_distribution chosen(0.4);
+    std::vector<std::uint32_t> pending;
+    for (std::uint32_t p = 0; p < 37u * 21u; ++p)
+        if (chosen(random)) pending.push_back(p);
+    const TileOrder order = order_by_tile(tiles, pending);
+    std::vector<std::uint32_t> expected = pending;
+    std::stable_sort(expected.begin(), expected.end(),
+                     [&](std::uint32_t a, std::uint32_t b) { return tiles.of(a) < tiles.of(b); });
+    EXPECT_EQ(order.pixels, expected);
+    ASSERT_EQ(order.first.size(), static_cast<std::size_t>(tiles.count()) + 1);
+    for (int t = 0; t < tiles.count(); ++t)
+        for (std::uint32_t i = order.first[static_cast<std::size_t>(t)];
+             i < order.first[static_cast<std::size_t>(t) + 1]; ++i)
+            ASSERT_EQ(tiles.of(order.pixels[i]), t);
+    std::swap(pending[0], pending[1]);
+    EXPECT_THROW(order_by_tile(tiles, pending), std::invalid_argument);
+}
+
 TEST(RayWorkRecorder, APassRecordsATaskPerTileAnItemPerRayAndAStepPerLookUp) {
     // Two tiles of 2x1 pixels; tile 0 casts two rays, tile 1 none but has a refinement test.
     const ScreenTiles tiles(4, 1, 2);
