@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -44,6 +45,14 @@ class PpBackingWindow {
 public:
     // Throws std::out_of_range for a PP outside the array.
     std::uint64_t read(int pp) const { return window_.read(store_, pps_, index(pp)); }
+    // out[i] = read(first + i) for each i of out: the PPs' range is checked once.
+    void read_run(int first, std::span<std::uint64_t> out) const {
+        if (out.empty()) return;
+        index(first);
+        index(first + static_cast<int>(out.size()) - 1);
+        for (std::size_t i = 0; i < out.size(); ++i)
+            out[i] = window_.read(store_, pps_, static_cast<std::size_t>(first) + i);
+    }
     void write(int pp, std::uint64_t value) const requires(!std::is_const_v<Word>) {
         window_.write(store_, pps_, index(pp), value);
     }

@@ -108,10 +108,10 @@ TEST(PpShading, PiecewiseAndRegionBoundaryImagesMatchTheReference) {
 
 // Voxel by voxel against the reference's shade_voxels: colours within a few codes wherever the voxel
 // is visible, including flat interiors (no gradient: ambient light only).
-TEST(PpShading, VoxelColoursAndOpacitiesMatchTheReference) {
+void voxel_colours_match_the_reference(const MachineConfig& config) {
+    SCOPED_TRACE(config.integer("voxel_store.color_bits"));
     const Volume sphere = make_sphere_phantom(32);
     const Classification ramp = test::piecewise({{50.0f, 0.0f}, {150.0f, 0.8f}});
-    const MachineConfig config = pp_shading_machine();
     Machine machine(config);
     PpShading pps(machine, sphere, VoxelStoreSettings::from(config));
     const ShadingView view = make_shading_view(oblique_camera(sphere), sphere.dims(), sphere.spacing());
@@ -135,6 +135,13 @@ TEST(PpShading, VoxelColoursAndOpacitiesMatchTheReference) {
     // 0.008 per unit) and the opacity rounded to 1/255.
     EXPECT_LE(worst_opacity, 2.0f / 255.0f);
     EXPECT_LE(worst_colour, 0.06f);
+}
+
+// Both ways of reading the codes back: 8-bit colours (copied as they lie) and 10-bit ones (taken apart
+// channel by channel).
+TEST(PpShading, VoxelColoursAndOpacitiesMatchTheReference) {
+    for (const std::string_view bits : {"voxel_store.color_bits=8", "voxel_store.color_bits=10"})
+        voxel_colours_match_the_reference(pp_shading_machine({bits}));
 }
 
 TEST(PpShading, EachChangeRerunsOnlyItsPass) {

@@ -8,6 +8,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <bit>
+#include <cstring>
 #include <stdexcept>
 #include <vector>
 
@@ -252,27 +254,49 @@ void PpShading::read_shaded_codes(ShadedCodes& shaded) const {
     // Every voxel lies in a used slot, so each code is overwritten below.
     shaded.reset(dims_, spacing_,
                  glm::vec4(color_max, color_max, color_max, static_cast<float>(mask(layout.opacity_bits))));
+    // Four 8-bit codes side by side are a u8vec4's bytes, in order (on a little-endian host): a run of
+    // PPs is then copied as it is.
+    const bool bytes_as_stored = std::endian::native == std::endian::little && shaded.narrow() &&
+                                 layout.color_bits == 8 && layout.opacity_bits == 8;
+    const PpArrayShape& shape = placement_.shape();
     auto& renderers = machine_.renderers();
     pp5::parallel_for(std::size_t{0}, renderers.size(), [&](std::size_t r) {
         const PpArray& array = renderers[r]->array();
+        std::vector<std::uint64_t> run(static_cast<std::size_t>(shape.columns));
         for (int slot = 0; slot < placement_.slots_needed(); ++slot) {
             const SlotFrame frame = placement_.frame(static_cast<int>(r), slot);
             if (!frame.used) continue;
             // The three colours and the opacity lie side by side, at most 64 bits: one read a voxel.
             const PpBackingReader codes = array.backing_reader(slot * record_bits + layout.color_offset(0),
                                                                3 * layout.color_bits + layout.opacity_bits);
-            for_each_voxel(frame, dims_, placement_.shape(), [&](int pp, glm::ivec3 v) {
-                std::uint64_t bits = codes.read(pp);
-                glm::u16vec4 code;
-                for (int c = 0; c < 3; ++c, bits >>= layout.color_bits)
-                    code[c] = static_cast<std::uint16_t>(bits & mask(layout.color_bits));
-                code[3] = static_cast<std::uint16_t>(bits & mask(layout.opacity_bits));
-                shaded.set(static_cast<std::size_t>(v.x) +
-                               static_cast<std::size_t>(dims_.x) *
-                                   (static_cast<std::size_t>(v.y) +
-                                    static_cast<std::size_t>(dims_.y) * static_cast<std::size_t>(v.z)),
-                           code);
-            });
+            // A row of PPs holds a run of voxels along x (for_each_voxel's order).
+            const int columns = std::min(shape.columns, dims_.x - frame.origin.x);
+            const int rows = std::min(shape.rows, dims_.y - frame.origin.y);
+            for (int row = 0; row < rows; ++row) {
+                const std::span<std::uint64_t> bits(run.data(), static_cast<std::size_t>(columns));
+                codes.read_run(row * shape.columns, bits);
+                const glm::ivec3 v = frame.origin + glm::ivec3(0, row, 0);
+                const std::size_t first = static_cast<std::size_t>(v.x) +
+                                          static_cast<std::size_t>(dims_.x) *
+                                              (static_cast<std::size_t>(v.y) +
+                                               static_cast<std::size_t>(dims_.y) * static_cast<std::size_t>(v.z));
+                if (bytes_as_stored) {
+                    glm::u8vec4* out = shaded.narrow_codes_to_write() + first;
+                    for (std::size_t i = 0; i < bits.size(); ++i) {
+                        const auto word = static_cast<std::uint32_t>(bits[i]);
+                        std::memcpy(&out[i], &word, sizeof word);
+                    }
+                    continue;
+                }
+                for (std::size_t i = 0; i < bits.size(); ++i) {
+                    std::uint64_t b = bits[i];
+                    glm::u16vec4 code;
+                    for (int c = 0; c < 3; ++c, b >>= layout.color_bits)
+                        code[c] = static_cast<std::uint16_t>(b & mask(layout.color_bits));
+                    code[3] = static_cast<std::uint16_t>(b & mask(layout.opacity_bits));
+                    shaded.set(first + i, code);
+                }
+            }
         }
     });
 }

@@ -34,6 +34,7 @@ public:
     // One of these holds the codes, in Volume::index order: 8 bits a channel, or 16.
     bool narrow() const { return narrow_storage_; }
     const glm::u8vec4* narrow_codes() const { return narrow_.data(); }
+    glm::u8vec4* narrow_codes_to_write() { return narrow_.data(); }
     const glm::u16vec4* wide_codes() const { return wide_.data(); }
 
     glm::u16vec4 code(std::size_t voxel) const { return narrow() ? glm::u16vec4(narrow_[voxel]) : wide_[voxel]; }

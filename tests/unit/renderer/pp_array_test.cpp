@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <functional>
 #include <random>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -80,6 +81,19 @@ TEST(PpBackingStore, AccessOutsideTheStoreThrows) {
     EXPECT_THROW(array.read_backing(-1, 0, 8), std::out_of_range);
     EXPECT_THROW(array.write_backing(4, 0, 8, 0), std::out_of_range);
     EXPECT_THROW(array.read_backing(0, 2147483600, 64), std::out_of_range);  // no overflow in the check
+}
+
+TEST(PpBackingStore, ARunOfPpsReadsAsEachDoesAndIsCheckedWhole) {
+    PpArray array(4, 3, 64, 192);
+    std::mt19937_64 random(9);
+    for (int pp = 0; pp < array.size(); ++pp) array.write_backing(pp, 50, 40, random());  // straddles two words
+    const PpBackingReader reader = array.backing_reader(50, 40);
+    std::vector<std::uint64_t> run(5);
+    reader.read_run(6, run);
+    for (int i = 0; i < 5; ++i) EXPECT_EQ(run[static_cast<std::size_t>(i)], array.read_backing(6 + i, 50, 40)) << i;
+    EXPECT_THROW(reader.read_run(8, run), std::out_of_range);  // its last PP is past the array
+    EXPECT_THROW(reader.read_run(-1, run), std::out_of_range);
+    EXPECT_NO_THROW(reader.read_run(12, std::span<std::uint64_t>()));  // an empty run reads nothing
 }
 
 TEST(PpArray, LoadsSignExtendAndStoresWriteOnlyTheirBits) {
