@@ -107,8 +107,9 @@ void AdaptiveRefinement::record(std::span<const glm::vec4> colors) {
 
 Image AdaptiveRefinement::image() const {
     // The picture in bands of rows, in parallel. Each band copies its rows, then fills the parts of the
-    // squares that lie in it, in the whole picture's order (the leaves, then the squares being split):
-    // a pixel on an edge two squares share ends as one pass over all the squares would leave it.
+    // squares that lie in it, in the whole picture's order (the leaves, then the squares being split,
+    // which show their corners' blend until their new corners are cast): a pixel on an edge two squares
+    // share ends as one pass over all the squares would leave it.
     constexpr int kBandRows = 16;
     const int bands = (height_ + kBandRows - 1) / kBandRows;
     const auto all = static_cast<std::uint32_t>(leaves_.size() + splitting_.size());
