@@ -29,8 +29,8 @@ BinaryPyramid::Level BinaryPyramid::pack(glm::ivec3 dims, const std::vector<std:
         for (int y = 0; y < dims.y; ++y)
             for (int x = 0; x < dims.x; ++x) {
                 if (bytes[index_of({x, y, z}, dims)] == 0) continue;
-                const std::size_t word = index_of({x >> 2, y >> 2, z >> 2}, level.bricks);
-                level.words[word] |= std::uint64_t{1} << ((x & 3) | ((y & 3) << 2) | ((z & 3) << 4));
+                const glm::ivec3 cell(x, y, z);
+                level.words[brick_of(cell, level.bricks)] |= std::uint64_t{1} << in_brick(cell);
                 ++level.occupied;
             }
     return level;
@@ -125,9 +125,8 @@ void BinaryPyramid::count_empty_levels() {
                             for (int i = 0; i < 8; ++i) {
                                 const glm::ivec3 p = brick * 2 + glm::ivec3(i & 1, (i >> 1) & 1, i >> 2);
                                 if (p.x < parents->dims.x && p.y < parents->dims.y && p.z < parents->dims.z)
-                                    parent[i] = above[index_of(p >> 2, parents->bricks) * 64 +
-                                                      static_cast<std::size_t>((p.x & 3) | ((p.y & 3) << 2) |
-                                                                               ((p.z & 3) << 4))];
+                                    parent[i] = above[brick_of(p, parents->bricks) * 64 +
+                                                      static_cast<std::size_t>(in_brick(p))];
                             }
                         const std::size_t b = index_of(brick, level.bricks);
                         const std::uint64_t bits = level.words[b];

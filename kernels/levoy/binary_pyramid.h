@@ -28,25 +28,14 @@ public:
     // `cell` must lie inside cell_dims(level).
     bool occupied(int level, glm::ivec3 cell) const {
         const Level& l = levels_[static_cast<std::size_t>(level)];
-        const glm::ivec3 b = cell >> 2;
-        const std::size_t word =
-            static_cast<std::size_t>(b.x) +
-            static_cast<std::size_t>(l.bricks.x) *
-                (static_cast<std::size_t>(b.y) + static_cast<std::size_t>(l.bricks.y) * static_cast<std::size_t>(b.z));
-        const int bit = (cell.x & 3) | ((cell.y & 3) << 2) | ((cell.z & 3) << 4);
-        return ((l.words[word] >> bit) & 1u) != 0;
+        return ((l.words[brick_of(cell, l.bricks)] >> in_brick(cell)) & 1u) != 0;
     }
     // For a cell of level 0, how many levels above it, from level 1 up, are empty where it lies: the
     // levels a ray's leap climbs through before it meets an occupied cell (or the top). `cell` must lie
     // inside cell_dims(0), and the volume must have more than one level.
     int empty_levels_above(glm::ivec3 cell) const {
-        const glm::ivec3 c = cell >> 1;
-        const glm::ivec3 b = c >> 2;
-        const std::size_t brick = static_cast<std::size_t>(b.x) +
-                                  static_cast<std::size_t>(climb_bricks_.x) *
-                                      (static_cast<std::size_t>(b.y) +
-                                       static_cast<std::size_t>(climb_bricks_.y) * static_cast<std::size_t>(b.z));
-        return climb_[brick * 64 + static_cast<std::size_t>((c.x & 3) | ((c.y & 3) << 2) | ((c.z & 3) << 4))];
+        const glm::ivec3 up = cell >> 1;  // its cell of level 1
+        return climb_[brick_of(up, climb_bricks_) * 64 + static_cast<std::size_t>(in_brick(up))];
     }
     std::uint64_t cells(int level) const;
     std::uint64_t occupied_cells(int level) const;
@@ -65,6 +54,14 @@ private:
         std::vector<std::uint64_t> words;
         std::uint64_t occupied = 0;
     };
+    // A cell's brick (row-major over `bricks`, the level's bricks along each axis), and its place in it.
+    static std::size_t brick_of(glm::ivec3 cell, glm::ivec3 bricks) {
+        const glm::ivec3 b = cell >> 2;
+        return static_cast<std::size_t>(b.x) +
+               static_cast<std::size_t>(bricks.x) *
+                   (static_cast<std::size_t>(b.y) + static_cast<std::size_t>(bricks.y) * static_cast<std::size_t>(b.z));
+    }
+    static int in_brick(glm::ivec3 cell) { return (cell.x & 3) | ((cell.y & 3) << 2) | ((cell.z & 3) << 4); }
     static Level pack(glm::ivec3 dims, const std::vector<std::uint8_t>& bytes);
     void count_empty_levels();
     std::vector<Level> levels_;
