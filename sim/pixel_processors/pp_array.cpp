@@ -7,7 +7,9 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <new>
@@ -30,6 +32,10 @@ using Unsigned = std::make_unsigned_t<Lane>;
 
 template <class Lane>
 constexpr int kLaneBits = static_cast<int>(sizeof(Lane) * 8);
+
+// PPs never exchange values, so the whole program runs over one block of PPs after another: the
+// same results, with each block's fields small enough to stay in the host's cache.
+constexpr std::size_t kBlockLanes = 1024;
 
 }  // namespace
 
@@ -152,6 +158,91 @@ std::int64_t exact_quotient(std::int64_t a, std::int64_t b) {
     if (q * b > a) --q;
     else if ((q + 1) * b <= a) ++q;
     return q;
+}
+
+// A Div instruction's result where a <= largest_a and a << shift fits 52 bits: floor((a << shift) / b),
+// or `top` when b <= 0, a < 0 or the quotient is past it. The double quotient of two exact operands
+// is at least the true floor and at most one above it; the corrections settle it. A divisor past the
+// dividend is clamped (the quotient is 0 either way), so every product stays far inside 64 bits.
+// Written with masks, not branches, so that a block of divides vectorises: a PP outside the domain
+// (a disabled PP's stale value, say) divides 0 by 1, and is given `top`.
+[[gnu::always_inline]] inline std::int64_t divide_in_double(std::int64_t a, std::int64_t b, int shift,
+                                                            std::int64_t largest_a, std::int64_t top) {
+    const std::int64_t in_domain = -static_cast<std::int64_t>((b > 0) & (a >= 0) & (a <= largest_a));  // all ones
+    const std::int64_t dividend = static_cast<std::int64_t>(static_cast<std::uint64_t>(a) << shift) & in_domain;
+    const std::int64_t divisor = (std::min(b, dividend + 1) & in_domain) | (~in_domain & 1);
+    auto q = static_cast<std::int64_t>(static_cast<double>(dividend) / static_cast<double>(divisor));
+    q -= q * divisor > dividend ? 1 : 0;
+    q += (q + 1) * divisor <= dividend ? 1 : 0;
+    return std::min(q | (~in_domain & top), top);
+}
+
+// The lanes of a block whose PP is enabled, in order, into `lanes`; returns how many. Enable bytes
+// are 0 or 1 and are read eight at a time, so a sparse block costs little more than its enabled PPs.
+std::size_t enabled_lanes(std::size_t n, const std::uint8_t* en, std::uint16_t* lanes) {
+    std::size_t count = 0;
+    std::size_t p = 0;
+    for (; p + 8 <= n; p += 8) {
+        std::uint64_t bytes;
+        std::memcpy(&bytes, en + p, sizeof bytes);
+        for (; bytes != 0; bytes &= bytes - 1)
+            lanes[count++] = static_cast<std::uint16_t>(p + static_cast<std::size_t>(std::countr_zero(bytes)) / 8);
+    }
+    for (; p < n; ++p)
+        if (en[p]) lanes[count++] = static_cast<std::uint16_t>(p);
+    return count;
+}
+
+// Div over one block: dst = (a << shift) / b on every enabled PP. A restoring divide saturates: b <= 0,
+// or a quotient past the field, gives the field's maximum, `top`. (The builder keeps a << shift within
+// 63 bits; a stale a past that also saturates.) A divide is usually guarded by a test that leaves few
+// PPs enabled, and the host's divider is slow, so then only the enabled PPs' operands are gathered and
+// divided. Shifted dividends of at most 52 bits, all the builder's fields give, are divided in
+// doubles, vectorised; a block where an enabled PP holds a larger one is divided PP by PP, exactly.
+template <class Lane, class WidenA, class WidenB>
+[[gnu::always_inline]] inline void divide_block(std::size_t n, const std::uint8_t* en, std::uint64_t enabled_count,
+                                                Lane* dst, const Lane* a, const Lane* b, WidenA wide_a, WidenB wide_b,
+                                                int shift, std::int64_t top) {
+    const std::int64_t largest_a = std::numeric_limits<std::int64_t>::max() >> shift;
+    const std::int64_t largest_in_double = ((std::int64_t{1} << 52) - 1) >> shift;
+    std::array<std::int64_t, kBlockLanes> dividends, divisors;
+    std::array<std::uint16_t, kBlockLanes> lanes;
+    std::array<std::uint8_t, kBlockLanes> enabled;  // of the lanes divided
+    const bool gathered = enabled_count * 4 < n;
+    std::size_t m = n;
+    if (gathered) {
+        m = enabled_lanes(n, en, lanes.data());
+        for (std::size_t i = 0; i < m; ++i) {
+            dividends[i] = wide_a(a[lanes[i]]);
+            divisors[i] = wide_b(b[lanes[i]]);
+        }
+        std::fill_n(enabled.begin(), m, std::uint8_t{1});
+    } else {
+        for (std::size_t p = 0; p < n; ++p) {
+            dividends[p] = wide_a(a[p]);
+            divisors[p] = wide_b(b[p]);
+        }
+        std::copy_n(en, n, enabled.begin());
+    }
+    std::uint8_t beyond_double = 0;
+    for (std::size_t i = 0; i < m; ++i)
+        beyond_double |= static_cast<std::uint8_t>(enabled[i] & (dividends[i] > largest_in_double));
+    if (!beyond_double) {
+        for (std::size_t i = 0; i < m; ++i)
+            dividends[i] = divide_in_double(dividends[i], divisors[i], shift, largest_in_double, top);
+    } else {
+        for (std::size_t i = 0; i < m; ++i) {
+            const std::int64_t dividend = dividends[i];
+            const std::int64_t divisor = divisors[i];
+            const bool defined = divisor > 0 && dividend >= 0 && dividend <= largest_a;
+            dividends[i] = defined ? std::min(exact_quotient(dividend << shift, divisor), top) : top;
+        }
+    }
+    if (gathered) {
+        for (std::size_t i = 0; i < m; ++i) dst[lanes[i]] = static_cast<Lane>(dividends[i]);
+    } else {
+        for (std::size_t p = 0; p < n; ++p) dst[p] = en[p] ? static_cast<Lane>(dividends[p]) : dst[p];
+    }
 }
 
 // Arithmetic in the unsigned type, where overflow is defined: a PP that is disabled may hold a stale
@@ -381,19 +472,16 @@ template <class Lane, bool Listed>
                                      [&](std::int64_t e) { return e >= d.min_value() && e <= d.max_value(); });
     }
 
-    // PPs never exchange values, so the whole program can run over one block of PPs after another:
-    // the same results, with each block's fields small enough to stay in the host's cache.
-    constexpr std::size_t kBlock = 1024;
     PpRunCounts counts;
     counts.instructions = program.instructions.size();
-    for (std::size_t first = 0; first < lanes; first += kBlock) {
-        const std::size_t n = std::min(kBlock, lanes - first);
+    for (std::size_t first = 0; first < lanes; first += kBlockLanes) {
+        const std::size_t n = std::min(kBlockLanes, lanes - first);
         // The PP that lane p of this block runs.
         const auto pp_of = [&](std::size_t p) {
             return Listed ? static_cast<std::size_t>(listed[first + p]) : first + p;
         };
         // Listed lanes' columns and rows, for the QEE, found once per block.
-        std::array<std::uint32_t, Listed ? kBlock : 0> lane_x{}, lane_y{};
+        std::array<std::uint32_t, Listed ? kBlockLanes : 0> lane_x{}, lane_y{};
         if constexpr (Listed) {
             for (std::size_t p = 0; p < n; ++p) {
                 lane_x[p] = static_cast<std::uint32_t>(pp_of(p) % columns);
@@ -500,21 +588,9 @@ template <class Lane, bool Listed>
                                     [&](std::size_t p) { return mul_lanes(wide(a[p]), imm) >> shift; });
                     }
                     break;
-                case PpOp::Div: {
-                    // A restoring divide saturates: b = 0, or a quotient past the field, gives its maximum.
-                    // (The builder keeps a << shift within 63 bits; a stale a past that also saturates.)
-                    const std::int64_t top = dst_field->max_value();
-                    const std::int64_t largest_a = std::numeric_limits<std::int64_t>::max() >> shift;
-                    for (std::size_t p = 0; p < n; ++p) {
-                        if (!en[p]) continue;
-                        const std::int64_t dividend = wide(a[p]);
-                        const std::int64_t divisor = wide_b(b[p]);
-                        const bool defined = divisor > 0 && dividend >= 0 && dividend <= largest_a;
-                        dst[p] = static_cast<Lane>(defined ? std::min(exact_quotient(dividend << shift, divisor), top)
-                                                           : top);
-                    }
+                case PpOp::Div:
+                    divide_block(n, en, enabled_count, dst, a, b, wide, wide_b, shift, dst_field->max_value());
                     break;
-                }
                 case PpOp::Sqrt:
                     for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return isqrt_branch_free(wide(a[p])); });
                     break;
@@ -567,7 +643,7 @@ template <class Lane, bool Listed>
                 case PpOp::EnableIf:
                     if (a_zero_extended) {
                         // Compared as the 64-bit values the lanes stand for.
-                        std::array<std::int64_t, kBlock> values;
+                        std::array<std::int64_t, kBlockLanes> values;
                         for (std::size_t p = 0; p < n; ++p) values[p] = wide(a[p]);
                         enabled_count = enable_where(n, en, values.data(), in.compare, imm);
                     } else {

@@ -479,6 +479,53 @@ TEST(PpArray, DividendsPastADoublesPrecisionAreDividedExactlyBesideSmallOnes) {
     EXPECT_GT(past_double, kPps / 10);  // the integer path ran, beside the double one
 }
 
+TEST(PpArray, ADivideOverAFewEnabledPpsDividesOnlyThemAndTheOthersKeepTheirValues) {
+    // Fewer than a quarter of each block's PPs enabled, so only theirs are gathered and divided: in
+    // 32-bit lanes (16-bit operands), and in 64-bit ones with some shifted dividends past 2^52 in the
+    // same blocks as small ones. Every disabled PP keeps the 7 it was given.
+    for (const int dividend_bits : {16, 48}) {
+        SCOPED_TRACE(dividend_bits);
+        constexpr int kPps = 4100;  // four whole blocks and a short one
+        constexpr int kShift = 8;
+        PpArray array(kPps, 1, 256, 96);
+        std::mt19937_64 rng(static_cast<std::uint64_t>(dividend_bits));
+        std::vector<std::int64_t> dividend(kPps), divisor(kPps);
+        std::vector<bool> enabled(kPps);
+        for (int p = 0; p < kPps; ++p) {
+            const auto i = static_cast<std::size_t>(p);
+            dividend[i] = static_cast<std::int64_t>(rng() >> (64 - dividend_bits + p % 9));
+            divisor[i] = p % 23 == 0 ? 0 : static_cast<std::int64_t>(rng() >> (52 + p % 12));  // 12 bits down to 1
+            enabled[i] = p % 7 == 0 || (p > 4090 && p % 2 == 0);
+            array.write_backing(p, 0, 48, static_cast<std::uint64_t>(dividend[i]));
+            array.write_backing(p, 48, 16, static_cast<std::uint64_t>(divisor[i]));
+            array.write_backing(p, 64, 1, enabled[i] ? 1 : 0);
+        }
+        PpProgramBuilder b("few_dividends", 256);
+        const PpField n = b.load("n", 0, dividend_bits, false);
+        const PpField d = b.load("d", 48, 16, false);
+        const PpField on = b.load("on", 64, 1, false);
+        const PpField q = b.set_const("q", 7, dividend_bits, false);
+        b.enable_if(on, PpCompare::Equal, 1);
+        const PpField quotient = b.div("quotient", n, d, kShift, dividend_bits);
+        b.assign(q, quotient);
+        b.enable_all();
+        const PpProgram program = b.finish();
+        array.run(program, PpSlotContext{});
+        EXPECT_EQ(array.ran_in_narrow_lanes(), dividend_bits <= 31);
+        const std::int64_t top = (std::int64_t{1} << dividend_bits) - 1;
+        const auto values = array.field_values(q);
+        int past_double = 0;
+        for (int p = 0; p < kPps; ++p) {
+            const auto i = static_cast<std::size_t>(p);
+            const std::int64_t shifted = dividend[i] << kShift;
+            if (enabled[i] && shifted >= (std::int64_t{1} << 52)) ++past_double;
+            const std::int64_t want = !enabled[i] ? 7 : divisor[i] == 0 ? top : std::min(top, shifted / divisor[i]);
+            ASSERT_EQ(values[i], want) << dividend[i] << " << " << kShift << " / " << divisor[i] << " at PP " << p;
+        }
+        EXPECT_EQ(past_double > 0, dividend_bits == 48);
+    }
+}
+
 // A random program of every operation over narrow fields (at most 31 bits), under random enable masks,
 // with conditional updates and reused storage that leave stale values in disabled PPs, immediates past
 // 32 bits, and every result stored. With `widen`, one more field of 41 bits is set at the end: that
