@@ -552,10 +552,19 @@ template <class Lane, bool Listed>
                     for_enabled(n, en, all, dst, wrap, [&](std::size_t p) { return add_lanes(a[p], imm_lane); });
                     break;
                 case PpOp::AbsDiffConst:
-                    for_enabled(n, en, all, dst, wrap, [&](std::size_t p) {
-                        const std::int64_t d = sub_lanes(wide(a[p]), imm);
-                        return d < 0 ? sub_lanes<std::int64_t>(0, d) : d;
-                    });
+                    if (lane_holds<Lane>(imm) && !a_zero_extended) {
+                        // a and imm are values of the lane type, so a >= imm says the difference's sign,
+                        // and the lane's low bits of |a - imm| (all the wrap keeps) are those of the
+                        // difference taken the right way round.
+                        for_enabled(n, en, all, dst, wrap, [&](std::size_t p) {
+                            return a[p] >= imm_lane ? sub_lanes(a[p], imm_lane) : sub_lanes(imm_lane, a[p]);
+                        });
+                    } else {
+                        for_enabled(n, en, all, dst, wrap, [&](std::size_t p) {
+                            const std::int64_t d = sub_lanes(wide(a[p]), imm);
+                            return d < 0 ? sub_lanes<std::int64_t>(0, d) : d;
+                        });
+                    }
                     break;
                 case PpOp::MinConst:
                     if (lane_holds<Lane>(imm) && !a_zero_extended) {
