@@ -334,7 +334,13 @@ PpRunCounts& PpRunCounts::operator+=(const PpRunCounts& other) {
 }
 
 PpArray::PpArray(int columns, int rows, int local_memory_bits, int backing_store_bits)
-    : columns_(columns), rows_(rows), local_memory_bits_(local_memory_bits), backing_store_bits_(backing_store_bits) {
+    : columns_(columns),
+      rows_(rows),
+      local_memory_bits_(local_memory_bits),
+      backing_store_bits_(backing_store_bits),
+      // Sizes are checked below, before any field is stored.
+      narrow_fields_(static_cast<std::size_t>(std::max(columns, 0)) * static_cast<std::size_t>(std::max(rows, 0))),
+      wide_fields_(narrow_fields_.lanes()) {
     if (columns < 1 || rows < 1 || local_memory_bits < 1 || backing_store_bits < 0) {
         throw std::invalid_argument(
             fmt::format("PpArray: {} x {} PPs, {} bits of local memory, {} of backing store: "
@@ -379,11 +385,11 @@ void PpArray::check_backing_range(int bit_offset, int bits) const {
 
 std::vector<std::int64_t> PpArray::field_values(const PpField& field) const {
     const auto values = [&](const auto& fields) {
-        if (field.storage < 0 || field.storage >= static_cast<int>(fields.size())) {
+        if (field.storage < 0 || field.storage >= static_cast<int>(fields.slots())) {
             throw std::out_of_range(
                 fmt::format("PpArray: no field with id {} (storage {}) in the last run", field.id, field.storage));
         }
-        const auto& slot = fields[static_cast<std::size_t>(field.storage)];
+        const auto slot = fields.values(static_cast<std::size_t>(field.storage));
         std::vector<std::int64_t> out(slot.begin(), slot.end());
         if (narrow_current_ && field.bits == 32 && !field.is_signed)
             for (std::int64_t& v : out) v = static_cast<std::int64_t>(static_cast<std::uint32_t>(v));
@@ -401,28 +407,42 @@ const PpNarrowPlan* PpArray::choose_narrow_lanes(const std::optional<PpNarrowPla
             if (zero_extended_slots_[slot] && !plan->first_written_whole[slot]) narrow = false;
     }
     if (narrow && !narrow_current_) {
-        narrow = std::all_of(wide_fields_.begin(), wide_fields_.end(), [](const auto& slot) {
-            return std::all_of(slot.begin(), slot.end(), lane_holds<std::int32_t>);
-        });
+        for (std::size_t slot = 0; slot < wide_fields_.slots() && narrow; ++slot) {
+            const auto values = wide_fields_.values(slot);
+            narrow = std::all_of(values.begin(), values.end(), lane_holds<std::int32_t>);
+        }
     }
     if (narrow != narrow_current_) {
         // Exact either way: every value fits the lanes chosen, and each slot is widened as its field
         // is read.
+        // Slots the other lanes never had hold 0, as new ones do.
         if (narrow) {
-            narrow_fields_.resize(wide_fields_.size());
-            for (std::size_t slot = 0; slot < wide_fields_.size(); ++slot)
-                narrow_fields_[slot].assign(wide_fields_[slot].begin(), wide_fields_[slot].end());
-            zero_extended_slots_.assign(narrow_fields_.size(), 0);
+            narrow_fields_.reserve(wide_fields_.slots());
+            for (std::size_t slot = 0; slot < narrow_fields_.slots(); ++slot) {
+                const auto to = narrow_fields_.values(slot);
+                if (slot >= wide_fields_.slots()) {
+                    std::fill(to.begin(), to.end(), 0);
+                    continue;
+                }
+                const auto from = wide_fields_.values(slot);
+                std::transform(from.begin(), from.end(), to.begin(),
+                               [](std::int64_t v) { return static_cast<std::int32_t>(v); });
+            }
+            zero_extended_slots_.assign(wide_fields_.slots(), 0);
         } else {
-            wide_fields_.resize(narrow_fields_.size());
-            for (std::size_t slot = 0; slot < narrow_fields_.size(); ++slot) {
+            wide_fields_.reserve(narrow_fields_.slots());
+            for (std::size_t slot = 0; slot < wide_fields_.slots(); ++slot) {
+                const auto to = wide_fields_.values(slot);
+                if (slot >= narrow_fields_.slots()) {
+                    std::fill(to.begin(), to.end(), 0);
+                    continue;
+                }
                 const bool zero = slot < zero_extended_slots_.size() && zero_extended_slots_[slot];
-                wide_fields_[slot].resize(narrow_fields_[slot].size());
-                std::transform(narrow_fields_[slot].begin(), narrow_fields_[slot].end(), wide_fields_[slot].begin(),
-                               [zero](std::int32_t v) {
-                                   return zero ? static_cast<std::int64_t>(static_cast<std::uint32_t>(v))
-                                               : static_cast<std::int64_t>(v);
-                               });
+                const auto from = narrow_fields_.values(slot);
+                std::transform(from.begin(), from.end(), to.begin(), [zero](std::int32_t v) {
+                    return zero ? static_cast<std::int64_t>(static_cast<std::uint32_t>(v))
+                                : static_cast<std::int64_t>(v);
+                });
             }
         }
         narrow_current_ = narrow;
@@ -456,8 +476,7 @@ template <class Lane, bool Listed>
     const std::size_t lanes = Listed ? listed.size() : total;
     const auto slots = static_cast<std::size_t>(program.storage_slots);
     auto& fields = field_storage<Lane>();
-    if (fields.size() < slots) fields.resize(slots);
-    for (std::size_t slot = 0; slot < slots; ++slot) fields[slot].resize(total, 0);  // kept across runs
+    fields.reserve(slots);  // values are kept across runs
 
     const auto columns = static_cast<std::size_t>(columns_);
     std::uint64_t* const store = backing_.get();
@@ -489,8 +508,7 @@ template <class Lane, bool Listed>
             }
         }
         auto field = [&](int id) {
-            return fields[static_cast<std::size_t>(program.fields[static_cast<std::size_t>(id)].storage)].data() +
-                   first;
+            return fields.slot(static_cast<std::size_t>(program.fields[static_cast<std::size_t>(id)].storage)) + first;
         };
         std::uint8_t* en = enabled_.data() + first;
         std::fill(en, en + n, std::uint8_t{1});

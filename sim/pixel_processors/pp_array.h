@@ -9,6 +9,7 @@
 // field values.
 
 #include "sim/pixel_processors/pp_backing_window.h"
+#include "sim/pixel_processors/pp_field_store.h"
 #include "sim/pixel_processors/pp_program.h"
 
 #include <cstdint>
@@ -93,7 +94,7 @@ private:
     // does), else null. Moves the values into the storage of the lanes chosen.
     const PpNarrowPlan* choose_narrow_lanes(const std::optional<PpNarrowPlan>& plan);
     template <class Lane>
-    std::vector<std::vector<Lane>>& field_storage() {
+    PpFieldStore<Lane>& field_storage() {
         if constexpr (sizeof(Lane) == sizeof(std::int32_t)) return narrow_fields_;
         else return wide_fields_;
     }
@@ -112,8 +113,8 @@ private:
     std::unique_ptr<std::uint64_t[], FreeStore> backing_;
     // By storage slot (PpField::storage), one value per PP: in 32-bit lanes or 64-bit ones, whichever
     // the last run used (narrow_current_).
-    std::vector<std::vector<std::int32_t>> narrow_fields_;
-    std::vector<std::vector<std::int64_t>> wide_fields_;
+    PpFieldStore<std::int32_t> narrow_fields_;
+    PpFieldStore<std::int64_t> wide_fields_;
     bool narrow_current_ = true;
     std::vector<std::uint8_t> zero_extended_slots_;  // by slot, in 32-bit lanes: holds a 32-bit unsigned field
     std::vector<std::uint8_t> enabled_;

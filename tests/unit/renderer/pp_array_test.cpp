@@ -5,6 +5,7 @@
 // 64-bit ones. Also the backing store against a bit-by-bit model.
 
 #include "sim/pixel_processors/pp_array.h"
+#include "sim/pixel_processors/pp_field_store.h"
 #include "sim/pixel_processors/pp_program.h"
 
 #include <gtest/gtest.h>
@@ -13,6 +14,7 @@
 #include <cstdlib>
 #include <functional>
 #include <random>
+#include <set>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -30,6 +32,27 @@ std::int64_t wrapped(std::int64_t v, int bits, bool is_signed) {
 }
 
 std::span<const QeeCoefficients> one(const QeeCoefficients& q) { return {&q, 1}; }
+
+TEST(PpFieldStore, SlotsStartOnDifferentLinesOfAPageAndKeepTheirValuesAsTheStoreGrows) {
+    PpFieldStore<std::int32_t> store(16384);
+    store.reserve(3);
+    for (std::size_t s = 0; s < 3; ++s)
+        for (std::size_t i = 0; i < store.lanes(); ++i) store.slot(s)[i] = static_cast<std::int32_t>(s * 100000 + i);
+    store.reserve(64);
+    EXPECT_EQ(store.slots(), 64u);
+    std::set<std::uintptr_t> lines;  // each slot's first cache line within its 4 KB page
+    for (std::size_t s = 0; s < store.slots(); ++s) {
+        const auto start = reinterpret_cast<std::uintptr_t>(store.slot(s));
+        EXPECT_EQ(start % 64, 0u) << s;
+        lines.insert(start % 4096 / 64);
+        if (s > 0) {
+            EXPECT_GE(start, reinterpret_cast<std::uintptr_t>(store.slot(s - 1) + store.lanes())) << s;
+        }
+        for (std::size_t i = 0; i < store.lanes(); i += 1000)
+            ASSERT_EQ(store.slot(s)[i], s < 3 ? static_cast<std::int32_t>(s * 100000 + i) : 0) << s << " " << i;
+    }
+    EXPECT_EQ(lines.size(), 64u);
+}
 
 TEST(PpArray, ConstructorRejectsNonPositiveSizes) {
     EXPECT_THROW(PpArray(0, 4, 208, 64), std::invalid_argument);
