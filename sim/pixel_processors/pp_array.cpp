@@ -414,8 +414,7 @@ const PpNarrowPlan* PpArray::choose_narrow_lanes(const std::optional<PpNarrowPla
     }
     if (narrow != narrow_current_) {
         // Exact either way: every value fits the lanes chosen, and each slot is widened as its field
-        // is read.
-        // Slots the other lanes never had hold 0, as new ones do.
+        // is read. Slots the other lanes never had hold 0, as new ones do.
         if (narrow) {
             narrow_fields_.reserve(wide_fields_.slots());
             for (std::size_t slot = 0; slot < narrow_fields_.slots(); ++slot) {
