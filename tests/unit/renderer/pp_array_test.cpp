@@ -549,6 +549,86 @@ TEST(PpArray, ADivideOverAFewEnabledPpsDividesOnlyThemAndTheOthersKeepTheirValue
     }
 }
 
+// v wrapped to field f, as the PPs leave it.
+std::int64_t wrapped_to(std::int64_t v, const PpField& f) {
+    const std::int64_t bits = v & ((std::int64_t{1} << f.bits) - 1);
+    return f.is_signed && bits >= (std::int64_t{1} << (f.bits - 1)) ? bits - (std::int64_t{1} << f.bits) : bits;
+}
+
+TEST(PpArray, ShiftedProductsKeepTheBitsOfTheWholeProduct) {
+    // Signed factors whose shifted products end below, at and past bit 32, in 32-bit lanes: each result
+    // is the whole product shifted and wrapped to its field, by a field and by a constant.
+    struct Case {
+        int a_bits, b_bits, shift;
+    };
+    for (const Case c : {Case{8, 8, 4}, Case{16, 15, 1}, Case{16, 16, 4}, Case{20, 16, 8}, Case{20, 13, 2}}) {
+        SCOPED_TRACE(testing::Message() << c.a_bits << " x " << c.b_bits << " >> " << c.shift);
+        constexpr int kPps = 1500;
+        PpArray array(kPps, 1, 256, 64);
+        std::mt19937_64 rng(static_cast<std::uint64_t>(c.a_bits * 100 + c.b_bits));
+        const auto draw = [&](int bits) {
+            return static_cast<std::int64_t>(rng() % (std::uint64_t{1} << bits)) - (std::int64_t{1} << (bits - 1));
+        };
+        std::vector<std::int64_t> a(kPps), b(kPps);
+        for (int p = 0; p < kPps; ++p) {
+            const auto i = static_cast<std::size_t>(p);
+            a[i] = draw(c.a_bits);
+            b[i] = draw(c.b_bits);
+            array.write_backing(p, 0, c.a_bits, static_cast<std::uint64_t>(a[i]));
+            array.write_backing(p, 32, c.b_bits, static_cast<std::uint64_t>(b[i]));
+        }
+        const std::int64_t imm = -(std::int64_t{1} << (c.b_bits - 1)) + 3;
+        PpProgramBuilder builder("products", 256);
+        const PpField fa = builder.load("a", 0, c.a_bits, true);
+        const PpField fb = builder.load("b", 32, c.b_bits, true);
+        const PpField product = builder.mul("product", fa, fb, c.shift);
+        const PpField scaled = builder.mul_const("scaled", fa, imm, c.shift);
+        const PpProgram program = builder.finish();
+        array.run(program, PpSlotContext{});
+        ASSERT_TRUE(array.ran_in_narrow_lanes());
+        const auto products = array.field_values(product);
+        const auto scaled_values = array.field_values(scaled);
+        for (std::size_t i = 0; i < a.size(); ++i) {
+            ASSERT_EQ(products[i], wrapped_to((a[i] * b[i]) >> c.shift, product)) << a[i] << " x " << b[i];
+            ASSERT_EQ(scaled_values[i], wrapped_to((a[i] * imm) >> c.shift, scaled)) << a[i] << " x " << imm;
+        }
+    }
+}
+
+TEST(PpArray, ShiftedProductsOfStaleValuesAreWrappedAsWideOnes) {
+    // An 8-bit factor first written on half the PPs: the other half still hold what a 30-bit field
+    // left in the same storage, so their products need more than 32 bits. Each result is still the
+    // whole product shifted and wrapped to its field, as a run in 64-bit lanes leaves it.
+    constexpr int kPps = 64;
+    constexpr int kShift = 4;
+    constexpr std::int64_t kStale = (std::int64_t{1} << 29) + 12345;
+    PpArray array(kPps, 1, 256, 8);
+    for (int p = 0; p < kPps; ++p) array.write_backing(p, 0, 1, static_cast<std::uint64_t>(p % 2));
+    PpProgramBuilder b("stale_factor", 256);
+    const PpField on = b.load("on", 0, 1, false);
+    const PpField wide = b.set_const("wide", kStale, 30, false);
+    const int wide_storage = wide.storage;
+    b.release(wide);
+    const PpField factor = b.alloc("factor", 8, false);
+    ASSERT_EQ(factor.storage, wide_storage);  // the premise: the factor's lanes hold the 30-bit value
+    const PpField other = b.set_const("other", 200, 8, false);
+    b.enable_if(on, PpCompare::Equal, 1);
+    b.assign_const(factor, 100);
+    b.enable_all();
+    const PpField product = b.mul("product", factor, other, kShift);
+    const PpField scaled = b.mul_const("scaled", factor, 201, kShift);
+    const PpProgram program = b.finish();
+    array.run(program, PpSlotContext{});
+    ASSERT_TRUE(array.ran_in_narrow_lanes());
+    const auto products = array.field_values(product);
+    const auto scaled_values = array.field_values(scaled);
+    for (int p = 0; p < kPps; ++p) {
+        const std::int64_t f = p % 2 == 1 ? 100 : kStale;
+        EXPECT_EQ(products[static_cast<std::size_t>(p)], wrapped_to((f * 200) >> kShift, product)) << "PP " << p;
+        EXPECT_EQ(scaled_values[static_cast<std::size_t>(p)], wrapped_to((f * 201) >> kShift, scaled)) << "PP " << p;
+    }
+}
+
 // A random program of every operation over narrow fields (at most 31 bits), under random enable masks,
 // with conditional updates and reused storage that leave stale values in disabled PPs, immediates past
 // 32 bits, and every result stored. With `widen`, one more field of 41 bits is set at the end: that
