@@ -416,33 +416,14 @@ const PpNarrowPlan* PpArray::choose_narrow_lanes(const std::optional<PpNarrowPla
         // Exact either way: every value fits the lanes chosen, and each slot is widened as its field
         // is read. Slots the other lanes never had hold 0, as new ones do.
         if (narrow) {
-            narrow_fields_.reserve(wide_fields_.slots());
-            for (std::size_t slot = 0; slot < narrow_fields_.slots(); ++slot) {
-                const auto to = narrow_fields_.values(slot);
-                if (slot >= wide_fields_.slots()) {
-                    std::fill(to.begin(), to.end(), 0);
-                    continue;
-                }
-                const auto from = wide_fields_.values(slot);
-                std::transform(from.begin(), from.end(), to.begin(),
-                               [](std::int64_t v) { return static_cast<std::int32_t>(v); });
-            }
+            narrow_fields_.assign_converted(wide_fields_,
+                                            [](std::size_t, std::int64_t v) { return static_cast<std::int32_t>(v); });
             zero_extended_slots_.assign(wide_fields_.slots(), 0);
         } else {
-            wide_fields_.reserve(narrow_fields_.slots());
-            for (std::size_t slot = 0; slot < wide_fields_.slots(); ++slot) {
-                const auto to = wide_fields_.values(slot);
-                if (slot >= narrow_fields_.slots()) {
-                    std::fill(to.begin(), to.end(), 0);
-                    continue;
-                }
+            wide_fields_.assign_converted(narrow_fields_, [&](std::size_t slot, std::int32_t v) {
                 const bool zero = slot < zero_extended_slots_.size() && zero_extended_slots_[slot];
-                const auto from = narrow_fields_.values(slot);
-                std::transform(from.begin(), from.end(), to.begin(), [zero](std::int32_t v) {
-                    return zero ? static_cast<std::int64_t>(static_cast<std::uint32_t>(v))
-                                : static_cast<std::int64_t>(v);
-                });
-            }
+                return zero ? static_cast<std::int64_t>(static_cast<std::uint32_t>(v)) : static_cast<std::int64_t>(v);
+            });
         }
         narrow_current_ = narrow;
     }

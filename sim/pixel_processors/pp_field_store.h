@@ -43,6 +43,22 @@ public:
         slots_ = slots;
     }
 
+    // Each slot's values made from `from`'s by convert(slot, value); slots `from` lacks hold 0, as new
+    // ones do.
+    template <class From, class Convert>
+    void assign_converted(const PpFieldStore<From>& from, Convert convert) {
+        reserve(from.slots());
+        for (std::size_t s = 0; s < slots_; ++s) {
+            Lane* to = slot(s);
+            if (s >= from.slots()) {
+                std::fill_n(to, lanes_, Lane{0});
+                continue;
+            }
+            const From* values = from.slot(s);
+            for (std::size_t i = 0; i < lanes_; ++i) to[i] = convert(s, values[i]);
+        }
+    }
+
     Lane* slot(std::size_t s) { return block_.get() + s * stride_; }
     const Lane* slot(std::size_t s) const { return block_.get() + s * stride_; }
     std::span<Lane> values(std::size_t s) { return {slot(s), lanes_}; }
